@@ -1,0 +1,29 @@
+// Where a domain decides how a predecessor chain becomes vectors in one
+// common frame, the step in which STVD differs between volumes and surfaces.
+#pragma once
+
+#include "stvd/types.hpp"
+
+namespace stvd {
+
+/// Places the vertices of a predecessor chain c_0 = v, c_1 = pred(v), ...,
+/// c_{count-1} in a common frame centred at v: P[0] = 0 and P[i] the
+/// position of c_i relative to v. The edge vectors STVD sums are the
+/// differences of consecutive P, and the edge vectors that the domain's
+/// forEachNeighbor(v, ...) reports must be expressed in the same frame.
+///
+/// This primary template serves every domain embedded in R^3 (voxel grids,
+/// tetrahedral and polyhedral meshes): the 3D edge vectors are summed
+/// directly (paper, section 6.2), so P[i] = x(c_i) - x(v). A 2-manifold
+/// surface domain specialises it to unfold the chain edge by edge into v's
+/// tangent plane, preserving edge lengths and relative 1-ring angles
+/// (section 6), with vectors in that plane stored as (x, y, 0).
+template <class Domain>
+struct ChainUnfolding {
+  static void place(const Domain& domain, const VertexId* chain, int count, Vec3f* p) {
+    p[0] = Vec3f{};
+    for (int i = 1; i < count; ++i) p[i] = domain.displacement(chain[0], chain[i]);
+  }
+};
+
+}  // namespace stvd

@@ -1,0 +1,122 @@
+// The implicit voxel grid: vertices are voxel centres, edges come from a
+// stencil of index offsets. Nothing is stored per edge.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "stvd/grid_geometry.hpp"
+#include "stvd/stencil.hpp"
+#include "stvd/types.hpp"
+
+namespace stvd {
+
+namespace detail {
+/// Division of 32-bit unsigned integers by a fixed divisor through one
+/// 64x64->128 multiplication (Lemire, Kaser, Kurz 2019, "Faster remainder by
+/// direct computation"). The grid needs i, j, k of many vertices per popped
+/// vertex; a hardware division costs several times more.
+class FixedDivisor {
+ public:
+  FixedDivisor() = default;
+  explicit FixedDivisor(std::uint32_t d)
+      : divisor_(d), magic_(d > 1 ? ~std::uint64_t{0} / d + 1 : 0) {}
+  std::uint32_t divide(std::uint32_t n) const {
+    if (divisor_ == 1) return n;
+    return static_cast<std::uint32_t>((static_cast<unsigned __int128>(magic_) * n) >> 64);
+  }
+  std::uint32_t divisor() const { return divisor_; }
+
+ private:
+  std::uint32_t divisor_ = 1;
+  std::uint64_t magic_ = 0;
+};
+}  // namespace detail
+
+/// Integer index of a voxel.
+struct VoxelIndex {
+  std::int32_t i = 0, j = 0, k = 0;
+};
+
+/// A voxel grid seen as a graph: one vertex per voxel (linear index
+/// i + nx*(j + ny*k)), one edge per stencil offset that stays inside the
+/// image and the mask. Edge vectors are the physical displacements of the
+/// offsets (spacing and direction cosines applied), computed once per
+/// stencil offset.
+class VoxelGridDomain {
+ public:
+  /// `mask`, when not empty, holds one byte per voxel in linear order;
+  /// voxels with a zero byte are outside the domain. Throws
+  /// std::invalid_argument for an invalid geometry or a mask of the wrong size.
+  VoxelGridDomain(const GridGeometry& geometry, Stencil stencil,
+                  std::vector<std::uint8_t> mask = {});
+
+  const GridGeometry& geometry() const { return geometry_; }
+  const Stencil& stencil() const { return stencil_; }
+  bool hasMask() const { return !mask_.empty(); }
+  const std::vector<std::uint8_t>& mask() const { return mask_; }
+
+  VertexId vertexCount() const { return vertexCount_; }
+  /// Number of vertices inside the domain (all voxels, or the mask's ones).
+  VertexId domainVertexCount() const { return domainVertexCount_; }
+  bool contains(VertexId v) const { return v < vertexCount_ && (mask_.empty() || mask_[v] != 0); }
+
+  VertexId vertexAt(int i, int j, int k) const {
+    return static_cast<VertexId>(i) + nx_ * (static_cast<VertexId>(j) + ny_ * static_cast<VertexId>(k));
+  }
+  bool isInsideImage(int i, int j, int k) const {
+    return i >= 0 && j >= 0 && k >= 0 && static_cast<VertexId>(i) < nx_ &&
+           static_cast<VertexId>(j) < ny_ && static_cast<VertexId>(k) < nz_;
+  }
+  VoxelIndex indexOf(VertexId v) const {
+    const std::uint32_t slice = sliceDivisor_.divide(v);
+    const std::uint32_t inSlice = v - slice * nxy_;
+    const std::uint32_t row = rowDivisor_.divide(inSlice);
+    return {static_cast<std::int32_t>(inSlice - row * nx_), static_cast<std::int32_t>(row),
+            static_cast<std::int32_t>(slice)};
+  }
+  /// Physical point of a voxel centre (millimetres).
+  Vec3d physicalPoint(VertexId v) const {
+    const VoxelIndex c = indexOf(v);
+    return geometry_.indexToPhysicalPoint(c.i, c.j, c.k);
+  }
+  /// x(to) - x(from) in physical space, from the index difference (exact
+  /// integer difference first, so large coordinates cost no precision).
+  Vec3f displacement(VertexId from, VertexId to) const {
+    const VoxelIndex a = indexOf(from), b = indexOf(to);
+    return toFloat(geometry_.indexToPhysicalOffset(b.i - a.i, b.j - a.j, b.k - a.k));
+  }
+
+  /// Calls f(w, e) for every neighbour w of v inside the domain, with e the
+  /// physical edge vector x(w) - x(v). The interior of the image takes a
+  /// path without bounds checks.
+  template <class F>
+  void forEachNeighbor(VertexId v, F&& f) const {
+    const VoxelIndex c = indexOf(v);
+    const int r = stencil_.radius();
+    const bool interior = c.i >= r && c.j >= r && c.k >= r && c.i + r < static_cast<int>(nx_) &&
+                          c.j + r < static_cast<int>(ny_) && c.k + r < static_cast<int>(nz_);
+    const int n = stencil_.size();
+    const std::uint8_t* mask = mask_.empty() ? nullptr : mask_.data();
+    for (int s = 0; s < n; ++s) {
+      if (!interior) {
+        const auto& o = stencil_.offsets()[s];
+        if (!isInsideImage(c.i + o[0], c.j + o[1], c.k + o[2])) continue;
+      }
+      const VertexId w = static_cast<VertexId>(static_cast<std::int64_t>(v) + linearOffset_[s]);
+      if (mask && mask[w] == 0) continue;
+      f(w, edgeVector_[s]);
+    }
+  }
+
+ private:
+  GridGeometry geometry_;
+  Stencil stencil_;
+  std::vector<std::uint8_t> mask_;
+  VertexId nx_ = 1, ny_ = 1, nz_ = 1, nxy_ = 1, vertexCount_ = 0, domainVertexCount_ = 0;
+  detail::FixedDivisor rowDivisor_, sliceDivisor_;
+  std::vector<std::int64_t> linearOffset_;
+  std::vector<Vec3f> edgeVector_;
+};
+
+}  // namespace stvd
