@@ -1,0 +1,57 @@
+# Installs the freshly built stvd into a scratch prefix, then configures,
+# builds and runs examples/consumer against that prefix only: the test that
+# `find_package(stvd)` + `stvd::stvd` work for a project outside this tree.
+#
+# cmake -DSTVD_BINARY_DIR=<build tree> -DCONSUMER_SOURCE_DIR=<examples/consumer>
+#       -DWORK_DIR=<scratch dir> -DCONFIG=<build type> -DGENERATOR=<generator>
+#       -DCXX_COMPILER=<compiler> [-DMAKE_PROGRAM=<make>] -P install_consumer_test.cmake
+cmake_minimum_required(VERSION 3.20)
+
+foreach(variable STVD_BINARY_DIR CONSUMER_SOURCE_DIR WORK_DIR CONFIG GENERATOR CXX_COMPILER)
+  if(NOT DEFINED ${variable} OR "${${variable}}" STREQUAL "")
+    message(FATAL_ERROR "install_consumer_test.cmake: -D${variable}=... is required")
+  endif()
+endforeach()
+
+set(prefix "${WORK_DIR}/prefix")
+set(consumer_build "${WORK_DIR}/build")
+file(REMOVE_RECURSE "${WORK_DIR}")
+
+function(run step)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE result)
+  if(NOT result EQUAL 0)
+    message(FATAL_ERROR "install_consumer_test: ${step} failed (${result})")
+  endif()
+endfunction()
+
+run("cmake --install" "${CMAKE_COMMAND}" --install "${STVD_BINARY_DIR}" --config "${CONFIG}"
+    --prefix "${prefix}")
+
+set(make_program "")
+if(MAKE_PROGRAM)
+  set(make_program "-DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM}")
+endif()
+# The package registries are switched off so that only the prefix (or a
+# system-wide install, rejected below) can provide stvd.
+run("configuring the consumer" "${CMAKE_COMMAND}" -S "${CONSUMER_SOURCE_DIR}"
+    -B "${consumer_build}" -G "${GENERATOR}" ${make_program}
+    "-DCMAKE_BUILD_TYPE=${CONFIG}" "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}"
+    "-DCMAKE_PREFIX_PATH=${prefix}"
+    -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -DCMAKE_FIND_USE_SYSTEM_PACKAGE_REGISTRY=OFF)
+
+# The package must have come from the scratch prefix, not from an older stvd
+# installed elsewhere on the machine.
+file(STRINGS "${consumer_build}/CMakeCache.txt" found_dir REGEX "^stvd_DIR:")
+string(REGEX REPLACE "^stvd_DIR:[A-Z]+=" "" found_dir "${found_dir}")
+file(REAL_PATH "${found_dir}" found_dir)
+file(REAL_PATH "${prefix}" real_prefix)
+string(FIND "${found_dir}/" "${real_prefix}/" position)
+if(NOT position EQUAL 0)
+  message(FATAL_ERROR "install_consumer_test: stvd was found in ${found_dir}, not in ${prefix}")
+endif()
+
+run("building the consumer" "${CMAKE_COMMAND}" --build "${consumer_build}" --config "${CONFIG}")
+
+find_program(consumer stvd_consumer PATHS "${consumer_build}" "${consumer_build}/${CONFIG}"
+             NO_DEFAULT_PATH REQUIRED)
+run("running the consumer" "${consumer}")
