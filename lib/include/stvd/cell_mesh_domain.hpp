@@ -46,7 +46,7 @@ class CellMeshDomain {
 
   /// Calls f(w, e) for every neighbour w of v with e = x(w) - x(v).
   template <class F>
-  void forEachNeighbor(VertexId v, F&& f) const {
+  STVD_ALWAYS_INLINE void forEachNeighbor(VertexId v, F&& f) const {
     const Vec3d p = points_[v];
     for (const VertexId* it = neighborsBegin(v); it != neighborsEnd(v); ++it) {
       f(*it, toFloat(points_[*it] - p));

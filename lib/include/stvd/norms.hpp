@@ -21,6 +21,7 @@
 // including "stvd/propagation_impl.hpp" (see docs/architecture.md).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -37,14 +38,16 @@ struct RiemannianNorm {
   using VertexParams = SymTensor3;
   using EdgeParams = SymTensor3;
 
-  static EdgeParams edgeParams(const VertexParams& a, const VertexParams& b) {
+  STVD_ALWAYS_INLINE static EdgeParams edgeParams(const VertexParams& a, const VertexParams& b) {
     return {0.5f * (a.xx + b.xx), 0.5f * (a.xy + b.xy), 0.5f * (a.xz + b.xz),
             0.5f * (a.yy + b.yy), 0.5f * (a.yz + b.yz), 0.5f * (a.zz + b.zz)};
   }
-  static float length(const EdgeParams& g, float x, float y, float z) {
-    const float q = g.xx * x * x + g.yy * y * y + g.zz * z * z +
-                    2.f * (g.xy * x * y + g.xz * x * z + g.yz * y * z);
-    return std::sqrt(q > 0.f ? q : 0.f);
+  STVD_ALWAYS_INLINE static float length(const EdgeParams& g, float x, float y, float z) {
+    // Products of the vector's components first: when one vector is
+    // measured with many edge norms (the STVD chain), they are computed once.
+    const float q = g.xx * (x * x) + g.yy * (y * y) + g.zz * (z * z) +
+                    g.xy * (2.f * x * y) + g.xz * (2.f * x * z) + g.yz * (2.f * y * z);
+    return std::sqrt(std::max(q, 0.f));
   }
   static std::string invalidReason(const VertexParams& g);
 };
@@ -62,15 +65,15 @@ struct RandersNorm {
   };
   using EdgeParams = VertexParams;
 
-  static EdgeParams edgeParams(const VertexParams& a, const VertexParams& b) {
+  STVD_ALWAYS_INLINE static EdgeParams edgeParams(const VertexParams& a, const VertexParams& b) {
     return {RiemannianNorm::edgeParams(a.m, b.m),
             {0.5f * (a.omega.x + b.omega.x), 0.5f * (a.omega.y + b.omega.y),
              0.5f * (a.omega.z + b.omega.z)}};
   }
-  static float length(const EdgeParams& g, float x, float y, float z) {
+  STVD_ALWAYS_INLINE static float length(const EdgeParams& g, float x, float y, float z) {
     const float f = RiemannianNorm::length(g.m, x, y, z) +
                     (g.omega.x * x + g.omega.y * y + g.omega.z * z);
-    return f > 0.f ? f : 0.f;
+    return std::max(f, 0.f);
   }
   static std::string invalidReason(const VertexParams& p);
 };

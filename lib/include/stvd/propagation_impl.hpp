@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -16,37 +17,64 @@
 namespace stvd {
 namespace detail {
 
-/// l_g(E_i) for several chain lengths i at once, one SIMD lane per i.
+/// The short-term memory of one finalised vertex v: its predecessor chain
+/// c_0 = v, c_1 = pred(v), ..., c_m (m < k, shorter near a source), laid out
+/// for the per-neighbour update. It is the same for every neighbour w of v,
+/// so it is gathered once per finalised vertex.
 ///
-/// Lane L holds the candidate i = L + 2 with sum vector E_i (ex, ey, ez). The
-/// chain edges are e[1..edgeCount] with edge norms g[1..edgeCount]; edge j
-/// takes part in the sums with i >= j. Following section 6 of the paper,
+/// Candidate i = 2..m+1 of the update of w lives in SIMD lane L = i - 2: its
+/// sum vector is E_i = e_1 + ... + e_i = x(w) - x(c_{i-1}) and its base
+/// distance is dist(c_{i-1}). Chain edge j >= 2 runs from c_{j-1} to c_{j-2}
+/// (the direction of propagation) and is measured with the norm of its end
+/// points; edge 1 (v -> w) is supplied per neighbour.
+template <int Lanes, class Norm>
+struct ChainMemory {
+  using EdgeParams = typename Norm::EdgeParams;
+  int edgeCount;  // m + 1: edges 1..m+1
+  int candidateLanes;  // m
+  alignas(64) float backX[Lanes], backY[Lanes], backZ[Lanes];  // x(c_{L+1}) - x(v)
+  double baseDistance[Lanes];                                   // dist(c_{L+1})
+  Vec3f edge[kMaxMemoryDepth + 1];                              // e_j, j = 2..m+1
+  EdgeParams edgeNorm[kMaxMemoryDepth + 1];
+};
+
+/// l_g(E_i) for all candidates of one neighbour at once, one lane per i.
+///
+/// Following section 6 of the paper,
 ///   l_g(E) = max(0, sum_j (e_j . Ebar) ||Ebar||_{g_j}),  Ebar = E / |E|:
-/// E is split among the edges by their signed projections, and each portion
-/// is measured with that edge's norm. A constant norm gives exactly
+/// E is split among its edges by their signed projections, and each portion
+/// is measured with that edge's own norm. A constant norm gives exactly
 /// |E| ||Ebar|| = ||E||.
 template <int Lanes, class Norm>
-inline void chainSumLengths(const Vec3f* e, const typename Norm::EdgeParams* g, int edgeCount,
-                            const float* ex, const float* ey, const float* ez, float* out) {
+STVD_ALWAYS_INLINE void chainSumLengths(const ChainMemory<Lanes, Norm>& chain, Vec3f e1,
+                                        const typename Norm::EdgeParams& g1, float* out) {
   alignas(64) float ux[Lanes], uy[Lanes], uz[Lanes], acc[Lanes];
+  STVD_SIMD_LOOP
   for (int lane = 0; lane < Lanes; ++lane) {
-    const float n2 = ex[lane] * ex[lane] + ey[lane] * ey[lane] + ez[lane] * ez[lane];
-    const float inv = n2 > 0.f ? 1.f / std::sqrt(n2) : 0.f;
-    ux[lane] = ex[lane] * inv;
-    uy[lane] = ey[lane] * inv;
-    uz[lane] = ez[lane] * inv;
-    acc[lane] = 0.f;
+    const float ex = e1.x - chain.backX[lane];
+    const float ey = e1.y - chain.backY[lane];
+    const float ez = e1.z - chain.backZ[lane];
+    // A zero sum vector (coincident points) gives Ebar = 0 and length 0.
+    const float n2 = ex * ex + ey * ey + ez * ez;
+    const float inv = 1.f / std::sqrt(std::max(n2, std::numeric_limits<float>::min()));
+    ux[lane] = ex * inv;
+    uy[lane] = ey * inv;
+    uz[lane] = ez * inv;
+    // Edges 1 and 2 belong to every candidate i >= 2.
+    acc[lane] = (e1.x * ux[lane] + e1.y * uy[lane] + e1.z * uz[lane]) *
+                Norm::length(g1, ux[lane], uy[lane], uz[lane]);
   }
-  for (int j = 1; j <= edgeCount; ++j) {
-    const Vec3f ej = e[j];
-    const typename Norm::EdgeParams gj = g[j];
+  for (int j = 2; j <= chain.edgeCount; ++j) {
+    const Vec3f ej = chain.edge[j];
+    const typename Norm::EdgeParams& gj = chain.edgeNorm[j];
+    STVD_SIMD_LOOP
     for (int lane = 0; lane < Lanes; ++lane) {
       const float projection = ej.x * ux[lane] + ej.y * uy[lane] + ej.z * uz[lane];
       const float portion = projection * Norm::length(gj, ux[lane], uy[lane], uz[lane]);
-      acc[lane] += (j <= lane + 2) ? portion : 0.f;
+      acc[lane] += j <= lane + 2 ? portion : 0.f;
     }
   }
-  for (int lane = 0; lane < Lanes; ++lane) out[lane] = acc[lane] > 0.f ? acc[lane] : 0.f;
+  for (int lane = 0; lane < Lanes; ++lane) out[lane] = std::max(acc[lane], 0.f);
 }
 
 template <class Domain, class Norm>
@@ -76,8 +104,10 @@ class Propagation {
       }
     }
 
-    const int k = options_.method == Method::Dijkstra ? 1 : options_.k;
-    if (k == 1) {
+    // STVD with k = 1 runs the vector code with an empty memory; that it
+    // matches Dijkstra bit for bit is tested.
+    const int k = options_.k;
+    if (options_.method == Method::Dijkstra) {
       loop(isTarget, remainingTargets, [this](VertexId v) { relaxDijkstra(v); });
     } else if (k <= 5) {
       loop(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<4>(v, k); });
@@ -149,7 +179,7 @@ class Propagation {
     }
   }
 
-  void relaxDijkstra(VertexId v) {
+  STVD_HOT_LOOP void relaxDijkstra(VertexId v) {
     const double dv = distance_[v];
     const auto& pv = metric_[v];
     domain_.forEachNeighbor(v, [&](VertexId w, Vec3f e) {
@@ -159,12 +189,9 @@ class Propagation {
     });
   }
 
-  // STVD update of every neighbour w of v. The chain c_0 = v, c_1 = pred(v),
-  // ... (at most k vertices, fewer near a source) is the same for all w, so
-  // its positions, distances, edge vectors and edge norms are gathered once.
+  // STVD update of every neighbour w of v (see ChainMemory).
   template <int Lanes>
-  void relaxVector(VertexId v, int k) {
-    using EdgeParams = typename Norm::EdgeParams;
+  STVD_HOT_LOOP void relaxVector(VertexId v, int k) {
     VertexId chain[kMaxMemoryDepth];
     int count = 1;
     chain[0] = v;
@@ -172,45 +199,37 @@ class Propagation {
       chain[count] = predecessor_[chain[count - 1]];
       ++count;
     }
-    if (count == 1) {
-      relaxDijkstra(v);
-      return;
-    }
-    const int m = count - 1;  // candidates i = 2..count use lanes 0..m-1
-
+    ChainMemory<Lanes, Norm> memory;
+    memory.edgeCount = count;
+    memory.candidateLanes = count - 1;
     Vec3f p[kMaxMemoryDepth];
     ChainUnfolding<Domain>::place(domain_, chain, count, p);
-    // Chain edge j >= 2 runs from c_{j-1} to c_{j-2}, in the direction of
-    // propagation; e[1] and g[1] (edge v -> w) are filled per neighbour.
-    Vec3f e[kMaxMemoryDepth + 1];
-    EdgeParams g[kMaxMemoryDepth + 1];
     for (int j = 2; j <= count; ++j) {
-      e[j] = p[j - 2] - p[j - 1];
-      g[j] = Norm::edgeParams(metric_[chain[j - 1]], metric_[chain[j - 2]]);
+      memory.edge[j] = p[j - 2] - p[j - 1];
+      memory.edgeNorm[j] = Norm::edgeParams(metric_[chain[j - 1]], metric_[chain[j - 2]]);
     }
-    // Padding lanes reuse the last chain vertex so that every lane stays finite.
-    alignas(64) float ex[Lanes], ey[Lanes], ez[Lanes], length[Lanes];
-    Vec3f back[Lanes];
-    for (int lane = 0; lane < Lanes; ++lane) back[lane] = p[std::min(lane + 1, m)];
+    // Padding lanes repeat the last chain vertex so that every lane stays finite.
+    for (int lane = 0; lane < Lanes; ++lane) {
+      const int c = std::min(lane + 1, count - 1);
+      memory.backX[lane] = p[c].x;
+      memory.backY[lane] = p[c].y;
+      memory.backZ[lane] = p[c].z;
+      memory.baseDistance[lane] = distance_[chain[c]];
+    }
 
     const double dv = distance_[v];
     const auto& pv = metric_[v];
-    domain_.forEachNeighbor(v, [&](VertexId w, Vec3f e1) {
+    domain_.forEachNeighbor(v, [&](VertexId w, Vec3f e1) STVD_ALWAYS_INLINE_LAMBDA {
       if (queue_.isFinal(w)) return;
       ++relaxed_;
-      g[1] = Norm::edgeParams(pv, metric_[w]);
-      e[1] = e1;
+      const typename Norm::EdgeParams g1 = Norm::edgeParams(pv, metric_[w]);
       // i = 1 is the Dijkstra term, measured exactly as Dijkstra measures it
       // (so that k = 1 and Dijkstra agree bit for bit).
-      double best = dv + Norm::length(g[1], e1.x, e1.y, e1.z);
-      for (int lane = 0; lane < Lanes; ++lane) {
-        ex[lane] = e1.x - back[lane].x;  // E_i = x(w) - x(c_{i-1})
-        ey[lane] = e1.y - back[lane].y;
-        ez[lane] = e1.z - back[lane].z;
-      }
-      chainSumLengths<Lanes, Norm>(e, g, count, ex, ey, ez, length);
-      for (int lane = 0; lane < m; ++lane)
-        best = std::min(best, distance_[chain[lane + 1]] + static_cast<double>(length[lane]));
+      double best = dv + Norm::length(g1, e1.x, e1.y, e1.z);
+      alignas(64) float length[Lanes];
+      chainSumLengths<Lanes, Norm>(memory, e1, g1, length);
+      for (int lane = 0; lane < memory.candidateLanes; ++lane)
+        best = std::min(best, memory.baseDistance[lane] + static_cast<double>(length[lane]));
       update(w, v, best);
     });
   }

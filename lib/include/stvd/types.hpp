@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "stvd/detail/compiler.hpp"
+
 namespace stvd {
 
 /// Index of a vertex in a domain (a voxel of a grid, a node of a mesh).

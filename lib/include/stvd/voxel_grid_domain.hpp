@@ -91,7 +91,7 @@ class VoxelGridDomain {
   /// physical edge vector x(w) - x(v). The interior of the image takes a
   /// path without bounds checks.
   template <class F>
-  void forEachNeighbor(VertexId v, F&& f) const {
+  STVD_ALWAYS_INLINE void forEachNeighbor(VertexId v, F&& f) const {
     const VoxelIndex c = indexOf(v);
     const int r = stencil_.radius();
     const bool interior = c.i >= r && c.j >= r && c.k >= r && c.i + r < static_cast<int>(nx_) &&

@@ -1,0 +1,28 @@
+// Compiler hints for the propagation's inner loops.
+#pragma once
+
+#if defined(__GNUC__) || defined(__clang__)
+/// Forces inlining of the small functions of the inner loops, where a call
+/// would stop vectorisation.
+#define STVD_ALWAYS_INLINE inline __attribute__((always_inline))
+#define STVD_ALWAYS_INLINE_LAMBDA __attribute__((always_inline))
+/// Asks for the loop over SIMD lanes to be vectorised (OpenMP SIMD, honoured
+/// with -fopenmp-simd; no OpenMP runtime is involved).
+#define STVD_SIMD_LOOP _Pragma("omp simd")
+#else
+#define STVD_ALWAYS_INLINE inline
+#define STVD_ALWAYS_INLINE_LAMBDA
+#define STVD_SIMD_LOOP
+#endif
+
+/// The relaxation loops are compiled twice on x86-64, for the baseline ISA
+/// and for x86-64-v3 (AVX2 + FMA, 2013 and later), and the loader picks the
+/// version the processor supports (GNU ifunc). The STVD chain kernel runs
+/// eight lanes per instruction with AVX2 instead of four. Define
+/// STVD_NO_TARGET_CLONES to build the baseline only.
+#if defined(__x86_64__) && defined(__gnu_linux__) && !defined(STVD_NO_TARGET_CLONES) && \
+    (defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 8))
+#define STVD_HOT_LOOP __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define STVD_HOT_LOOP
+#endif
