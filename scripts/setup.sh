@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages that stvd needs to build, test and run its
+# demo. Does nothing (and needs no root) when they are all installed already.
+set -euo pipefail
+
+# Compiler and build tools; GoogleTest and Google Benchmark; the libraries of
+# the adapters (ITK, Eigen, TetGen, OpenVDB; Debian's FindOpenVDB.cmake also
+# wants Boost.Iostreams); Python with NiBabel and NumPy for the tests that
+# check written NIfTI files independently of ITK.
+packages=(
+  g++ cmake make libgtest-dev libbenchmark-dev
+  libinsighttoolkit5-dev libeigen3-dev libtet1.5-dev libopenvdb-dev libboost-iostreams-dev
+  python3-nibabel python3-numpy
+)
+
+if ! command -v dpkg-query >/dev/null 2>&1; then
+  echo "setup.sh: dpkg-query not found; this script installs Debian 12 packages:" >&2
+  echo "  ${packages[*]}" >&2
+  exit 1
+fi
+
+missing=()
+for package in "${packages[@]}"; do
+  status=$(dpkg-query -W -f='${Status}' "$package" 2>/dev/null || true)
+  [[ $status == "install ok installed" ]] || missing+=("$package")
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "setup.sh: all ${#packages[@]} required Debian packages are installed"
+  exit 0
+fi
+
+if [[ $(id -u) -ne 0 ]]; then
+  echo "setup.sh: missing Debian packages: ${missing[*]}" >&2
+  echo "setup.sh: run this script as root, or install them with" >&2
+  echo "  sudo apt-get install -y --no-install-recommends ${missing[*]}" >&2
+  exit 1
+fi
+
+echo "setup.sh: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -q
+apt-get install -y -q --no-install-recommends "${packages[@]}" </dev/null

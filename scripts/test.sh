@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# The test suite: installs what is missing, builds stvd (Release) with its
+# tests and runs them with CTest.
+#
+# STVD_BUILD_DIR overrides the build directory (default: build).
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+build_dir=${STVD_BUILD_DIR:-build}
+
+bash scripts/setup.sh
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSTVD_BUILD_TESTS=ON
+cmake --build "$build_dir" -j"$(nproc)"
+# Every test takes seconds; 300 s means one has hung. Tests may set a
+# TIMEOUT property of their own.
+ctest --test-dir "$build_dir" --output-on-failure -j2 --timeout 300
