@@ -27,14 +27,14 @@ namespace detail {
 /// distance is dist(c_{i-1}). Chain edge j >= 2 runs from c_{j-1} to c_{j-2}
 /// (the direction of propagation) and is measured with the norm of its end
 /// points; edge 1 (v -> w) is supplied per neighbour.
-template <int Lanes, class Norm>
+template <class Norm>
 struct ChainMemory {
+  static constexpr int kMaxLanes = 16;
   using EdgeParams = typename Norm::EdgeParams;
   int edgeCount;  // m + 1: edges 1..m+1
-  int candidateLanes;  // m
-  alignas(64) float backX[Lanes], backY[Lanes], backZ[Lanes];  // x(c_{L+1}) - x(v)
-  double baseDistance[Lanes];                                   // dist(c_{L+1})
-  Vec3f edge[kMaxMemoryDepth + 1];                              // e_j, j = 2..m+1
+  alignas(64) float backX[kMaxLanes], backY[kMaxLanes], backZ[kMaxLanes];  // x(c_{L+1}) - x(v)
+  alignas(64) double baseDistance[kMaxLanes];  // dist(c_{L+1}); +inf in padding lanes
+  Vec3f edge[kMaxMemoryDepth + 1];             // e_j, j = 2..m+1
   EdgeParams edgeNorm[kMaxMemoryDepth + 1];
 };
 
@@ -46,7 +46,7 @@ struct ChainMemory {
 /// is measured with that edge's own norm. A constant norm gives exactly
 /// |E| ||Ebar|| = ||E||.
 template <int Lanes, class Norm>
-STVD_ALWAYS_INLINE void chainSumLengths(const ChainMemory<Lanes, Norm>& chain, Vec3f e1,
+STVD_ALWAYS_INLINE void chainSumLengths(const ChainMemory<Norm>& chain, Vec3f e1,
                                         const typename Norm::EdgeParams& g1, float* out) {
   alignas(64) float ux[Lanes], uy[Lanes], uz[Lanes], acc[Lanes];
   STVD_SIMD_LOOP
@@ -199,22 +199,23 @@ class Propagation {
       chain[count] = predecessor_[chain[count - 1]];
       ++count;
     }
-    ChainMemory<Lanes, Norm> memory;
+    static_assert(Lanes <= ChainMemory<Norm>::kMaxLanes, "too many lanes");
+    ChainMemory<Norm> memory;
     memory.edgeCount = count;
-    memory.candidateLanes = count - 1;
     Vec3f p[kMaxMemoryDepth];
     ChainUnfolding<Domain>::place(domain_, chain, count, p);
     for (int j = 2; j <= count; ++j) {
       memory.edge[j] = p[j - 2] - p[j - 1];
       memory.edgeNorm[j] = Norm::edgeParams(metric_[chain[j - 1]], metric_[chain[j - 2]]);
     }
-    // Padding lanes repeat the last chain vertex so that every lane stays finite.
+    // Padding lanes repeat the last chain vertex so that every lane stays
+    // finite, and their base distance is +inf so that they never win.
     for (int lane = 0; lane < Lanes; ++lane) {
       const int c = std::min(lane + 1, count - 1);
       memory.backX[lane] = p[c].x;
       memory.backY[lane] = p[c].y;
       memory.backZ[lane] = p[c].z;
-      memory.baseDistance[lane] = distance_[chain[c]];
+      memory.baseDistance[lane] = lane + 1 < count ? distance_[chain[lane + 1]] : kUnreachable;
     }
 
     const double dv = distance_[v];
@@ -228,7 +229,7 @@ class Propagation {
       double best = dv + Norm::length(g1, e1.x, e1.y, e1.z);
       alignas(64) float length[Lanes];
       chainSumLengths<Lanes, Norm>(memory, e1, g1, length);
-      for (int lane = 0; lane < memory.candidateLanes; ++lane)
+      for (int lane = 0; lane < Lanes; ++lane)
         best = std::min(best, memory.baseDistance[lane] + static_cast<double>(length[lane]));
       update(w, v, best);
     });
