@@ -20,13 +20,15 @@
 namespace {
 
 // STVD memory depth: how many edges back along a path are summed into one
-// vector (1 is plain Dijkstra).
+// vector (1 is plain Dijkstra). Chosen here rather than taken from
+// stvd::kDefaultMemoryDepth so that the bound below stays tied to it.
 constexpr int kMemoryDepth = 8;
 
 // Largest relative error of STVD accepted on this grid. With k = 8 and the
-// 26-neighbourhood it measures 3.6 % (at a voxel 11 mm from the seed whose
-// direction no short stencil combination matches), Dijkstra 31 %: the bound
-// fails the run for a broken build or install, not for the method's own error.
+// 26-neighbourhood it measures 3.7 % (at a voxel 11 mm from the seed, in a
+// direction that no short combination of stencil offsets matches), Dijkstra
+// 31 %: the bound fails the run for a broken build or install, not for the
+// method's own error.
 constexpr double kStvdRelativeErrorBound = 0.05;
 
 double exactDistance(const stvd::SymTensor3& g, stvd::Vec3d d) {
