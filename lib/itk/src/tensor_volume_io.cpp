@@ -1,0 +1,188 @@
+// Reading and writing tensor volumes through ITK's image IO classes. The raw
+// component buffers are used rather than itk::Image<DiffusionTensor3D>: it
+// keeps ITK's tensor headers (and the Eigen copy they carry) out of stvd.
+#include <itkMetaDataObject.h>
+
+#include <sstream>
+#include <utility>
+
+#include "itk_io_support.hpp"
+#include "nrrd_header.hpp"
+#include "stvd/itk/atomic_output.hpp"
+#include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/tensor_volume.hpp"
+
+namespace stvd::imaging {
+namespace {
+
+constexpr const char* kOrderHint = "state it with --tensor-order fsl|mrtrix|lower";
+
+std::string describeLayout(itk::ImageIOBase& io) {
+  std::ostringstream s;
+  s << io.GetNumberOfDimensions() << "D ";
+  for (unsigned d = 0; d < io.GetNumberOfDimensions(); ++d) s << (d ? "x" : "") << io.GetDimensions(d);
+  s << ", " << io.GetNumberOfComponents() << " component(s) per voxel ("
+    << itk::ImageIOBase::GetPixelTypeAsString(io.GetPixelType()) << ")";
+  return s.str();
+}
+
+Matrix3 transpose(const Matrix3& m) {
+  return {m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]};
+}
+
+/// The matrix that takes the file's components to LPS components.
+Matrix3 fileToLps(const TensorFileInfo& info, const GridGeometry& geometry) {
+  if (info.frame == TensorFrame::Voxel) return voxelAxes(geometry);
+  const bool nrrd = info.layout == TensorFileLayout::NrrdSymMatrix ||
+                    info.layout == TensorFileLayout::NrrdMaskedSymMatrix;
+  return nrrd ? info.measurementFrameLps : rasToLps();
+}
+
+void checkStatedOrder(const std::string& path, const TensorReadOptions& options, TensorFileLayout layout,
+                      TensorOrder fixed) {
+  if (options.order && *options.order != fixed)
+    throw ImageIoError(path, "a " + tensorFileLayoutName(layout) + " file has the fixed component order " +
+                                 tensorOrderComponents(fixed) + "; the stated order " +
+                                 tensorOrderName(*options.order) + " contradicts it");
+}
+
+}  // namespace
+
+TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options) {
+  itk::ImageIOBase::Pointer io = detail::openImageForReading(path);
+  const std::string ioClass = io->GetNameOfClass();
+  const unsigned dims = io->GetNumberOfDimensions();
+  const unsigned components = io->GetNumberOfComponents();
+  const bool tensorPixel = io->GetPixelType() == itk::IOPixelEnum::SYMMETRICSECONDRANKTENSOR;
+
+  TensorReadResult result;
+  TensorFileInfo& info = result.info;
+  info.componentType = itk::ImageIOBase::GetComponentTypeAsString(io->GetComponentType());
+  // How the components sit in ITK's buffer: interleaved per voxel (true) or
+  // one volume after the other (false).
+  bool interleaved = true;
+  TensorOrder bufferOrder = TensorOrder::Fsl;
+
+  if (ioClass == "NrrdImageIO") {
+    if (!(dims == 3 && components == 6 && tensorPixel))
+      throw ImageIoError(path, "not a 3D tensor NRRD (kind 3D-symmetric-matrix or 3D-masked-symmetric-matrix "
+                               "expected), found " + describeLayout(*io));
+    const detail::NrrdTensorHeader header = detail::readNrrdTensorHeader(path);
+    info.layout = header.masked ? TensorFileLayout::NrrdMaskedSymMatrix : TensorFileLayout::NrrdSymMatrix;
+    info.order = TensorOrder::Fsl;
+    info.nrrdSpace = header.space;
+    info.hasMeasurementFrame = header.hasMeasurementFrame;
+    info.measurementFrameLps = multiply(header.spaceToLps, header.measurementFrame);
+    checkStatedOrder(path, options, info.layout, info.order);
+    // ITK hands the six tensor values over in NRRD's own order, xx xy xz yy yz zz.
+    bufferOrder = TensorOrder::Fsl;
+  } else if (ioClass == "NiftiImageIO") {
+    if (dims == 3 && components == 6 && tensorPixel) {
+      info.layout = TensorFileLayout::NiftiSymMatrix5D;
+      info.order = TensorOrder::Lower;
+      checkStatedOrder(path, options, info.layout, info.order);
+      // ITK reorders the standard's lower triangle into its own upper one.
+      bufferOrder = TensorOrder::Fsl;
+    } else if ((dims == 3 && components == 6) || (dims == 4 && components == 1 && io->GetDimensions(3) == 6) ||
+               (dims == 5 && components == 1 && io->GetDimensions(3) == 1 && io->GetDimensions(4) == 6)) {
+      // Six values per voxel without the SYMMATRIX intent: four dimensions
+      // with six volumes, or five with the six along the fifth (as the 5D
+      // layout, without its intent).
+      info.layout = TensorFileLayout::NiftiSixVolumes;
+      if (!options.order)
+        throw ImageIoError(path, "a NIfTI file with six values per voxel and no SYMMATRIX intent does not say "
+                                 "its component order; " + std::string(kOrderHint));
+      info.order = *options.order;
+      bufferOrder = info.order;
+      interleaved = dims == 3;
+    } else if (dims == 4 && components == 1) {
+      throw ImageIoError(path, "a 4D NIfTI tensor file needs 6 volumes (one per component), this one has " +
+                                   std::to_string(io->GetDimensions(3)));
+    } else if (components == 1) {
+      throw ImageIoError(path, "is a scalar image (" + describeLayout(*io) + "), not a tensor volume");
+    } else {
+      throw ImageIoError(path, "not a tensor volume: expected 6 components per voxel, found " +
+                                   describeLayout(*io));
+    }
+  } else {
+    throw ImageIoError(path, std::string("unsupported format (") + ioClass + "); use NIfTI or NRRD");
+  }
+  info.frameWasStated = options.frame.has_value();
+  info.frame = options.frame.value_or(defaultTensorFrame(info.layout, info.order));
+
+  TensorVolume& volume = result.volume;
+  volume.geometry = detail::geometryOf(*io, path);
+  const std::vector<float> values = detail::readAllComponents(*io, path);
+  const std::size_t n = volume.geometry.voxelCount();
+  if (values.size() != 6 * n)
+    throw ImageIoError(path, "holds " + std::to_string(values.size()) + " values, expected 6 per voxel");
+
+  const Matrix3 toLps = fileToLps(info, volume.geometry);
+  volume.tensors.resize(n);
+  float c[6];
+  for (std::size_t v = 0; v < n; ++v) {
+    for (int q = 0; q < 6; ++q) c[q] = interleaved ? values[6 * v + q] : values[v + n * q];
+    volume.tensors[v] = changeTensorFrame(tensorFromComponents(c, bufferOrder), toLps);
+  }
+
+  if (info.layout == TensorFileLayout::NrrdMaskedSymMatrix) {
+    const std::vector<float> confidence = detail::readNrrdConfidence(path);
+    if (confidence.size() != n)
+      throw ImageIoError(path, "confidence channel has " + std::to_string(confidence.size()) +
+                                   " values for " + std::to_string(n) + " voxels");
+    volume.mask.resize(n);
+    // teem's convention: a voxel counts when its confidence is at least 0.5.
+    for (std::size_t v = 0; v < n; ++v) volume.mask[v] = confidence[v] >= 0.5f ? 1 : 0;
+  }
+  return result;
+}
+
+void writeTensorVolume(const std::string& path, const TensorVolume& volume,
+                       const TensorWriteOptions& options) {
+  const GridGeometry& g = volume.geometry;
+  const std::size_t n = g.voxelCount();
+  if (volume.tensors.size() != n)
+    throw ImageIoError(path, "tensor count " + std::to_string(volume.tensors.size()) +
+                                 " does not match the geometry's " + std::to_string(n) + " voxels");
+  const bool nrrd = options.layout == TensorFileLayout::NrrdSymMatrix;
+  if (options.layout == TensorFileLayout::NrrdMaskedSymMatrix)
+    throw ImageIoError(path, "writing 3D-masked-symmetric-matrix NRRD is not supported");
+
+  // Components in the file's frame: M^T T M for the matrix M that maps them to LPS.
+  Matrix3 toLps;
+  if (options.frame == TensorFrame::Voxel)
+    toLps = voxelAxes(g);
+  else
+    toLps = nrrd ? Matrix3{1, 0, 0, 0, 1, 0, 0, 0, 1} : rasToLps();
+  const Matrix3 fromLps = transpose(toLps);
+
+  const bool sixVolumes = options.layout == TensorFileLayout::NiftiSixVolumes;
+  const TensorOrder order = sixVolumes ? options.order : TensorOrder::Fsl;
+  std::vector<float> buffer(6 * n);
+  float c[6];
+  for (std::size_t v = 0; v < n; ++v) {
+    componentsOfTensor(changeTensorFrame(volume.tensors[v], fromLps), order, c);
+    for (int q = 0; q < 6; ++q) (sixVolumes ? buffer[v + n * q] : buffer[6 * v + q]) = c[q];
+  }
+
+  AtomicOutput output(path);
+  itk::ImageIOBase::Pointer io =
+      sixVolumes ? detail::createFloatWriter(output.stagingPath(), path, g, 1, itk::IOPixelEnum::SCALAR, 6)
+                 : detail::createFloatWriter(output.stagingPath(), path, g, 6,
+                                             itk::IOPixelEnum::SYMMETRICSECONDRANKTENSOR);
+  const std::string ioClass = io->GetNameOfClass();
+  if (nrrd != (ioClass == "NrrdImageIO"))
+    throw ImageIoError(path, "the extension does not match the layout " + tensorFileLayoutName(options.layout));
+  if (nrrd && options.frame == TensorFrame::Voxel) {
+    // The measurement frame's columns are the index axes in LPS.
+    std::vector<std::vector<double>> frame(3, std::vector<double>(3));
+    for (int col = 0; col < 3; ++col)
+      for (int r = 0; r < 3; ++r) frame[col][r] = toLps[3 * r + col];
+    itk::EncapsulateMetaData<std::vector<std::vector<double>>>(io->GetMetaDataDictionary(),
+                                                               "NRRD_measurement frame", frame);
+  }
+  detail::writeFloatData(*io, path, buffer.data());
+  output.commit();
+}
+
+}  // namespace stvd::imaging

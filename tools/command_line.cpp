@@ -1,0 +1,231 @@
+#include "command_line.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+#include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/scalar_image.hpp"
+
+namespace stvd::tool {
+
+void usageError(const std::string& message) { throw ToolError(kExitUsage, message); }
+
+ArgumentReader::ArgumentReader(int argc, char** argv, int first) {
+  for (int i = first; i < argc; ++i) args_.emplace_back(argv[i]);
+}
+
+bool ArgumentReader::isOption(const std::string& argument) const {
+  // "-" alone and negative numbers are values, not options.
+  if (argument.size() < 2 || argument[0] != '-') return false;
+  return !(std::isdigit(static_cast<unsigned char>(argument[1])) || argument[1] == '.');
+}
+
+std::string ArgumentReader::take() {
+  inlineValue_.reset();
+  std::string argument = args_[next_++];
+  if (argument.rfind("--", 0) == 0) {
+    const std::size_t equals = argument.find('=');
+    if (equals != std::string::npos) {
+      inlineValue_ = argument.substr(equals + 1);
+      argument.resize(equals);
+    }
+  }
+  return argument;
+}
+
+std::string ArgumentReader::value(const std::string& option) {
+  if (inlineValue_) {
+    std::string v = *inlineValue_;
+    inlineValue_.reset();
+    return v;
+  }
+  if (done() || (isOption(args_[next_]) && args_[next_] != "-")) usageError(option + " needs a value");
+  return args_[next_++];
+}
+
+void ArgumentReader::noValue(const std::string& option) {
+  if (inlineValue_) usageError(option + " takes no value");
+}
+
+double parseNumber(const std::string& option, const std::string& text) {
+  errno = 0;
+  char* end = nullptr;
+  const double x = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(x))
+    usageError(option + ": '" + text + "' is not a number");
+  return x;
+}
+
+int parseInteger(const std::string& option, const std::string& text) {
+  errno = 0;
+  char* end = nullptr;
+  const long x = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || errno == ERANGE || x < -2147483647L || x > 2147483647L)
+    usageError(option + ": '" + text + "' is not an integer");
+  return static_cast<int>(x);
+}
+
+namespace {
+std::vector<std::string> splitCommas(const std::string& option, const std::string& text) {
+  std::vector<std::string> parts;
+  std::string part;
+  std::istringstream in(text);
+  while (std::getline(in, part, ',')) {
+    while (!part.empty() && part.front() == ' ') part.erase(part.begin());
+    while (!part.empty() && part.back() == ' ') part.pop_back();
+    parts.push_back(part);
+  }
+  if (parts.size() != 3 || text.back() == ',')
+    usageError(option + ": '" + text + "' is not three comma-separated numbers");
+  return parts;
+}
+}  // namespace
+
+std::array<double, 3> parseTriple(const std::string& option, const std::string& text) {
+  const auto parts = splitCommas(option, text);
+  return {parseNumber(option, parts[0]), parseNumber(option, parts[1]), parseNumber(option, parts[2])};
+}
+
+std::array<int, 3> parseIntegerTriple(const std::string& option, const std::string& text) {
+  const auto parts = splitCommas(option, text);
+  return {parseInteger(option, parts[0]), parseInteger(option, parts[1]), parseInteger(option, parts[2])};
+}
+
+bool parseTensorInputOption(const std::string& option, ArgumentReader& args, TensorInputOptions& options) {
+  using namespace imaging;
+  if (option == "--tensor-order") {
+    const std::string v = args.value(option);
+    options.order = parseTensorOrder(v);
+    if (!options.order) usageError("--tensor-order: '" + v + "' is not one of lower, fsl, mrtrix");
+  } else if (option == "--tensor-frame") {
+    const std::string v = args.value(option);
+    options.frame = parseTensorFrame(v);
+    if (!options.frame) usageError("--tensor-frame: '" + v + "' is not one of voxel, world");
+  } else if (option == "--tensor-kind") {
+    const std::string v = args.value(option);
+    const auto kind = parseTensorKind(v);
+    if (!kind) usageError("--tensor-kind: '" + v + "' is not one of diffusion, metric");
+    options.metric.kind = *kind;
+  } else if (option == "--diffusion-metric") {
+    const std::string v = args.value(option);
+    const auto metric = parseDiffusionMetric(v);
+    if (!metric) usageError("--diffusion-metric: '" + v + "' is not one of inverse, adjugate");
+    options.metric.diffusionMetric = *metric;
+  } else if (option == "--max-anisotropy") {
+    const double a = parseNumber(option, args.value(option));
+    if (!(a >= 1.0)) usageError("--max-anisotropy must be at least 1");
+    options.metric.maxAnisotropy = a;
+  } else if (option == "--fa-threshold") {
+    const double t = parseNumber(option, args.value(option));
+    if (!(t >= 0.0 && t < 1.0)) usageError("--fa-threshold must be in [0, 1)");
+    options.metric.faThreshold = t;
+  } else if (option == "--mask") {
+    options.maskPath = args.value(option);
+  } else {
+    return false;
+  }
+  return true;
+}
+
+TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options) {
+  TensorInput input;
+  try {
+    input.read = imaging::readTensorVolume(path, {options.order, options.frame});
+  } catch (const imaging::ImageIoError& e) {
+    throw ToolError(kExitInput, e.what());
+  }
+  input.mask = input.read.volume.mask;
+  if (!input.mask.empty()) input.maskDescription = "the file's confidence channel";
+  if (!options.maskPath.empty()) {
+    imaging::ScalarImage mask;
+    try {
+      mask = imaging::readScalarImage(options.maskPath);
+    } catch (const imaging::ImageIoError& e) {
+      throw ToolError(kExitInput, e.what());
+    }
+    const std::string mismatch = imaging::geometryMismatch(mask.geometry, input.read.volume.geometry);
+    if (!mismatch.empty())
+      throw ToolError(kExitInput, options.maskPath + ": the mask is on another grid than " + path + " (" +
+                                      mismatch + ")");
+    if (input.mask.empty()) input.mask.assign(mask.values.size(), 1);
+    for (std::size_t v = 0; v < mask.values.size(); ++v)
+      if (mask.values[v] == 0.f || std::isnan(mask.values[v])) input.mask[v] = 0;
+    input.maskDescription = input.maskDescription.empty()
+                                ? options.maskPath
+                                : options.maskPath + " and " + input.maskDescription;
+  }
+  return input;
+}
+
+std::string orientationCode(const GridGeometry& geometry) {
+  // LPS components: +x is Left, +y Posterior, +z Superior.
+  const char positive[3] = {'L', 'P', 'S'}, negative[3] = {'R', 'A', 'I'};
+  std::string code;
+  for (int c = 0; c < 3; ++c) {
+    int best = 0;
+    for (int r = 1; r < 3; ++r)
+      if (std::abs(geometry.direction[3 * r + c]) > std::abs(geometry.direction[3 * best + c])) best = r;
+    code += geometry.direction[3 * best + c] > 0 ? positive[best] : negative[best];
+  }
+  return code;
+}
+
+std::string tensorInputHelp(bool withMetricOptions) {
+  std::string text =
+      "Tensor file:\n"
+      "  NIfTI (.nii, .nii.gz): the 5D layout X Y Z 1 6 with intent SYMMATRIX (order fixed by the\n"
+      "    standard: lower), or six volumes X Y Z 6, whose order must be stated.\n"
+      "  NRRD (.nrrd, .nhdr): kind 3D-symmetric-matrix, or 3D-masked-symmetric-matrix whose\n"
+      "    confidence channel (>= 0.5) becomes a mask. Order fixed: xx,xy,xz,yy,yz,zz.\n"
+      "  --tensor-order ORDER    component order of a six-volume NIfTI file (no default):\n"
+      "                          lower  = xx,xy,yy,xz,yz,zz (NIfTI standard, DIPY, ANTs; alias nifti)\n"
+      "                          fsl    = xx,xy,xz,yy,yz,zz (FSL dtifit; alias upper)\n"
+      "                          mrtrix = xx,yy,zz,xy,xz,yz (MRtrix)\n"
+      "  --tensor-frame FRAME    frame of the six numbers:\n"
+      "                          voxel = along the image index axes i,j,k (DIPY, FSL fits)\n"
+      "                          world = NIfTI: RAS scanner axes (MRtrix);\n"
+      "                                  NRRD: the measurement frame, in the NRRD space\n"
+      "                          default: voxel for NIfTI in the lower and fsl orders, world for\n"
+      "                          NIfTI in the mrtrix order and for NRRD.\n"
+      "  --mask FILE             only voxels where FILE is non-zero (same grid as the tensors).\n";
+  if (withMetricOptions)
+    text +=
+        "Metric:\n"
+        "  --tensor-kind KIND      diffusion (default): the file holds diffusion tensors D;\n"
+        "                          metric: the file holds the metric G (cost of a step v is\n"
+        "                          sqrt(v^T G v), v in mm).\n"
+        "  --diffusion-metric M    inverse (default): G = (D/MD)^-1, MD = trace(D)/3, so isotropic\n"
+        "                          tissue costs 1 per mm (O'Donnell et al. 2002);\n"
+        "                          adjugate: G = adj(D/MD), anisotropic tissue cheaper still\n"
+        "                          (Fuster et al. 2016).\n"
+        "  --max-anisotropy A      raise eigenvalues below lambda_max/A to it (default 100), which\n"
+        "                          also repairs zero and negative eigenvalues.\n"
+        "  --fa-threshold T        only voxels whose tensor has FA >= T (diffusion tensors).\n"
+        "  Voxels with a zero, NaN or infinite tensor, or no positive eigenvalue, are outside.\n";
+  else
+    text += "  --max-anisotropy A      count tensors with lambda_max/lambda_min above A (default 100).\n";
+  return text;
+}
+
+std::string withThousands(unsigned long long n) {
+  std::string digits = std::to_string(n);
+  std::string out;
+  const int first = static_cast<int>(digits.size() % 3);
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i != 0 && (static_cast<int>(i) - first) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
+
+std::string fixed(double x, int decimals) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(decimals);
+  s << x;
+  return s.str();
+}
+
+}  // namespace stvd::tool

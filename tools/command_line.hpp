@@ -1,0 +1,107 @@
+// What the subcommands of `stvd` share: exit codes, the error that carries
+// one, a small argument reader, value parsers and the options that say how
+// to read a tensor file.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "stvd/itk/tensor_layout.hpp"
+#include "stvd/itk/tensor_metric.hpp"
+#include "stvd/itk/tensor_volume.hpp"
+
+namespace stvd::tool {
+
+/// Exit codes of every subcommand (documented in docs/cli.md and --help).
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitInternal = 1,  ///< an unexpected failure (a bug: please report it)
+  kExitUsage = 2,     ///< bad command line: unknown option, bad value, missing argument
+  kExitInput = 3,     ///< an input file cannot be read or used (format, layout, geometry)
+  kExitDomain = 4,    ///< nothing to compute: empty domain, seed outside the image or domain
+  kExitOutput = 5,    ///< an output file cannot be written
+};
+
+/// A failure with its exit code; what() is the one-line message.
+class ToolError : public std::runtime_error {
+ public:
+  ToolError(int exitCode, const std::string& message) : std::runtime_error(message), exitCode_(exitCode) {}
+  int exitCode() const { return exitCode_; }
+
+ private:
+  int exitCode_;
+};
+
+/// Throws ToolError(kExitUsage, message).
+[[noreturn]] void usageError(const std::string& message);
+
+/// Walks over argv. Options are "--name value", "--name=value" or a flag
+/// "--name"; anything not starting with '-' is positional.
+class ArgumentReader {
+ public:
+  ArgumentReader(int argc, char** argv, int first);
+  bool done() const { return next_ >= args_.size(); }
+  /// The next argument, and whether it is an option. For "--name=value"
+  /// the option is "--name" and the value is kept for value().
+  std::string take();
+  bool isOption(const std::string& argument) const;
+  /// The value of the option just taken; usage error when there is none.
+  std::string value(const std::string& option);
+  /// Usage error when the option just taken came with "=value".
+  void noValue(const std::string& option);
+
+ private:
+  std::vector<std::string> args_;
+  std::size_t next_ = 0;
+  std::optional<std::string> inlineValue_;
+};
+
+double parseNumber(const std::string& option, const std::string& text);
+int parseInteger(const std::string& option, const std::string& text);
+/// "A,B,C" (no spaces needed; spaces allowed after commas).
+std::array<double, 3> parseTriple(const std::string& option, const std::string& text);
+std::array<int, 3> parseIntegerTriple(const std::string& option, const std::string& text);
+
+/// How to read a tensor file and turn it into a metric: the options
+/// `distance` and `info` share.
+struct TensorInputOptions {
+  std::optional<imaging::TensorOrder> order;
+  std::optional<imaging::TensorFrame> frame;
+  imaging::MetricOptions metric;
+  std::string maskPath;
+};
+
+/// When `option` is one of the tensor input options, reads its value from
+/// `args` into `options` and returns true.
+bool parseTensorInputOption(const std::string& option, ArgumentReader& args, TensorInputOptions& options);
+
+/// A tensor file read as the options say, with its mask: the file's own
+/// (NRRD confidence) and the --mask file's, combined; empty when neither.
+struct TensorInput {
+  imaging::TensorReadResult read;
+  std::vector<std::uint8_t> mask;
+  /// How the mask came about, for reports: "" or e.g. "mask.nii.gz".
+  std::string maskDescription;
+};
+
+/// Reads the tensor file and the mask. Throws ToolError(kExitInput) naming
+/// the file: unreadable, wrong layout, or a mask on another grid.
+TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options);
+
+/// "LAS"-style orientation code: the RAS direction each index axis points
+/// to most (L/R, P/A, I/S), as NIfTI tools print it.
+std::string orientationCode(const GridGeometry& geometry);
+
+/// Help text of the tensor input options (shared by the subcommands' --help).
+std::string tensorInputHelp(bool withMetricOptions);
+
+/// 1234567 -> "1,234,567".
+std::string withThousands(unsigned long long n);
+/// Fixed-point with `decimals` digits.
+std::string fixed(double x, int decimals);
+
+}  // namespace stvd::tool

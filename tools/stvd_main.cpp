@@ -1,0 +1,71 @@
+// `stvd`: the command-line tool. Dispatches to a subcommand and turns every
+// failure into one line on stderr and a documented exit code.
+#include <exception>
+#include <iostream>
+#include <string>
+
+#include "command_line.hpp"
+#include "subcommands.hpp"
+
+namespace {
+
+const char* kToolHelp =
+    "Usage: stvd COMMAND [options]\n"
+    "\n"
+    "Anisotropic geodesic distances on diffusion tensor images (stvd " STVD_VERSION_TEXT ").\n"
+    "\n"
+    "Commands:\n"
+    "  distance INPUT -o OUTPUT [options]   distance map (mm) from seeds over a tensor volume\n"
+    "  info INPUT [options]                 geometry, layout, order, frame and eigenvalue\n"
+    "                                       statistics of a tensor volume\n"
+    "  help [COMMAND]                       this text, or a command's (also COMMAND --help)\n"
+    "\n"
+    "Inputs: NIfTI (.nii, .nii.gz) and NRRD (.nrrd, .nhdr) tensor volumes; outputs: float32\n"
+    "NIfTI or NRRD on the input's grid. Coordinates are millimetres; seed points are RAS unless\n"
+    "--lps is given; voxel indices are 0-based. See docs/cli.md for the details.\n"
+    "\n"
+    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
+    "input; 4 nothing to compute (empty domain, seed outside the image or domain); 5 output\n"
+    "cannot be written.\n";
+
+int dispatch(int argc, char** argv) {
+  using namespace stvd::tool;
+  if (argc < 2) {
+    std::cerr << kToolHelp;
+    return kExitUsage;
+  }
+  const std::string command = argv[1];
+  if (command == "distance") return runDistance(argc, argv);
+  if (command == "info") return runInfo(argc, argv);
+  if (command == "-h" || command == "--help" || command == "help") {
+    if (command == "help" && argc > 2) {
+      char* helpArgv[] = {argv[0], argv[2], const_cast<char*>("--help")};
+      return dispatch(3, helpArgv);
+    }
+    std::cout << kToolHelp;
+    return kExitOk;
+  }
+  if (command == "--version") {
+    std::cout << "stvd " STVD_VERSION_TEXT "\n";
+    return kExitOk;
+  }
+  usageError("unknown command '" + command + "' (commands: distance, info; see stvd --help)");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace stvd::tool;
+  try {
+    return dispatch(argc, argv);
+  } catch (const ToolError& e) {
+    if (e.exitCode() != kExitOk) std::cerr << "stvd: " << e.what() << std::endl;
+    return e.exitCode();
+  } catch (const std::bad_alloc&) {
+    std::cerr << "stvd: out of memory" << std::endl;
+    return kExitInternal;
+  } catch (const std::exception& e) {
+    std::cerr << "stvd: internal error: " << e.what() << std::endl;
+    return kExitInternal;
+  }
+}

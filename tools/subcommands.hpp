@@ -1,0 +1,10 @@
+// The subcommands of `stvd`. Each takes the whole argv (argv[1] is the
+// subcommand's name), returns an exit code and throws ToolError on failure.
+#pragma once
+
+namespace stvd::tool {
+
+int runDistance(int argc, char** argv);
+int runInfo(int argc, char** argv);
+
+}  // namespace stvd::tool
