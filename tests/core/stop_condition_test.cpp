@@ -1,0 +1,249 @@
+// Early stops (maximum distance, targets, cancellation) and the predecessor
+// forest. A stopped run performs exactly the first steps of the full run, so
+// every vertex it finalises carries the full run's distance bit for bit.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "scenes.hpp"
+#include "stvd/propagation.hpp"
+
+namespace stvd {
+namespace {
+
+struct MethodCase {
+  const char* name;
+  Method method;
+  int k;
+};
+
+const MethodCase kMethods[] = {{"Dijkstra", Method::Dijkstra, 1},
+                               {"StvdK4", Method::ShortTermVectorDijkstra, 4},
+                               {"StvdK8", Method::ShortTermVectorDijkstra, 8},
+                               {"StvdK16", Method::ShortTermVectorDijkstra, 16}};
+
+/// A varying metric on an oblique 48^3 grid (more than 65536 voxels, so the
+/// progress callback fires), and the full run from two sources.
+class StopConditions : public ::testing::TestWithParam<MethodCase> {
+ protected:
+  StopConditions()
+      : domain_(test::obliqueGrid({48, 48, 48}), Stencil::full26()),
+        metric_(test::smoothVaryingTensors(domain_)),
+        sources_{domain_.vertexAt(10, 30, 20), domain_.vertexAt(40, 5, 33)} {}
+
+  PropagationOptions options() const {
+    PropagationOptions o;
+    o.method = GetParam().method;
+    o.k = GetParam().k;
+    return o;
+  }
+  PropagationResult run(const PropagationOptions& o) const {
+    return propagate(domain_, metric_, sources_, o);
+  }
+  /// The run without stop conditions, computed once per method.
+  const PropagationResult& fullRun() const {
+    static std::map<std::string, PropagationResult> cache;
+    auto it = cache.find(GetParam().name);
+    if (it == cache.end()) it = cache.emplace(GetParam().name, run(options())).first;
+    return it->second;
+  }
+  /// Every vertex the stopped run finalised has the full run's distance and
+  /// predecessor; every other vertex is unreached.
+  void expectPrefixOfFullRun(const PropagationResult& stopped, const PropagationResult& full) const {
+    std::uint64_t finite = 0;
+    for (VertexId v = 0; v < domain_.vertexCount(); ++v) {
+      if (stopped.distance[v] == kUnreachable) {
+        EXPECT_EQ(stopped.predecessor[v], kNoVertex);
+        continue;
+      }
+      ++finite;
+      ASSERT_EQ(std::memcmp(&stopped.distance[v], &full.distance[v], sizeof(double)), 0)
+          << "vertex " << v << ": " << stopped.distance[v] << " vs " << full.distance[v];
+      ASSERT_EQ(stopped.predecessor[v], full.predecessor[v]) << "vertex " << v;
+    }
+    EXPECT_EQ(finite, stopped.finalizedVertices);
+  }
+
+  VoxelGridDomain domain_;
+  RiemannianMetric metric_;
+  std::vector<VertexId> sources_;
+};
+
+TEST_P(StopConditions, MaxDistanceLeavesFartherVerticesUnreached) {
+  const PropagationResult& full = fullRun();
+  ASSERT_EQ(full.termination, Termination::Completed);
+  ASSERT_EQ(full.finalizedVertices, domain_.vertexCount());
+
+  std::vector<double> sorted = full.distance;
+  std::sort(sorted.begin(), sorted.end());
+  const double limit = sorted[sorted.size() / 3];
+  PropagationOptions o = options();
+  o.maxDistance = limit;
+  const PropagationResult stopped = run(o);
+
+  EXPECT_EQ(stopped.termination, Termination::MaxDistanceReached);
+  expectPrefixOfFullRun(stopped, full);
+  std::uint64_t withinLimit = 0;
+  for (VertexId v = 0; v < domain_.vertexCount(); ++v) {
+    EXPECT_LE(stopped.distance[v] == kUnreachable ? 0.0 : stopped.distance[v], limit);
+    if (full.distance[v] > limit) {
+      EXPECT_EQ(stopped.distance[v], kUnreachable) << "vertex " << v;
+    }
+    withinLimit += full.distance[v] <= limit ? 1 : 0;
+  }
+  // Dijkstra finalises in order of distance, so it stops with exactly the
+  // vertices within the limit. STVD's front is not monotone (a vertex can be
+  // updated below the current front through its predecessor chain), so a
+  // few vertices the full run places within the limit may still be pending
+  // when the stopped run ends (measured: 3 of 36865 for k = 4 and 8, 5 for
+  // k = 16); none may be missing for Dijkstra.
+  if (GetParam().method == Method::Dijkstra) {
+    EXPECT_EQ(stopped.finalizedVertices, withinLimit);
+  } else {
+    std::printf("[ measured ] %s, max distance: %llu of %llu vertices within the limit final\n",
+                GetParam().name, static_cast<unsigned long long>(stopped.finalizedVertices),
+                static_cast<unsigned long long>(withinLimit));
+    EXPECT_LE(stopped.finalizedVertices, withinLimit);
+    EXPECT_GE(stopped.finalizedVertices, withinLimit - withinLimit / 1000);
+  }
+}
+
+TEST_P(StopConditions, MaxDistanceBeyondEveryVertexCompletes) {
+  const PropagationResult& full = fullRun();
+  PropagationOptions o = options();
+  o.maxDistance = *std::max_element(full.distance.begin(), full.distance.end());
+  const PropagationResult limited = run(o);
+  EXPECT_EQ(limited.termination, Termination::Completed);
+  EXPECT_EQ(std::memcmp(limited.distance.data(), full.distance.data(),
+                        full.distance.size() * sizeof(double)),
+            0);
+  // A negative limit stops before the first vertex.
+  o.maxDistance = -1.0;
+  const PropagationResult none = run(o);
+  EXPECT_EQ(none.termination, Termination::MaxDistanceReached);
+  EXPECT_EQ(none.finalizedVertices, 0u);
+  for (double d : none.distance) EXPECT_EQ(d, kUnreachable);
+}
+
+TEST_P(StopConditions, TargetsStopTheRunOnceAllAreFinal) {
+  const PropagationResult& full = fullRun();
+  const std::vector<VertexId> targets{domain_.vertexAt(20, 25, 22), domain_.vertexAt(30, 10, 30),
+                                      domain_.vertexAt(20, 25, 22)};  // repeats are allowed
+  PropagationOptions o = options();
+  o.targets = targets;
+  const PropagationResult stopped = run(o);
+
+  EXPECT_EQ(stopped.termination, Termination::TargetsReached);
+  EXPECT_LT(stopped.finalizedVertices, domain_.vertexCount());
+  for (VertexId t : targets) {
+    EXPECT_EQ(std::memcmp(&stopped.distance[t], &full.distance[t], sizeof(double)), 0);
+    EXPECT_EQ(stopped.predecessor[t], full.predecessor[t]);
+  }
+  expectPrefixOfFullRun(stopped, full);
+  // The run ends when the last target is final: no vertex farther than it.
+  const double last = std::max(full.distance[targets[0]], full.distance[targets[1]]);
+  if (GetParam().method == Method::Dijkstra) {
+    for (double d : stopped.distance) EXPECT_TRUE(d == kUnreachable || d <= last);
+  }
+}
+
+TEST_P(StopConditions, ProgressCallbackCanCancel) {
+  const PropagationResult& full = fullRun();
+  int calls = 0;
+  PropagationOptions o = options();
+  o.progress = [&](const PropagationProgress& p) {
+    ++calls;
+    EXPECT_EQ(p.domainVertices, domain_.vertexCount());
+    EXPECT_EQ(p.finalizedVertices, 65536u);
+    return false;
+  };
+  const PropagationResult cancelled = run(o);
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(cancelled.termination, Termination::Cancelled);
+  EXPECT_EQ(cancelled.finalizedVertices, 65536u);
+  expectPrefixOfFullRun(cancelled, full);
+}
+
+TEST_P(StopConditions, ProgressCallbackReportsWithoutChangingTheResult) {
+  const PropagationResult& full = fullRun();
+  std::vector<PropagationProgress> reports;
+  PropagationOptions o = options();
+  o.progress = [&](const PropagationProgress& p) {
+    reports.push_back(p);
+    return true;
+  };
+  const PropagationResult observed = run(o);
+  EXPECT_EQ(observed.termination, Termination::Completed);
+  EXPECT_EQ(std::memcmp(observed.distance.data(), full.distance.data(),
+                        full.distance.size() * sizeof(double)),
+            0);
+  // 48^3 = 110592 vertices: one report, at 65536 finalised vertices.
+  ASSERT_EQ(reports.size(), 1u);
+  EXPECT_EQ(reports[0].finalizedVertices, 65536u);
+  EXPECT_GT(reports[0].frontDistance, 0.0);
+  EXPECT_LE(reports[0].frontDistance, *std::max_element(full.distance.begin(), full.distance.end()));
+  if (GetParam().method == Method::Dijkstra) {
+    // Dijkstra's 65536th finalised vertex is the 65536th smallest distance.
+    std::vector<double> sorted = full.distance;
+    std::sort(sorted.begin(), sorted.end());
+    EXPECT_EQ(reports[0].frontDistance, sorted[65535]);
+  }
+}
+
+TEST_P(StopConditions, PredecessorChainsLeadBackToASource) {
+  const PropagationResult& full = fullRun();
+  for (VertexId s : sources_) {
+    EXPECT_EQ(full.distance[s], 0.0);
+    EXPECT_EQ(full.predecessor[s], kNoVertex);
+  }
+  for (VertexId v = 0; v < domain_.vertexCount(); ++v) {
+    VertexId c = v;
+    std::size_t steps = 0;
+    while (full.predecessor[c] != kNoVertex && steps <= domain_.vertexCount()) {
+      const VertexId p = full.predecessor[c];
+      // Each link is an edge of the domain.
+      bool adjacent = false;
+      domain_.forEachNeighbor(c, [&](VertexId w, Vec3f) { adjacent = adjacent || w == p; });
+      ASSERT_TRUE(adjacent) << "vertex " << c << " has non-adjacent predecessor " << p;
+      c = p;
+      ++steps;
+    }
+    ASSERT_TRUE(c == sources_[0] || c == sources_[1]) << "chain of vertex " << v << " ends at " << c;
+  }
+}
+
+TEST(StopConditionsDijkstra, DistanceIsTheLengthOfThePredecessorPath) {
+  // Dijkstra's distance of a vertex is its predecessor's distance plus the
+  // length of the edge between them under the edge rule of the norm. Equal
+  // up to float rounding of that length: the library may evaluate the norm
+  // in a CPU-specific clone with fused multiply-adds, and the quadratic form
+  // of an anisotropic tensor (here up to about 6) loses a few bits to
+  // cancellation, so the two float results differ by a few units in the
+  // last place (measured up to 4.3e-7 of the edge length).
+  const VoxelGridDomain domain(test::obliqueGrid({24, 24, 24}), Stencil::primitive(2));
+  const RiemannianMetric metric(test::smoothVaryingTensors(domain));
+  const PropagationResult r = dijkstra(domain, metric, {domain.vertexAt(3, 17, 9)});
+  for (VertexId v = 0; v < domain.vertexCount(); ++v) {
+    const VertexId p = r.predecessor[v];
+    if (p == kNoVertex) continue;
+    const Vec3f e = domain.displacement(p, v);
+    const float edge = RiemannianNorm::length(RiemannianNorm::edgeParams(metric[p], metric[v]),
+                                              e.x, e.y, e.z);
+    EXPECT_NEAR(r.distance[v], r.distance[p] + static_cast<double>(edge), 2e-6 * edge)
+        << "vertex " << v;
+    EXPECT_LT(r.distance[p], r.distance[v]);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Method, StopConditions, ::testing::ValuesIn(kMethods),
+                         [](const ::testing::TestParamInfo<MethodCase>& info) {
+                           return std::string(info.param.name);
+                         });
+
+}  // namespace
+}  // namespace stvd
