@@ -1,10 +1,14 @@
 #include "itk_io_support.hpp"
 
 #include <itkImageIOFactory.h>
+#include <itkMetaDataObject.h>
 #include <itkNiftiImageIOFactory.h>
 #include <itkNrrdImageIOFactory.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
+#include <cstdlib>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -13,6 +17,8 @@
 #include <stdexcept>
 
 #include "stvd/itk/image_io_error.hpp"
+
+#include <zlib.h>
 
 namespace stvd::imaging::detail {
 
@@ -45,9 +51,75 @@ std::string conciseItkMessage(const std::exception& e) {
     space = false;
     line += c;
   }
+  // "ITK ERROR: NrrdImageIO(0x55...): " says nothing to a user.
+  if (line.rfind("ITK ERROR: ", 0) == 0) {
+    const std::size_t colon = line.find("): ");
+    if (colon != std::string::npos) line = line.substr(colon + 3);
+  }
+  // NRRD errors are a chain "[nrrd] f: trouble [nrrd] g: ... [nrrd] h: cause";
+  // the last link names the cause.
+  const std::size_t last = line.rfind("[nrrd] ");
+  if (last != std::string::npos && last > 0) line = line.substr(last + 7);
   if (line.size() > 240) line = line.substr(0, 237) + "...";
   return line;
 }
+
+namespace {
+
+bool endsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+/// Bytes of a gzip file once decompressed, or -1 when the stream is damaged
+/// or cut short.
+long long gzipContentSize(const std::string& path) {
+  gzFile file = gzopen(path.c_str(), "rb");
+  if (!file) return -1;
+  std::vector<char> buffer(1 << 20);
+  long long total = 0;
+  int n;
+  while ((n = gzread(file, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0) total += n;
+  int error = Z_OK;
+  gzerror(file, &error);
+  gzclose(file);
+  return (n < 0 || (error != Z_OK && error != Z_STREAM_END)) ? -1 : total;
+}
+
+/// ITK's NIfTI reader fills the missing part of a cut-short file silently,
+/// so single-file NIfTI (.nii, .nii.gz) is checked here: the data must
+/// reach vox_offset + voxels * bytes per voxel.
+void checkNiftiDataIsComplete(itk::ImageIOBase& io, const std::string& path) {
+  std::string lower = path;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const bool gzip = endsWith(lower, ".nii.gz");
+  if (!gzip && !endsWith(lower, ".nii")) return;
+  const itk::MetaDataDictionary& dict = io.GetMetaDataDictionary();
+  auto number = [&](const std::string& key) {
+    std::string text;
+    if (!itk::ExposeMetaData<std::string>(dict, key, text)) return -1.0;
+    return std::atof(text.c_str());
+  };
+  const double dims = number("dim[0]"), bitpix = number("bitpix"), offset = number("vox_offset");
+  if (dims < 1 || bitpix <= 0 || offset < 0) return;
+  double voxels = 1;
+  for (int d = 1; d <= static_cast<int>(dims) && d <= 7; ++d) voxels *= std::max(1.0, number("dim[" + std::to_string(d) + "]"));
+  const double expected = offset + voxels * bitpix / 8.0;
+  double actual;
+  if (gzip) {
+    const long long size = gzipContentSize(path);
+    if (size < 0) throw ImageIoError(path, "the compressed data are damaged or cut short");
+    actual = static_cast<double>(size);
+  } else {
+    std::error_code ec;
+    actual = static_cast<double>(std::filesystem::file_size(path, ec));
+  }
+  if (actual < expected)
+    throw ImageIoError(path, "the file is truncated: " + std::to_string(static_cast<long long>(actual)) +
+                                 " bytes where header and data need " +
+                                 std::to_string(static_cast<long long>(expected)));
+}
+
+}  // namespace
 
 itk::ImageIOBase::Pointer openImageForReading(const std::string& path) {
   registerImageIoFactories();
@@ -70,6 +142,7 @@ itk::ImageIOBase::Pointer openImageForReading(const std::string& path) {
   } catch (const std::exception& e) {
     throw ImageIoError(path, "cannot read the header: " + conciseItkMessage(e));
   }
+  if (std::string(io->GetNameOfClass()) == "NiftiImageIO") checkNiftiDataIsComplete(*io, path);
   return io;
 }
 
