@@ -187,10 +187,13 @@ class ProgressBar {
   ~ProgressBar() { finish(); }
   void update(double fraction) {
     if (!enabled_ || secondsSince(start_) < 1.0) return;
+    const int percent = static_cast<int>(fraction * 100.0);
+    if (percent == lastPercent_) return;  // redraw only when the bar moves
+    lastPercent_ = percent;
     const int width = 40;
     const int filled = static_cast<int>(std::clamp(fraction, 0.0, 1.0) * width);
     std::cerr << "\rpropagating [" << std::string(filled, '#') << std::string(width - filled, ' ') << "] "
-              << static_cast<int>(fraction * 100.0) << "% " << fixed(secondsSince(start_), 1) << " s"
+              << percent << "% " << fixed(secondsSince(start_), 1) << " s"
               << std::flush;
     shown_ = true;
   }
@@ -202,6 +205,7 @@ class ProgressBar {
  private:
   bool enabled_;
   bool shown_ = false;
+  int lastPercent_ = -1;
   Clock::time_point start_;
 };
 
