@@ -22,6 +22,10 @@
 #include "stvd/voxel_grid_domain.hpp"
 #include "subcommands.hpp"
 
+#ifdef STVD_WITH_VDB_OUTPUT
+#include "stvd/vdb/distance_grid.hpp"
+#endif
+
 namespace stvd::tool {
 namespace {
 
@@ -46,12 +50,14 @@ const char* kDistanceHelp =
     "Usage: stvd distance INPUT -o OUTPUT [options]\n"
     "\n"
     "Anisotropic geodesic distance (millimetres) from seed voxels over a diffusion or metric\n"
-    "tensor volume. The output is a float32 image on exactly the input's grid (same size,\n"
-    "spacing, origin and direction cosines); its format follows the extension: .nii, .nii.gz,\n"
-    "  .nrrd, .nhdr. Voxels not reached (outside the domain, disconnected from the seeds, or\n"
-    "beyond --max-distance) get the unreachable value, -1 unless --unreachable-value says\n"
-    "otherwise. All coordinates are in millimetres; distances are measured in physical space\n"
-    "(spacing and direction cosines applied).\n"
+    "tensor volume. The output format follows the extension: .nii, .nii.gz, .nrrd or .nhdr give a\n"
+    "float32 image on exactly the input's grid (same size, spacing, origin and direction\n"
+    "cosines), in which voxels not reached (outside the domain, disconnected from the seeds, or\n"
+    "beyond --max-distance) hold the unreachable value, -1 unless --unreachable-value says\n"
+    "otherwise; .vdb gives an OpenVDB FloatGrid named \"distance\" whose transform places the\n"
+    "voxels in RAS millimetres and in which voxels not reached are inactive. All coordinates\n"
+    "are millimetres; distances are measured in physical space (spacing and direction cosines\n"
+    "applied).\n"
     "\n"
     "Seeds (at least one; all given seeds are sources at distance 0):\n"
     "  --seed-voxel I,J,K      0-based voxel index (repeatable).\n"
@@ -72,8 +78,9 @@ const char* kDistanceHelp =
     "%TENSOR%"
     "\n"
     "Output:\n"
-    "  -o, --output FILE       the distance map (required); its folder must exist. Written to a\n"
-    "                          temporary name in the same folder and renamed when complete.\n"
+    "  -o, --output FILE       the distance map (required): .nii, .nii.gz, .nrrd, .nhdr or .vdb.\n"
+    "                          Its folder must exist. Written under a temporary name in the same\n"
+    "                          folder and renamed when complete.\n"
     "  --unreachable-value V   value of voxels not reached: a number or nan (default -1).\n"
     "  --stats FILE.json       parameters, counts, seconds per phase and peak memory as JSON.\n"
     "  -q, --quiet             no summary on stdout, no progress bar.\n"
@@ -104,6 +111,10 @@ struct DistanceOptions {
   std::string statsPath;
   bool quiet = false;
 };
+
+bool isVdbPath(const std::string& path) {
+  return path.size() > 4 && (path.compare(path.size() - 4, 4, ".vdb") == 0 || path.compare(path.size() - 4, 4, ".VDB") == 0);
+}
 
 DistanceOptions parseDistanceOptions(int argc, char** argv) {
   DistanceOptions o;
@@ -169,8 +180,13 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   }
   if (o.input.empty()) usageError("no input file (see stvd distance --help)");
   if (o.output.empty()) usageError("no output file: add -o OUTPUT");
-  if (!imaging::hasImageExtension(o.output))
-    usageError(o.output + ": unsupported output format; use .nii, .nii.gz, .nrrd or .nhdr");
+  if (isVdbPath(o.output)) {
+#ifndef STVD_WITH_VDB_OUTPUT
+    usageError(o.output + ": this stvd was built without OpenVDB; use .nii, .nii.gz, .nrrd or .nhdr");
+#endif
+  } else if (!imaging::hasImageExtension(o.output)) {
+    usageError(o.output + ": unsupported output format; use .nii, .nii.gz, .nrrd, .nhdr or .vdb");
+  }
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
     usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
   if (o.kGiven && o.method != Method::ShortTermVectorDijkstra) usageError("--k applies to --method stvd only");
@@ -510,8 +526,10 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
     s << "; distances from 0 to " << fixed(stats.maximum, 1) << " mm, median " << fixed(stats.median, 1) << " mm";
   s << ". Took " << fixed(t.total, 2) << " s (read " << fixed(t.read, 2) << ", metric " << fixed(t.metric, 2)
     << ", propagation " << fixed(t.propagate, 2) << ", write " << fixed(t.write, 2) << "). Wrote " << o.output
-    << " (float32 on the input's grid; unreachable voxels = "
-    << (std::isnan(o.unreachableValue) ? std::string("NaN") : jsonNumber(o.unreachableValue)) << ")";
+    << (isVdbPath(o.output)
+            ? std::string(" (OpenVDB FloatGrid, voxels placed in RAS millimetres; voxels not reached are inactive)")
+            : " (float32 on the input's grid; unreachable voxels = " +
+                  (std::isnan(o.unreachableValue) ? std::string("NaN") : jsonNumber(o.unreachableValue)) + ")");
   if (!o.statsPath.empty()) s << " and " << o.statsPath;
   s << ".";
   return s.str();
@@ -580,8 +598,16 @@ int runDistance(int argc, char** argv) {
     values[v] = std::isfinite(result.distance[v]) ? static_cast<float>(result.distance[v]) : o.unreachableValue;
   const DistanceStatistics stats = summarise(result.distance);
   try {
-    imaging::writeScalarImage(o.output, g, values);
-  } catch (const imaging::ImageIoError& e) {
+    if (isVdbPath(o.output)) {
+#ifdef STVD_WITH_VDB_OUTPUT
+      vdb::DistanceGridOptions grid;
+      grid.background = std::isfinite(o.unreachableValue) ? o.unreachableValue : -1.f;
+      vdb::writeDistanceGrid(o.output, g, result.distance, grid);
+#endif
+    } else {
+      imaging::writeScalarImage(o.output, g, values);
+    }
+  } catch (const std::runtime_error& e) {
     throw ToolError(kExitOutput, e.what());
   }
   t.write = secondsSince(phase);
