@@ -49,7 +49,7 @@ struct KnownField {
 
   /// Every voxel on a straight stencil line through the centre (all 26
   /// directions, as far as the grid goes), where even Dijkstra is exact for
-  /// a constant metric. Linear indices.
+  /// a constant metric. Voxel indices (i, j, k).
   std::vector<std::array<int, 3>> voxelsOnStencilLines() const {
     std::vector<std::array<int, 3>> voxels;
     const auto c = centre();
