@@ -11,7 +11,9 @@ build_dir=${STVD_BUILD_DIR:-build}
 
 bash scripts/setup.sh
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release
-cmake --build "$build_dir" -j"$(nproc)"
+# Only the command-line tool and what it links (stvd_tool is the target of
+# <build>/tools/stvd); scripts/test.sh builds the rest.
+cmake --build "$build_dir" -j"$(nproc)" --target stvd_tool
 
 mkdir -p out
 "$build_dir/tools/stvd" distance sample_data/dti_philips_biobank/dti_tensor_dipy5d.nii.gz \
