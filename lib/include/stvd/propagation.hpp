@@ -24,6 +24,23 @@ enum class Method {
   ShortTermVectorDijkstra,
 };
 
+/// How STVD measures a sum vector E = e_1 + ... + e_i of chain edges whose
+/// norms differ (the two rules agree exactly for a constant norm).
+enum class ChainMeasure {
+  /// The paper's rule (section 6): E is split among its edges by their signed
+  /// orthogonal projections, l = max(0, sum_j (e_j . Ebar) ||Ebar||_{g_j}).
+  /// On a metric whose strong direction turns from voxel to voxel (noisy
+  /// tensor fields, strongly curved anisotropy) the portions of edges that
+  /// point backwards cancel expensive forward portions and distances come
+  /// out too short, increasingly so with larger k (docs/benchmarks.md).
+  ProjectionWeighted,
+  /// l = |E| max_j ||Ebar||_{g_j}: E measured with the most expensive of the
+  /// chain's edge norms in its direction. It cannot cancel, so it does not
+  /// collapse on noisy fields; on smooth curved metrics it overestimates a
+  /// little where the paper's rule underestimates.
+  LargestEdgeNorm,
+};
+
 /// Largest supported short-term memory depth k.
 inline constexpr int kMaxMemoryDepth = 16;
 /// Default k, chosen from the accuracy/time tables in docs/benchmarks.md:
@@ -43,6 +60,8 @@ struct PropagationOptions {
   Method method = Method::ShortTermVectorDijkstra;
   /// STVD memory depth, 1..kMaxMemoryDepth. k = 1 is Dijkstra exactly.
   int k = kDefaultMemoryDepth;
+  /// STVD rule for measuring a sum of chain edges.
+  ChainMeasure chainMeasure = ChainMeasure::ProjectionWeighted;
   /// Stop once the next vertex to finalise is farther than this.
   double maxDistance = std::numeric_limits<double>::infinity();
   /// When not empty: stop as soon as all these vertices are final.

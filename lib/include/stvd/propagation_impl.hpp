@@ -40,15 +40,19 @@ struct ChainMemory {
 
 /// l_g(E_i) for all candidates of one neighbour at once, one lane per i.
 ///
-/// Following section 6 of the paper,
+/// ChainMeasure::ProjectionWeighted (section 6 of the paper):
 ///   l_g(E) = max(0, sum_j (e_j . Ebar) ||Ebar||_{g_j}),  Ebar = E / |E|:
 /// E is split among its edges by their signed projections, and each portion
-/// is measured with that edge's own norm. A constant norm gives exactly
-/// |E| ||Ebar|| = ||E||.
-template <int Lanes, class Norm>
+/// is measured with that edge's own norm.
+/// ChainMeasure::LargestEdgeNorm:
+///   l_g(E) = |E| max_j ||Ebar||_{g_j}:
+/// the whole of E is measured with the most expensive of the chain's norms
+/// in its direction.
+/// A constant norm gives exactly |E| ||Ebar|| = ||E|| with either rule.
+template <int Lanes, ChainMeasure Measure, class Norm>
 STVD_ALWAYS_INLINE void chainSumLengths(const ChainMemory<Norm>& chain, Vec3f e1,
                                         const typename Norm::EdgeParams& g1, float* out) {
-  alignas(64) float ux[Lanes], uy[Lanes], uz[Lanes], acc[Lanes];
+  alignas(64) float ux[Lanes], uy[Lanes], uz[Lanes], acc[Lanes], length[Lanes];
   STVD_SIMD_LOOP
   for (int lane = 0; lane < Lanes; ++lane) {
     const float ex = e1.x - chain.backX[lane];
@@ -57,24 +61,38 @@ STVD_ALWAYS_INLINE void chainSumLengths(const ChainMemory<Norm>& chain, Vec3f e1
     // A zero sum vector (coincident points) gives Ebar = 0 and length 0.
     const float n2 = ex * ex + ey * ey + ez * ez;
     const float inv = 1.f / std::sqrt(std::max(n2, std::numeric_limits<float>::min()));
+    length[lane] = n2 * inv;
     ux[lane] = ex * inv;
     uy[lane] = ey * inv;
     uz[lane] = ez * inv;
     // Edges 1 and 2 belong to every candidate i >= 2.
-    acc[lane] = (e1.x * ux[lane] + e1.y * uy[lane] + e1.z * uz[lane]) *
-                Norm::length(g1, ux[lane], uy[lane], uz[lane]);
+    const float norm1 = Norm::length(g1, ux[lane], uy[lane], uz[lane]);
+    if constexpr (Measure == ChainMeasure::ProjectionWeighted)
+      acc[lane] = (e1.x * ux[lane] + e1.y * uy[lane] + e1.z * uz[lane]) * norm1;
+    else
+      acc[lane] = norm1;
   }
   for (int j = 2; j <= chain.edgeCount; ++j) {
     const Vec3f ej = chain.edge[j];
     const typename Norm::EdgeParams& gj = chain.edgeNorm[j];
     STVD_SIMD_LOOP
     for (int lane = 0; lane < Lanes; ++lane) {
-      const float projection = ej.x * ux[lane] + ej.y * uy[lane] + ej.z * uz[lane];
-      const float portion = projection * Norm::length(gj, ux[lane], uy[lane], uz[lane]);
-      acc[lane] += j <= lane + 2 ? portion : 0.f;
+      const float normJ = Norm::length(gj, ux[lane], uy[lane], uz[lane]);
+      if constexpr (Measure == ChainMeasure::ProjectionWeighted) {
+        const float projection = ej.x * ux[lane] + ej.y * uy[lane] + ej.z * uz[lane];
+        acc[lane] += j <= lane + 2 ? projection * normJ : 0.f;
+      } else {
+        acc[lane] = j <= lane + 2 ? std::max(acc[lane], normJ) : acc[lane];
+      }
     }
   }
-  for (int lane = 0; lane < Lanes; ++lane) out[lane] = std::max(acc[lane], 0.f);
+  STVD_SIMD_LOOP
+  for (int lane = 0; lane < Lanes; ++lane) {
+    if constexpr (Measure == ChainMeasure::ProjectionWeighted)
+      out[lane] = std::max(acc[lane], 0.f);
+    else
+      out[lane] = length[lane] * acc[lane];
+  }
 }
 
 template <class Domain, class Norm>
@@ -109,12 +127,10 @@ class Propagation {
     const int k = options_.k;
     if (options_.method == Method::Dijkstra) {
       loop(isTarget, remainingTargets, [this](VertexId v) { relaxDijkstra(v); });
-    } else if (k <= 5) {
-      loop(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<4>(v, k); });
-    } else if (k <= 9) {
-      loop(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<8>(v, k); });
+    } else if (options_.chainMeasure == ChainMeasure::ProjectionWeighted) {
+      runVector<ChainMeasure::ProjectionWeighted>(k, isTarget, remainingTargets);
     } else {
-      loop(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<16>(v, k); });
+      runVector<ChainMeasure::LargestEdgeNorm>(k, isTarget, remainingTargets);
     }
 
     // Only final vertices carry a distance; everything else is unreachable.
@@ -135,6 +151,16 @@ class Propagation {
   }
 
  private:
+  template <ChainMeasure Measure>
+  void runVector(int k, const std::vector<std::uint8_t>& isTarget, std::size_t remainingTargets) {
+    if (k <= 5)
+      loop(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<4, Measure>(v, k); });
+    else if (k <= 9)
+      loop(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<8, Measure>(v, k); });
+    else
+      loop(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<16, Measure>(v, k); });
+  }
+
   template <class Relax>
   void loop(const std::vector<std::uint8_t>& isTarget, std::size_t remainingTargets,
             Relax&& relax) {
@@ -190,7 +216,7 @@ class Propagation {
   }
 
   // STVD update of every neighbour w of v (see ChainMemory).
-  template <int Lanes>
+  template <int Lanes, ChainMeasure Measure>
   STVD_HOT_LOOP void relaxVector(VertexId v, int k) {
     VertexId chain[kMaxMemoryDepth];
     int count = 1;
@@ -228,7 +254,7 @@ class Propagation {
       // (so that k = 1 and Dijkstra agree bit for bit).
       double best = dv + Norm::length(g1, e1.x, e1.y, e1.z);
       alignas(64) float length[Lanes];
-      chainSumLengths<Lanes, Norm>(memory, e1, g1, length);
+      chainSumLengths<Lanes, Measure, Norm>(memory, e1, g1, length);
       for (int lane = 0; lane < Lanes; ++lane)
         best = std::min(best, memory.baseDistance[lane] + static_cast<double>(length[lane]));
       update(w, v, best);
