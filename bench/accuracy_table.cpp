@@ -36,15 +36,27 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-PropagationOptions methodOptions(int k) {
+/// A table row: Dijkstra (k = 0) or STVD with memory depth k and a chain measure.
+struct Row {
+  int k;
+  ChainMeasure measure = ChainMeasure::ProjectionWeighted;
+};
+
+PropagationOptions methodOptions(Row row) {
   PropagationOptions o;
-  o.method = k == 0 ? Method::Dijkstra : Method::ShortTermVectorDijkstra;
-  o.k = std::max(k, 1);
+  o.method = row.k == 0 ? Method::Dijkstra : Method::ShortTermVectorDijkstra;
+  o.k = std::max(row.k, 1);
+  o.chainMeasure = row.measure;
   return o;
 }
 
-/// One table row per method: k = 0 stands for Dijkstra.
-void table(const bench::Scene& scene, const std::vector<int>& ks, int repeats) {
+std::string label(Row row) {
+  if (row.k == 0) return "Dijkstra";
+  return "STVD k = " + std::to_string(row.k) +
+         (row.measure == ChainMeasure::LargestEdgeNorm ? ", largest norm" : "");
+}
+
+void table(const bench::Scene& scene, const std::vector<Row>& rows, int repeats) {
   std::size_t exactCount = 0;
   for (double e : scene.exact) exactCount += e > 0.0 ? 1 : 0;
   std::printf("\n### %s, %zu^3 grid, %d-neighbourhood (max local anisotropy %.1f, %zu voxels "
@@ -54,19 +66,18 @@ void table(const bench::Scene& scene, const std::vector<int>& ks, int repeats) {
   std::printf("| method | mean rel. error | max rel. error | relaxed edges | ns / relaxed edge | "
               "time / Dijkstra | state bytes / voxel |\n");
   std::printf("|---|---|---|---|---|---|---|\n");
-  const PropagationOptions dijkstraOptions = methodOptions(0);
-  for (int k : ks) {
+  const PropagationOptions dijkstraOptions = methodOptions({0});
+  for (Row row : rows) {
     std::vector<double> ratios, seconds;
     Timed last;
     for (int r = 0; r < repeats; ++r) {
       const double reference = run(scene, dijkstraOptions).seconds;
-      last = run(scene, methodOptions(k));
+      last = run(scene, methodOptions(row));
       ratios.push_back(last.seconds / reference);
       seconds.push_back(last.seconds);
     }
     const test::RelativeErrors e = scene.errorsOf(last.result);
-    const std::string label = k == 0 ? "Dijkstra" : "STVD k = " + std::to_string(k);
-    std::printf("| %s | %.3f %% | %.1f %% | %llu | %.1f | %.2f | %.1f |\n", label.c_str(),
+    std::printf("| %s | %.3f %% | %.1f %% | %llu | %.1f | %.2f | %.1f |\n", label(row).c_str(),
                 100.0 * e.mean(), 100.0 * e.max(),
                 static_cast<unsigned long long>(last.result.relaxedEdges),
                 1e9 * median(seconds) / double(last.result.relaxedEdges), median(ratios),
@@ -96,16 +107,20 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  const std::vector<int> ks = {0, 2, 3, 4, 5, 6, 8, 10, 12, 16};
+  std::vector<Row> rows;
+  for (int k : {0, 2, 3, 4, 5, 6, 8, 10, 12, 16}) rows.push_back({k});
+  std::vector<Row> withLargest = rows;
+  for (int k : {4, 8, 16}) withLargest.push_back({k, ChainMeasure::LargestEdgeNorm});
   std::printf("## Accuracy and time versus k (26-neighbourhood)\n");
-  for (double gamma : {1.0, 10.0, 50.0}) table(bench::constantScene(n, gamma, Stencil::full26()), ks, repeats);
+  for (double gamma : {1.0, 10.0, 50.0}) table(bench::constantScene(n, gamma, Stencil::full26()), rows, repeats);
   for (double slope : {0.1, 0.25, 0.49})
-    table(bench::pullbackScene(n, pullbackGamma, Stencil::full26(), 2, slope), ks, repeats);
+    table(bench::pullbackScene(n, pullbackGamma, Stencil::full26(), 2, slope), withLargest, repeats);
 
   std::printf("\n## Stencils at the default k = %d\n", kDefaultMemoryDepth);
+  const std::vector<Row> defaults = {{0}, {kDefaultMemoryDepth}};
   for (const char* name : {"6", "18", "98"}) {
-    table(bench::constantScene(n, 10.0, Stencil::byName(name)), {0, kDefaultMemoryDepth}, repeats);
-    table(bench::pullbackScene(n, pullbackGamma, Stencil::byName(name), 2, 0.25), {0, kDefaultMemoryDepth}, repeats);
+    table(bench::constantScene(n, 10.0, Stencil::byName(name)), defaults, repeats);
+    table(bench::pullbackScene(n, pullbackGamma, Stencil::byName(name), 2, 0.25), defaults, repeats);
   }
   return 0;
 }
