@@ -65,7 +65,7 @@ STVD_ALWAYS_INLINE void chainSumLengths(const ChainMemory<Norm>& chain, Vec3f e1
     ux[lane] = ex * inv;
     uy[lane] = ey * inv;
     uz[lane] = ez * inv;
-    // Edges 1 and 2 belong to every candidate i >= 2.
+    // Edge 1 (v -> w) belongs to every candidate.
     const float norm1 = Norm::length(g1, ux[lane], uy[lane], uz[lane]);
     if constexpr (Measure == ChainMeasure::ProjectionWeighted)
       acc[lane] = (e1.x * ux[lane] + e1.y * uy[lane] + e1.z * uz[lane]) * norm1;
