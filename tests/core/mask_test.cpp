@@ -11,30 +11,14 @@
 
 #include "exact_metrics.hpp"
 #include "scenes.hpp"
+#include "method_cases.hpp"
 #include "stvd/propagation.hpp"
 
 namespace stvd {
 namespace {
 
-struct MethodCase {
-  const char* name;
-  Method method;
-  int k;
-};
+using test::MethodCase;
 
-const MethodCase kMethods[] = {{"Dijkstra", Method::Dijkstra, 1},
-                               {"StvdK4", Method::ShortTermVectorDijkstra, 4},
-                               {"StvdK8", Method::ShortTermVectorDijkstra, 8},
-                               {"StvdK16", Method::ShortTermVectorDijkstra, 16}};
-
-PropagationOptions optionsFor(const MethodCase& m) {
-  PropagationOptions o;
-  o.method = m.method;
-  o.k = m.k;
-  return o;
-}
-
-std::string caseName(const ::testing::TestParamInfo<MethodCase>& info) { return info.param.name; }
 
 const test::Mat3 kTensor = test::uniaxialTensor(4.0, {0.5, -0.3, 0.8});
 
@@ -54,7 +38,7 @@ TEST_P(Masks, VoxelsOutsideTheMaskAreNeverReached) {
   std::vector<std::uint8_t> mask = test::ballMask(g, {14, 13, 12}, 11.0);
   const VoxelGridDomain domain(g, Stencil::full26(), mask);
   const RiemannianMetric metric(test::smoothVaryingTensors(domain), &mask);
-  const PropagationResult r = propagate(domain, metric, {domain.vertexAt(10, 13, 12)}, optionsFor(GetParam()));
+  const PropagationResult r = propagate(domain, metric, {domain.vertexAt(10, 13, 12)}, GetParam().options());
   EXPECT_EQ(r.termination, Termination::Completed);
   EXPECT_EQ(r.finalizedVertices, domain.domainVertexCount());
   for (VertexId v = 0; v < domain.vertexCount(); ++v) {
@@ -74,7 +58,7 @@ TEST_P(Masks, ClosedWallSeparatesTheFarSide) {
   for (const char* stencil : {"6", "18", "26"}) {
     const VoxelGridDomain domain(g, Stencil::byName(stencil), mask);
     const RiemannianMetric metric = RiemannianMetric::constant(domain.vertexCount(), test::toSymTensor(kTensor));
-    const PropagationResult r = propagate(domain, metric, {domain.vertexAt(8, 20, 5)}, optionsFor(GetParam()));
+    const PropagationResult r = propagate(domain, metric, {domain.vertexAt(8, 20, 5)}, GetParam().options());
     for (VertexId v = 0; v < domain.vertexCount(); ++v) {
       const int k = domain.indexOf(v).k;
       if (k < wall) {
@@ -98,7 +82,7 @@ TEST_P(Masks, WallBlocksStencilsNoWiderThanItsThickness) {
   for (int radius : {2, 3}) {
     for (int thickness : {radius - 1, radius}) {
       const VoxelGridDomain domain(g, Stencil::primitive(radius), wallMask(g, 10, thickness));
-      const PropagationResult r = propagate(domain, metric, {domain.vertexAt(9, 9, 3)}, optionsFor(GetParam()));
+      const PropagationResult r = propagate(domain, metric, {domain.vertexAt(9, 9, 3)}, GetParam().options());
       const bool farSideReached = std::isfinite(r.distance[domain.vertexAt(9, 9, 20)]);
       EXPECT_EQ(farSideReached, thickness < radius) << "radius " << radius << ", thickness " << thickness;
     }
@@ -175,7 +159,7 @@ TEST_P(Masks, WallWithHoleForcesTheFrontThroughTheHole) {
   const VoxelGridDomain domain(g, Stencil::full26(), mask);
   const RiemannianMetric metric = RiemannianMetric::constant(domain.vertexCount(), test::toSymTensor(kTensor));
   const VertexId source = domain.vertexAt(8, 10, 3);
-  const PropagationResult r = propagate(domain, metric, {source}, optionsFor(GetParam()));
+  const PropagationResult r = propagate(domain, metric, {source}, GetParam().options());
   EXPECT_EQ(r.finalizedVertices, domain.domainVertexCount());
 
   const DetourBound bound(g, kTensor, domain.physicalPoint(source), GetParam().k);
@@ -204,7 +188,8 @@ TEST_P(Masks, WallWithHoleForcesTheFrontThroughTheHole) {
   EXPECT_GE(shadowed, farSide / 20);
 }
 
-INSTANTIATE_TEST_SUITE_P(Method, Masks, ::testing::ValuesIn(kMethods), caseName);
+INSTANTIATE_TEST_SUITE_P(Method, Masks, ::testing::ValuesIn(test::kMethodCases),
+                         test::methodCaseName);
 
 }  // namespace
 }  // namespace stvd

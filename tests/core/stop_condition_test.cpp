@@ -11,21 +11,13 @@
 #include <vector>
 
 #include "scenes.hpp"
+#include "method_cases.hpp"
 #include "stvd/propagation.hpp"
 
 namespace stvd {
 namespace {
 
-struct MethodCase {
-  const char* name;
-  Method method;
-  int k;
-};
-
-const MethodCase kMethods[] = {{"Dijkstra", Method::Dijkstra, 1},
-                               {"StvdK4", Method::ShortTermVectorDijkstra, 4},
-                               {"StvdK8", Method::ShortTermVectorDijkstra, 8},
-                               {"StvdK16", Method::ShortTermVectorDijkstra, 16}};
+using test::MethodCase;
 
 /// A varying metric on an oblique 48^3 grid (more than 65536 voxels, so the
 /// progress callback fires), and the full run from two sources.
@@ -36,12 +28,7 @@ class StopConditions : public ::testing::TestWithParam<MethodCase> {
         metric_(test::smoothVaryingTensors(domain_)),
         sources_{domain_.vertexAt(10, 30, 20), domain_.vertexAt(40, 5, 33)} {}
 
-  PropagationOptions options() const {
-    PropagationOptions o;
-    o.method = GetParam().method;
-    o.k = GetParam().k;
-    return o;
-  }
+  PropagationOptions options() const { return GetParam().options(); }
   PropagationResult run(const PropagationOptions& o) const {
     return propagate(domain_, metric_, sources_, o);
   }
@@ -240,10 +227,8 @@ TEST(StopConditionsDijkstra, DistanceIsTheLengthOfThePredecessorPath) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Method, StopConditions, ::testing::ValuesIn(kMethods),
-                         [](const ::testing::TestParamInfo<MethodCase>& info) {
-                           return std::string(info.param.name);
-                         });
+INSTANTIATE_TEST_SUITE_P(Method, StopConditions, ::testing::ValuesIn(test::kMethodCases),
+                         test::methodCaseName);
 
 }  // namespace
 }  // namespace stvd

@@ -1,0 +1,35 @@
+// The propagation methods that method-independent specifications (masks,
+// stop conditions) run under, as GoogleTest value parameters.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "stvd/propagation.hpp"
+
+namespace stvd::test {
+
+struct MethodCase {
+  const char* name;
+  Method method;
+  int k;
+
+  PropagationOptions options() const {
+    PropagationOptions o;
+    o.method = method;
+    o.k = k;
+    return o;
+  }
+};
+
+inline const MethodCase kMethodCases[] = {{"Dijkstra", Method::Dijkstra, 1},
+                                          {"StvdK4", Method::ShortTermVectorDijkstra, 4},
+                                          {"StvdK8", Method::ShortTermVectorDijkstra, 8},
+                                          {"StvdK16", Method::ShortTermVectorDijkstra, 16}};
+
+inline std::string methodCaseName(const ::testing::TestParamInfo<MethodCase>& info) {
+  return info.param.name;
+}
+
+}  // namespace stvd::test
