@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <iostream>
 #include <sstream>
 
 #include "stvd/itk/image_io_error.hpp"
@@ -226,6 +227,22 @@ std::string fixed(double x, int decimals) {
   s.precision(decimals);
   s << x;
   return s.str();
+}
+
+bool takeInputOrHelp(const std::string& argument, const ArgumentReader& args, std::string& input,
+                     const char* helpText, bool withMetricOptions) {
+  if (!args.isOption(argument)) {
+    if (!input.empty()) usageError("more than one input file: '" + input + "' and '" + argument + "'");
+    input = argument;
+    return true;
+  }
+  if (argument == "-h" || argument == "--help") {
+    std::string help = helpText;
+    help.replace(help.find("%TENSOR%"), 8, tensorInputHelp(withMetricOptions));
+    std::cout << help;
+    throw ToolError(kExitOk, "");
+  }
+  return false;
 }
 
 }  // namespace stvd::tool

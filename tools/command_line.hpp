@@ -99,6 +99,13 @@ std::string orientationCode(const GridGeometry& geometry);
 /// Help text of the tensor input options (shared by the subcommands' --help).
 std::string tensorInputHelp(bool withMetricOptions);
 
+/// Handles the arguments every subcommand shares: the one positional INPUT
+/// (a second one is a usage error) and -h/--help, which prints `helpText`
+/// with its %TENSOR% placeholder replaced by tensorInputHelp(withMetricOptions)
+/// and ends the tool with kExitOk. Returns false for any other argument.
+bool takeInputOrHelp(const std::string& argument, const ArgumentReader& args, std::string& input,
+                     const char* helpText, bool withMetricOptions);
+
 /// 1234567 -> "1,234,567".
 std::string withThousands(unsigned long long n);
 /// Fixed-point with `decimals` digits.

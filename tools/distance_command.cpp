@@ -128,15 +128,8 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   ArgumentReader args(argc, argv, 2);
   while (!args.done()) {
     const std::string a = args.take();
-    if (!args.isOption(a)) {
-      if (!o.input.empty()) usageError("more than one input file: '" + o.input + "' and '" + a + "'");
-      o.input = a;
-    } else if (a == "-h" || a == "--help") {
-      std::string help = kDistanceHelp;
-      help.replace(help.find("%TENSOR%"), 8, tensorInputHelp(true));
-      std::cout << help;
-      throw ToolError(kExitOk, "");
-    } else if (a == "-o" || a == "--output") {
+    if (takeInputOrHelp(a, args, o.input, kDistanceHelp, true)) continue;
+    if (a == "-o" || a == "--output") {
       o.output = args.value(a);
     } else if (a == "--seed-voxel") {
       o.seedVoxels.push_back(parseIntegerTriple(a, args.value(a)));

@@ -38,15 +38,8 @@ InfoOptions parseInfoOptions(int argc, char** argv) {
   ArgumentReader args(argc, argv, 2);
   while (!args.done()) {
     const std::string a = args.take();
-    if (!args.isOption(a)) {
-      if (!o.input.empty()) usageError("more than one input file: '" + o.input + "' and '" + a + "'");
-      o.input = a;
-    } else if (a == "-h" || a == "--help") {
-      std::string help = kInfoHelp;
-      help.replace(help.find("%TENSOR%"), 8, tensorInputHelp(false));
-      std::cout << help;
-      throw ToolError(kExitOk, "");
-    } else if (a == "--tensor-order" || a == "--tensor-frame" || a == "--mask" || a == "--max-anisotropy") {
+    if (takeInputOrHelp(a, args, o.input, kInfoHelp, false)) continue;
+    if (a == "--tensor-order" || a == "--tensor-frame" || a == "--mask" || a == "--max-anisotropy") {
       parseTensorInputOption(a, args, o.tensor);
     } else {
       usageError("unknown option '" + a + "' (see stvd info --help)");
