@@ -16,6 +16,7 @@
 
 #include "exact_metrics.hpp"
 #include "relative_error.hpp"
+#include "method_cases.hpp"
 #include "scenes.hpp"
 #include "stvd/propagation.hpp"
 
@@ -53,10 +54,7 @@ std::size_t belowEuclideanBound(const NoisyField& f, const PropagationResult& r)
 }
 
 PropagationOptions stvd(int k, ChainMeasure measure) {
-  PropagationOptions o;
-  o.k = k;
-  o.chainMeasure = measure;
-  return o;
+  return test::withMethod(Method::ShortTermVectorDijkstra, k, measure);
 }
 
 TEST(ChainMeasure, LargestEdgeNormNeverGoesBelowTheEuclideanBoundOnANoisyField) {

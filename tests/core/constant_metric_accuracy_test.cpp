@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "exact_metrics.hpp"
+#include "method_cases.hpp"
 #include "relative_error.hpp"
 #include "stvd/propagation.hpp"
 
@@ -109,12 +110,7 @@ class ConstantMetricAccuracy : public ::testing::TestWithParam<ConstantMetricCas
   VertexId source_ = 0;
 };
 
-PropagationOptions withMethod(Method method, int k = kDefaultMemoryDepth) {
-  PropagationOptions o;
-  o.method = method;
-  o.k = k;
-  return o;
-}
+using test::withMethod;
 
 TEST_P(ConstantMetricAccuracy, DijkstraErrorIsWithinItsStatedBound) {
   const RelativeErrors e = measure(withMethod(Method::Dijkstra), "Dijkstra 26");

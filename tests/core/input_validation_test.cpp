@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "method_cases.hpp"
 #include "scenes.hpp"
 #include "stvd/cell_mesh_domain.hpp"
 #include "stvd/metric_field.hpp"
@@ -40,12 +41,7 @@ class PropagationInputs : public ::testing::Test {
     domain_ = std::make_unique<VoxelGridDomain>(geometry_, Stencil::full26(), mask);
     metric_ = RiemannianMetric::constant(domain_->vertexCount(), kIdentity);
   }
-  PropagationOptions stvd(int k) {
-    PropagationOptions o;
-    o.method = Method::ShortTermVectorDijkstra;
-    o.k = k;
-    return o;
-  }
+  PropagationOptions stvd(int k) { return test::withMethod(Method::ShortTermVectorDijkstra, k); }
 
   GridGeometry geometry_ = test::obliqueGrid({6, 6, 6});
   VertexId outsideVoxel_ = 40;

@@ -1,4 +1,5 @@
-// The propagation methods that method-independent specifications (masks,
+// Propagation options per method for the specifications: withMethod() for
+// one run, and the methods that method-independent specifications (masks,
 // stop conditions) run under, as GoogleTest value parameters.
 #pragma once
 
@@ -10,17 +11,21 @@
 
 namespace stvd::test {
 
+inline PropagationOptions withMethod(Method method, int k = kDefaultMemoryDepth,
+                                     ChainMeasure measure = ChainMeasure::ProjectionWeighted) {
+  PropagationOptions o;
+  o.method = method;
+  o.k = k;
+  o.chainMeasure = measure;
+  return o;
+}
+
 struct MethodCase {
   const char* name;
   Method method;
   int k;
 
-  PropagationOptions options() const {
-    PropagationOptions o;
-    o.method = method;
-    o.k = k;
-    return o;
-  }
+  PropagationOptions options() const { return withMethod(method, k); }
 };
 
 inline const MethodCase kMethodCases[] = {{"Dijkstra", Method::Dijkstra, 1},

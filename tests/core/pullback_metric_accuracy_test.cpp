@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "exact_metrics.hpp"
+#include "method_cases.hpp"
 #include "relative_error.hpp"
 #include "stvd/propagation.hpp"
 
@@ -149,12 +150,7 @@ RelativeErrors measure(const PropagationOptions& options, const std::string& lab
   return errors;
 }
 
-PropagationOptions withMethod(Method method, int k = kDefaultMemoryDepth) {
-  PropagationOptions o;
-  o.method = method;
-  o.k = k;
-  return o;
-}
+using test::withMethod;
 
 TEST(PullbackMetricAccuracy, ReferenceMapInvertsAndDifferentiatesCorrectly) {
   // The closed-form inverse and Jacobian of phi that the exact distances and
