@@ -19,7 +19,6 @@ class FrontQueue {
   explicit FrontQueue(std::size_t vertexCount) : slot_(vertexCount, kUnseen) {}
 
   bool empty() const { return heap_.empty(); }
-  std::size_t size() const { return heap_.size(); }
   bool isFinal(VertexId v) const { return slot_[v] == kFinal; }
   double minKey() const { return heap_.front().key; }
   std::size_t capacityBytes() const {
