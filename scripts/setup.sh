@@ -12,6 +12,9 @@ packages=(
   libinsighttoolkit5-dev libeigen3-dev libtet1.5-dev libopenvdb-dev libboost-iostreams-dev
   python3-nibabel python3-numpy
 )
+# Scripts with needs of their own name extra packages as arguments
+# (scripts/evaluate.sh: gnuplot for its plots).
+packages+=("$@")
 
 if ! command -v dpkg-query >/dev/null 2>&1; then
   echo "setup.sh: dpkg-query not found; this script installs Debian 12 packages:" >&2
