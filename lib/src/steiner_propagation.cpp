@@ -164,11 +164,12 @@ template <class Cells, class Norm>
 class SteinerDijkstra {
  public:
   SteinerDijkstra(Cells& cells, const MetricField<Norm>& metric, VertexId vertexCount,
-                  const SteinerOptions& options)
+                  VertexId domainVertexCount, const SteinerOptions& options)
       : cells_(cells),
         metric_(metric),
         options_(options),
         vertexCount_(vertexCount),
+        domainVertexCount_(domainVertexCount),
         distance_(cells.pointCount(), kUnreachable),
         queue_(cells.pointCount()),
         length_(cells.maxCellPoints()) {}
@@ -191,8 +192,11 @@ class SteinerDijkstra {
 
     SteinerPropagationResult result;
     constexpr std::uint64_t kProgressInterval = 1u << 16;
+    // Progress counts original vertices: they are finalised interleaved with
+    // the Steiner points in distance order, and unlike the points they all
+    // lie in the domain.
     PropagationProgress progress;
-    progress.domainVertices = cells_.pointCount();
+    progress.domainVertices = domainVertexCount_;
     std::uint64_t finalizedPoints = 0;
     while (!queue_.empty()) {
       if (queue_.minKey() > options_.maxDistance) {
@@ -211,7 +215,7 @@ class SteinerDijkstra {
       }
       if (options_.progress && finalizedPoints % kProgressInterval == 0) {
         peakBytes_ = std::max(peakBytes_, stateBytes());
-        progress.finalizedVertices = finalizedPoints;
+        progress.finalizedVertices = result.finalizedVertices;
         progress.frontDistance = distance_[u];
         if (!options_.progress(progress)) {
           result.termination = Termination::Cancelled;
@@ -275,7 +279,7 @@ class SteinerDijkstra {
   Cells& cells_;
   const MetricField<Norm>& metric_;
   const SteinerOptions& options_;
-  VertexId vertexCount_;
+  VertexId vertexCount_, domainVertexCount_;
   std::vector<double> distance_;
   FrontQueue queue_;
   std::vector<float> length_;
@@ -309,7 +313,8 @@ SteinerPropagationResult steinerPropagate(const VoxelGridDomain& domain, const M
                                           const std::vector<VertexId>& sources, const SteinerOptions& options) {
   detail::validate(domain, domain.vertexCount(), metric, sources, options);
   detail::GridSteinerCells cells(domain, options.steinerPoints);
-  return detail::SteinerDijkstra<detail::GridSteinerCells, Norm>(cells, metric, domain.vertexCount(), options)
+  return detail::SteinerDijkstra<detail::GridSteinerCells, Norm>(cells, metric, domain.vertexCount(),
+                                                                 domain.domainVertexCount(), options)
       .run(sources);
 }
 
@@ -318,7 +323,8 @@ SteinerPropagationResult steinerPropagate(const TetrahedralCells& mesh, const Me
                                           const std::vector<VertexId>& sources, const SteinerOptions& options) {
   detail::validate(mesh, mesh.vertexCount(), metric, sources, options);
   detail::TetSteinerCells cells(mesh, options.steinerPoints);
-  return detail::SteinerDijkstra<detail::TetSteinerCells, Norm>(cells, metric, mesh.vertexCount(), options)
+  return detail::SteinerDijkstra<detail::TetSteinerCells, Norm>(cells, metric, mesh.vertexCount(),
+                                                                mesh.vertexCount(), options)
       .run(sources);
 }
 

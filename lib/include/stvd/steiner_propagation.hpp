@@ -47,7 +47,8 @@ struct SteinerOptions {
   /// Also return the distances at all Steiner points (pointDistance).
   bool keepPointDistances = false;
   /// Called about every 65536 finalised graph points; return false to
-  /// cancel. finalizedVertices and domainVertices count graph points.
+  /// cancel. finalizedVertices and domainVertices count original vertices
+  /// (voxels, mesh vertices), frontDistance is that of the last point.
   std::function<bool(const PropagationProgress&)> progress;
 };
 
