@@ -110,5 +110,20 @@ TEST_F(ToolLanthier, CommandLineRulesAreExplained) {
   expectUsageError({"--method", "lanthier", "--steiner", "2", "--stencil", "6"}, "--stencil");
 }
 
+TEST_F(ToolLanthier, ASingleSliceHasNoCubesAndIsRefused) {
+  KnownField slice;
+  slice.geometry.size = {11, 9, 1};
+  const Matrix3 frame = slice.measurementFrameLps;
+  writeTensorNrrdByHand(path("slice.nrrd"), slice.geometry, "left-posterior-superior",
+                        std::vector<SymTensor3>(slice.voxelCount(), slice.measurementFrameMetric()), &frame);
+  const ToolRun run = runTool({"distance", path("slice.nrrd"), "-o", path("never.nii.gz"), "--tensor-kind",
+                               "metric", "--seed-voxel", "5,4,0", "--method", "lanthier", "--steiner", "2"});
+  EXPECT_EQ(run.exitCode, 2) << run.err;
+  EXPECT_EQ(run.err.find('\n'), run.err.size() - 1) << run.err;
+  EXPECT_NE(run.err.find("slice.nrrd"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("at least 2 voxels along every grid axis"), std::string::npos) << run.err;
+  EXPECT_FALSE(std::ifstream(path("never.nii.gz")).good());
+}
+
 }  // namespace
 }  // namespace stvd::testing
