@@ -178,9 +178,9 @@ TEST_F(ToolBadInput, OutputWithAnUnsupportedExtension) {
   expectFailure({brain, "--seed-voxel", "55,54,15", "-o", output("d.png")}, kUsage, output("d.png"), "unsupported");
 }
 
-TEST_F(ToolBadInput, LanthierIsNotImplementedYet) {
+TEST_F(ToolBadInput, LanthierNeedsItsNumberOfSteinerPoints) {
   expectFailure({brain, "--seed-voxel", "55,54,15", "--method", "lanthier", "-o", output()}, kUsage, "lanthier",
-                "not implemented yet");
+                "--steiner");
 }
 
 TEST_F(ToolBadInput, BadCommandLines) {

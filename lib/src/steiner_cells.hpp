@@ -1,0 +1,130 @@
+// The Steiner-point layouts over the cell structures (private to the
+// library). Each class numbers the points of its Steiner graph and, for a
+// point u, hands every cell around u to a callback as a SteinerCellView: the
+// cell's corner vertices (for its norm) and all points on its boundary
+// (ids and positions). A triangle-surface layout plugs in the same way.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "stvd/steiner_propagation.hpp"
+#include "stvd/tetrahedral_cells.hpp"
+#include "stvd/voxel_grid_domain.hpp"
+
+namespace stvd::detail {
+
+/// The boundary points of one cell, seen from one of them (`self`).
+/// Positions are relative to a point of the cell (float is enough: a cell
+/// is small). Point l has id idBase + idOffset[l].
+struct SteinerCellView {
+  const VertexId* corners;
+  int cornerCount;
+  int pointCount;
+  SteinerPointId idBase;
+  const SteinerPointId* idOffset;
+  const Vec3f* position;
+  Vec3f self;
+};
+
+/// Cubes between voxel centres; see steinerPointPosition for the numbering.
+class GridSteinerCells {
+ public:
+  /// Without `findCells` only the numbering and positions are set up (no
+  /// propagation possible), which costs nothing per voxel.
+  GridSteinerCells(const VoxelGridDomain& domain, int steinerPoints, bool findCells = true);
+
+  std::uint64_t pointCount() const { return pointCount_; }
+  SteinerPointId pointOfVertex(VertexId v) const { return v * slots_; }
+  /// The voxel of point p, when p is a voxel centre; kNoVertex otherwise.
+  VertexId vertexOfPoint(SteinerPointId p) const {
+    const std::uint32_t v = slotDivisor_.divide(p);
+    return p == v * slots_ ? v : kNoVertex;
+  }
+  Vec3d position(SteinerPointId p) const;
+  /// Points on the boundary of the largest cell.
+  int maxCellPoints() const { return static_cast<int>(position_.size()); }
+
+  template <class F>
+  void forEachCellAround(SteinerPointId u, F&& f) {
+    const std::uint32_t v = slotDivisor_.divide(u);
+    const std::uint32_t slot = u - v * slots_;
+    const VoxelIndex c = domain_.indexOf(v);
+    for (const Incidence& in : around_[slot]) {
+      if (c.i < in.d[0] || c.j < in.d[1] || c.k < in.d[2]) continue;
+      const VertexId base = domain_.vertexAt(c.i - in.d[0], c.j - in.d[1], c.k - in.d[2]);
+      if (!isCell_[base]) continue;
+      for (int corner = 0; corner < 8; ++corner) corners_[corner] = base + cornerOffset_[corner];
+      f(SteinerCellView{corners_.data(), 8, static_cast<int>(position_.size()), base * slots_,
+                        idOffset_.data(), position_.data(), position_[in.local]});
+    }
+  }
+
+ private:
+  struct Incidence {
+    std::array<int, 3> d;  // index offset from the cube's base corner to the point's voxel
+    int local;             // the point's index among the cube's boundary points
+  };
+  const VoxelGridDomain& domain_;
+  int m_;
+  std::uint32_t slots_;
+  std::uint64_t pointCount_;
+  detail::FixedDivisor slotDivisor_;
+  std::vector<Vec3f> position_;           // per boundary point of a cube, from its base corner
+  std::vector<SteinerPointId> idOffset_;  // per boundary point of a cube
+  std::vector<Vec3d> slotIndexOffset_;    // per slot: continuous index offset from its voxel
+  std::vector<std::vector<Incidence>> around_;  // per slot: the cubes around such a point
+  std::array<VertexId, 8> cornerOffset_{};
+  std::array<VertexId, 8> corners_{};
+  std::vector<std::uint8_t> isCell_;  // per voxel: is the cube with this base corner a cell
+};
+
+/// Tetrahedra; see steinerPointPosition for the numbering.
+class TetSteinerCells {
+ public:
+  TetSteinerCells(const TetrahedralCells& cells, int steinerPoints);
+
+  std::uint64_t pointCount() const { return pointCount_; }
+  SteinerPointId pointOfVertex(VertexId v) const { return v; }
+  VertexId vertexOfPoint(SteinerPointId p) const { return p < cells_.vertexCount() ? p : kNoVertex; }
+  Vec3d position(SteinerPointId p) const;
+  int maxCellPoints() const { return static_cast<int>(position_.size()); }
+
+  template <class F>
+  void forEachCellAround(SteinerPointId u, F&& f) {
+    const std::uint32_t* begin;
+    const std::uint32_t* end;
+    if (u < cells_.vertexCount()) {
+      begin = cells_.vertexTetsBegin(u);
+      end = cells_.vertexTetsEnd(u);
+    } else if (u < firstFacePoint_) {
+      const std::uint32_t e = (u - cells_.vertexCount()) / m_;
+      begin = cells_.edgeTetsBegin(e);
+      end = cells_.edgeTetsEnd(e);
+    } else {
+      const std::uint32_t f = (u - firstFacePoint_) / facePoints_;
+      begin = cells_.faceTetsBegin(f);
+      end = cells_.faceTetsEnd(f);
+    }
+    const Vec3d self = position(u);
+    for (const std::uint32_t* t = begin; t != end; ++t) {
+      gather(*t);
+      f(SteinerCellView{cells_.tets()[*t].data(), 4, static_cast<int>(position_.size()), 0, id_.data(),
+                        position_.data(), toFloat(self - cells_.points()[cells_.tets()[*t][0]])});
+    }
+  }
+
+ private:
+  void gather(std::uint32_t t);  // fills id_ and position_ for tetrahedron t
+
+  const TetrahedralCells& cells_;
+  int m_;
+  std::uint32_t facePoints_;  // M (M - 1) / 2
+  std::uint64_t firstFacePoint_, pointCount_;
+  std::vector<std::array<double, 2>> faceLattice_;  // (b, c) / (M + 1) per face point
+  std::vector<SteinerPointId> id_;
+  std::vector<Vec3f> position_;
+};
+
+}  // namespace stvd::detail
