@@ -21,6 +21,7 @@
 #include "stvd/stencil.hpp"
 #include "stvd/voxel_grid_domain.hpp"
 #include "subcommands.hpp"
+#include "tet_mesh_commands.hpp"
 
 #ifdef STVD_WITH_VDB_OUTPUT
 #include "stvd/vdb/distance_grid.hpp"
@@ -554,6 +555,9 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
 }  // namespace
 
 int runDistance(int argc, char** argv) {
+  // A TetGen mesh (.node/.ele) goes to the tetrahedral-mesh command.
+  for (int i = 2; i < argc; ++i)
+    if (isTetMeshInput(argv[i])) return runTetMeshDistance(argc, argv);
   const Clock::time_point start = Clock::now();
   const DistanceOptions o = parseDistanceOptions(argc, argv);
   Timings t;

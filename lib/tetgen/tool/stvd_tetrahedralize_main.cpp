@@ -34,8 +34,8 @@ const char* kHelp =
     "  -q, --quiet         no summary on stdout.\n"
     "\n"
     "The surface is validated first (finite coordinates, non-degenerate polygons, closed).\n"
-    "Exit codes: 0 success; 1 TetGen failed; 2 bad command line; 3 invalid surface;\n"
-    "5 output cannot be written. No partial output is left behind.\n";
+    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 invalid surface, or TetGen\n"
+    "failed on it; 5 output cannot be written. No partial output is left behind.\n";
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -139,14 +139,21 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   const std::string base = stvd::tetmesh::tetGenBaseName(output);
+  // An unwritable output folder is found before the meshing, not after it.
+  const std::size_t slash = base.find_last_of('/');
+  const std::string folder = slash == std::string::npos ? "." : base.substr(0, slash + 1);
+  if (::access(folder.c_str(), W_OK | X_OK) != 0) {
+    std::cerr << "stvd tetrahedralize: " << base << ".node: the folder " << folder
+              << " does not exist or is not writable" << std::endl;
+    return kExitOutput;
+  }
   stvd::tetmesh::TetMesh mesh;
   try {
     const stvd::tetgen::SurfaceMesh surface = readSurfaceQuietly(input);
     mesh = stvd::tetgen::tetrahedralizeSurface(surface, options, input);
   } catch (const stvd::tetmesh::TetMeshError& e) {
-    const std::string what = e.what();
-    std::cerr << "stvd tetrahedralize: " << what << std::endl;
-    return what.find("TetGen") != std::string::npos ? kExitInternal : kExitInput;
+    std::cerr << "stvd tetrahedralize: " << e.what() << std::endl;
+    return kExitInput;
   } catch (const std::exception& e) {
     std::cerr << "stvd tetrahedralize: internal error: " << e.what() << std::endl;
     return kExitInternal;
