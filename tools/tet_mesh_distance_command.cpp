@@ -12,8 +12,10 @@
 #include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/metric_sampling.hpp"
+#include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/tensor_frames.hpp"
 #include "stvd/propagation.hpp"
+#include "stvd/tetmesh/grid_resampling.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
 #include "tet_mesh_commands.hpp"
@@ -67,6 +69,11 @@ const char* kTetDistanceHelp =
     "  -o, --output FILE       .vtk (legacy VTK), .vtu (VTK XML) or .csv (vertex,distance with\n"
     "                          the input's vertex numbers). VTK files hold the mesh with the point\n"
     "                          arrays \"distance\" and \"vertex_number\". Written atomically.\n"
+    "                          Or .nii, .nii.gz, .nrrd, .nhdr with --reference: the distance\n"
+    "                          resampled onto the reference's grid (float32; linear inside each\n"
+    "                          tetrahedron; voxels outside the mesh hold the unreachable value).\n"
+    "  --reference IMAGE       scalar image (e.g. an FA map or a label image) whose grid an image\n"
+    "                          output takes; the mesh is RAS unless --lps.\n"
     "  --unreachable-value V   distance of vertices not reached: a number or nan (default -1).\n"
     "  -q, --quiet             no summary on stdout.\n"
     "\n"
@@ -93,6 +100,7 @@ struct TetDistanceOptions {
   double maxDistance = std::numeric_limits<double>::infinity();
   TensorInputOptions tensor;
   double unreachableValue = -1.0;
+  std::string reference;
   bool quiet = false;
 };
 
@@ -145,6 +153,8 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
     } else if (a == "--max-distance") {
       o.maxDistance = parseNumber(a, args.value(a));
       if (!(o.maxDistance > 0.0)) usageError("--max-distance must be positive");
+    } else if (a == "--reference") {
+      o.reference = args.value(a);
     } else if (a == "--unreachable-value") {
       const std::string v = args.value(a);
       o.unreachableValue = v == "nan" ? std::numeric_limits<double>::quiet_NaN() : parseNumber(a, v);
@@ -162,8 +172,14 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
   if (o.seedVertices.empty() && o.seedPoints.empty())
     usageError("no seed: give --seed-vertex or --seed-point");
   tetmesh::TetMeshOutputFormat format;
-  if (!tetmesh::outputFormatOf(o.output, format))
-    usageError("-o " + o.output + ": a tetrahedral mesh is written as .vtk, .vtu or .csv");
+  if (imaging::hasImageExtension(o.output)) {
+    if (o.reference.empty())
+      usageError("-o " + o.output + ": an image output needs --reference IMAGE to take its grid from");
+  } else if (!tetmesh::outputFormatOf(o.output, format)) {
+    usageError("-o " + o.output + ": a tetrahedral mesh is written as .vtk, .vtu or .csv (or an image with --reference)");
+  } else if (!o.reference.empty()) {
+    usageError("--reference is for image outputs (.nii, .nii.gz, .nrrd, .nhdr)");
+  }
   return o;
 }
 
@@ -291,6 +307,16 @@ int runTetMeshDistance(int argc, char** argv) {
     throw ToolError(kExitInput, e.what());
   }
 
+  // The grid of an image output, read before the work.
+  imaging::ScalarImage reference;
+  if (!o.reference.empty()) {
+    try {
+      reference = imaging::readScalarImage(o.reference);
+    } catch (const imaging::ImageIoError& e) {
+      throw ToolError(kExitInput, e.what());
+    }
+  }
+
   // The metric per vertex and the vertices in the domain.
   VertexTensors vt;
   if (o.tensors == "node" || o.tensors == "ele") vt = tensorsFromAttributes(o, mesh, nodeFile, eleFile);
@@ -373,14 +399,23 @@ int runTetMeshDistance(int argc, char** argv) {
     }
   }
   tetmesh::TetMeshOutputFormat format;
-  tetmesh::outputFormatOf(o.output, format);
-  try {
-    imaging::AtomicOutput output(o.output);
-    tetmesh::writeTetMeshOutput(output.stagingPath(), format, mesh, {{"distance", std::move(values)}});
-    output.commit();
-  } catch (const std::runtime_error& e) {
-    std::string message = e.what();
-    throw ToolError(kExitOutput, message);
+  if (!o.reference.empty()) {
+    const std::vector<double> resampled = tetmesh::resampleOntoGrid(
+        mesh, result.distance, reference.geometry, o.lps ? tetmesh::MeshFrame::Lps : tetmesh::MeshFrame::Ras,
+        o.unreachableValue);
+    try {
+      imaging::writeScalarImage(o.output, reference.geometry, std::vector<float>(resampled.begin(), resampled.end()));
+    } catch (const imaging::ImageIoError& e) {
+      throw ToolError(kExitOutput, e.what());
+    }
+  } else if (tetmesh::outputFormatOf(o.output, format)) {
+    try {
+      imaging::AtomicOutput output(o.output);
+      tetmesh::writeTetMeshOutput(output.stagingPath(), format, mesh, {{"distance", std::move(values)}});
+      output.commit();
+    } catch (const std::runtime_error& e) {
+      throw ToolError(kExitOutput, e.what());
+    }
   }
 
   if (!o.quiet) {
@@ -398,7 +433,7 @@ int runTetMeshDistance(int argc, char** argv) {
       << withThousands(reached) << " of " << withThousands(mesh.vertexCount()) << " vertices, farthest "
       << fixed(farthest, 2) << "; " << withThousands(result.relaxedEdges) << " edges relaxed in "
       << fixed(propagationSeconds, 3) << " s (setup " << fixed(setupSeconds, 3) << " s).\n"
-      << "Wrote " << o.output << ".";
+      << "Wrote " << o.output << (o.reference.empty() ? "" : " on the grid of " + o.reference) << ".";
     std::cout << s.str() << std::endl;
   }
   return kExitOk;

@@ -17,6 +17,7 @@
 #include <map>
 #include <sstream>
 
+#include "stvd/itk/scalar_image.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
 #include "test_support.hpp"
@@ -257,6 +258,33 @@ TEST_F(TetMeshTool, VtkAndVtuOutputsHoldTheMeshAndTheDistance) {
   EXPECT_EQ(listFolder(path("out")), (std::vector<std::string>{"d.vtk", "d.vtu"}));
 }
 
+TEST_F(TetMeshTool, ResamplesOntoTheGridOfAReferenceImage) {
+  // Euclidean metric, seed at the lattice corner (0, 0, 0) = RAS (10, -20, 5):
+  // along the lattice's x edge line the distance is exactly x - 10, and
+  // voxel centres on that line interpolate between two of its vertices.
+  tetmesh::writeTetGenMesh(in("cube"), kuhnCube({10, -20, 5}, 1));
+  HandGeometry geometry;  // LPS centres x = -14 + 0.25 m, y = 20, z = 5: RAS x = 14 - 0.25 m
+  geometry.size = {21, 1, 1};
+  geometry.spacing = {0.25, 1, 1};
+  geometry.originLps = {-14, 20, 5};
+  writeScalarNiftiByHand(in("reference.nii"), geometry, std::vector<float>(21, 0.f));
+  const ToolRun run = runTool({"distance", in("cube.node"), "--seed-vertex", "1", "--reference", in("reference.nii"),
+                               "-o", out("d.nii.gz"), "-q"});
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const imaging::ScalarImage image = imaging::readScalarImage(out("d.nii.gz"));
+  ASSERT_EQ(image.values.size(), 21u);
+  for (int m = 0; m < 21; ++m) {
+    const double rasX = 14.0 - 0.25 * m;
+    if (rasX >= 10.0) {
+      EXPECT_NEAR(image.values[m], rasX - 10.0, 1e-5) << m;
+    } else {
+      EXPECT_EQ(image.values[m], -1.f) << m << ": outside the mesh";
+    }
+  }
+  fs::remove(out("d.nii.gz"));
+  expectFailure({"distance", in("cube.node"), "--seed-vertex", "1", "-o", out("d.nii.gz")}, 2, "needs --reference");
+}
+
 TEST_F(TetMeshTool, BadMeshesSeedsAndOutputsFailInOneLine) {
   tetmesh::TetMesh m = kuhnCube({0, 0, 0}, 1);
   tetmesh::writeTetGenMesh(in("good"), m);
@@ -272,7 +300,7 @@ TEST_F(TetMeshTool, BadMeshesSeedsAndOutputsFailInOneLine) {
                 "lies in no tetrahedron");
   expectFailure({"distance", in("good.node"), "--seed-vertex", "1", "--tensors", "node", "-o", out("d.csv")}, kInput,
                 "good.node: --tensors node needs six point attributes");
-  expectFailure({"distance", in("good.node"), "--seed-vertex", "1", "-o", out("d.nii.gz")}, 2, ".vtk, .vtu or .csv");
+  expectFailure({"distance", in("good.node"), "--seed-vertex", "1", "-o", out("d.ply")}, 2, ".vtk, .vtu or .csv");
 }
 
 #ifdef STVD_TEST_TETRAHEDRALIZE
