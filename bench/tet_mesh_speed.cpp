@@ -12,11 +12,13 @@
 #include <benchmark/benchmark.h>
 
 #include <map>
+#include <tuple>
 #include <memory>
 #include <string>
 
 #include "bench_scenes.hpp"
 #include "stvd/tetgen/tetrahedralize.hpp"
+#include "stvd/tetmesh/vertex_order.hpp"
 
 namespace {
 
@@ -44,15 +46,22 @@ test::TriangularPullbackMap curvedMap() {
   return map;
 }
 
-/// maxVolume 0.2 gives the tests' 55k-vertex mesh, 0.02 about 480k vertices.
-const TetScene& tetScene(int maxVolumeThousandths, bool curved) {
-  static std::map<std::pair<int, bool>, std::unique_ptr<TetScene>> scenes;
-  auto& s = scenes[{maxVolumeThousandths, curved}];
+/// maxVolume 0.2 gives the tests' 55k-vertex mesh, 0.02 about 490k vertices.
+/// `morton`: vertices renumbered along a Morton curve (as `stvd distance`
+/// does), otherwise in TetGen's order.
+const TetScene& tetScene(int maxVolumeThousandths, bool curved, bool morton) {
+  static std::map<std::tuple<int, bool, bool>, std::unique_ptr<TetScene>> scenes;
+  auto& s = scenes[{maxVolumeThousandths, curved, morton}];
   if (s) return *s;
   tetgen::TetrahedralizeOptions o;
   o.quality = 1.4;
   o.maxVolume = maxVolumeThousandths / 1000.0;
   tetmesh::TetMesh mesh = tetgen::tetrahedralizeSurface(tetgen::boxSurface(kLow, kHigh), o, "box");
+  if (morton) {
+    const tetmesh::VertexPermutation p = tetmesh::mortonOrder(mesh.points);
+    mesh.points = tetmesh::permutedPoints(mesh.points, p);
+    mesh.tets = tetmesh::permutedTets(mesh.tets, p);
+  }
   CellMeshDomain domain = CellMeshDomain::fromTetrahedra(mesh.points, mesh.tets);
   VertexId source = 0;
   for (VertexId v = 1; v < mesh.vertexCount(); ++v)
@@ -92,7 +101,8 @@ void tetMesh(benchmark::State& state) {
   const int volume = static_cast<int>(state.range(0));
   const bool curved = state.range(1) != 0;
   const int k = static_cast<int>(state.range(2));
-  const TetScene& s = tetScene(volume, curved);
+  const bool morton = state.range(3) != 0;
+  const TetScene& s = tetScene(volume, curved, morton);
   const PropagationOptions options = optionsFor(k);
   PropagationResult r;
   for (auto _ : state) {
@@ -107,7 +117,7 @@ void tetMesh(benchmark::State& state) {
   state.counters["max_error"] = e.max();
   state.counters["vertices"] = double(s.domain.vertexCount());
   state.counters["edges_per_vertex"] = 2.0 * double(s.domain.edgeCount()) / double(s.domain.vertexCount());
-  setLabel(state, k, std::string("tets ") + (curved ? "curved" : "constant"));
+  setLabel(state, k, std::string("tets ") + (curved ? "curved" : "constant") + (morton ? " morton" : " tetgen-order"));
 }
 
 /// The grid reference: 128^3, 26-neighbourhood, pull-back gamma 20 (the
@@ -129,8 +139,8 @@ void grid(benchmark::State& state) {
 
 BENCHMARK(grid)->ArgNames({"k"})->Arg(0)->Arg(5)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(tetMesh)
-    ->ArgNames({"vol_milli", "curved", "k"})
-    ->ArgsProduct({{200, 20}, {0, 1}, {0, 3, 5, 8, 12}})
+    ->ArgNames({"vol_milli", "curved", "k", "morton"})
+    ->ArgsProduct({{200, 20}, {0, 1}, {0, 3, 5, 8, 12}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
