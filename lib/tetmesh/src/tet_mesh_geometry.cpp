@@ -1,6 +1,7 @@
 // Geometric checks and queries on a tetrahedral mesh.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -16,6 +17,13 @@ double longestEdgeSquared(const std::array<Vec3d, 4>& p) {
   for (int i = 0; i < 4; ++i)
     for (int j = i + 1; j < 4; ++j) longest = std::max(longest, dot(p[j] - p[i], p[j] - p[i]));
   return longest;
+}
+
+/// %.3g: std::to_string prints small volumes as 0.000000.
+std::string shortNumber(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
 }
 
 }  // namespace
@@ -48,10 +56,10 @@ void validateTetMesh(const TetMesh& mesh, const std::string& nodeFile, const std
     const double volume = signedVolume(p[0], p[1], p[2], p[3]);
     const double scale = std::pow(longestEdgeSquared(p), 1.5);
     if (!(std::abs(volume) > checks.degenerateRelativeVolume * scale))
-      throw TetMeshError(eleFile + ": " + name + " is degenerate (volume " + std::to_string(volume) +
+      throw TetMeshError(eleFile + ": " + name + " is degenerate (volume " + shortNumber(volume) +
                          ", its corners are (nearly) coplanar or coincide)");
     if (volume < 0.0)
-      throw TetMeshError(eleFile + ": " + name + " is inverted (negative volume " + std::to_string(volume) +
+      throw TetMeshError(eleFile + ": " + name + " is inverted (negative volume " + shortNumber(volume) +
                          "; TetGen orders corners so that det(p1-p0, p2-p0, p3-p0) > 0)");
   }
 }
