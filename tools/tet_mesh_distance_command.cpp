@@ -43,6 +43,10 @@ const char* kTetDistanceHelp =
     "  --seed-vertex N         vertex number N as the .node file numbers it (repeatable).\n"
     "  --seed-point X,Y,Z      a point in mesh coordinates (repeatable): it must lie in a\n"
     "                          tetrahedron, and the nearest vertex is the seed.\n"
+    "  --seed-at W             vertex (default): --seed-point snaps to the nearest vertex; point:\n"
+    "                          the point itself is the seed, inserted as a vertex that splits its\n"
+    "                          tetrahedron into four (its metric the barycentric mean of the\n"
+    "                          corners'); outputs still list the file's vertices only.\n"
     "\n"
     "Metric (the Euclidean one when none is given):\n"
     "  --tensors SOURCE        node: six .node point attributes per vertex; ele: six .ele\n"
@@ -91,6 +95,7 @@ struct TetDistanceOptions {
   std::string output;
   std::vector<long long> seedVertices;
   std::vector<std::array<double, 3>> seedPoints;
+  bool seedAtPoint = false;
   bool lps = false;
   std::string tensors;  // "", "node", "ele" or an image path
   int tensorAttribute = 0;
@@ -126,6 +131,10 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
       o.seedVertices.push_back(n);
     } else if (a == "--seed-point") {
       o.seedPoints.push_back(parseTriple(a, args.value(a)));
+    } else if (a == "--seed-at") {
+      const std::string v = args.value(a);
+      if (v != "vertex" && v != "point") usageError("--seed-at: '" + v + "' is not one of vertex, point");
+      o.seedAtPoint = v == "point";
     } else if (a == "--lps") {
       args.noValue(a);
       o.lps = true;
@@ -360,14 +369,47 @@ int runTetMeshDistance(int argc, char** argv) {
       throw ToolError(kExitDomain, "--seed-vertex " + std::to_string(n) + ": the vertex is outside the domain");
     sources.push_back(static_cast<VertexId>(v));
   }
+  // The graph: the mesh's points, plus one vertex per seed point inserted
+  // with --seed-at point (it splits its tetrahedron into four).
+  std::vector<Vec3d> points = mesh.points;
+  std::vector<std::uint8_t> inGraph = std::move(inKeptTet);
   for (const auto& s : o.seedPoints) {
     const Vec3d p{s[0], s[1], s[2]};
     std::ostringstream given;
     given << "--seed-point " << s[0] << "," << s[1] << "," << s[2];
+    if (o.seedAtPoint) {
+      std::array<double, 4> w{};
+      const std::int64_t t = tetmesh::findContainingTet(points, tets, p, &w);
+      if (t < 0) throw ToolError(kExitDomain, given.str() + ": the point lies in no tetrahedron of the domain");
+      // The metric at p: the barycentric mean of the corners' metrics (a
+      // convex combination of positive-definite tensors).
+      const auto corners = tets[static_cast<std::size_t>(t)];
+      double sum[6] = {0, 0, 0, 0, 0, 0}, total = 0.0;
+      for (int c = 0; c < 4; ++c) {
+        const double wc = std::max(0.0, w[c]);
+        const SymTensor3& g = metricTensors[corners[c]];
+        const double comps[6] = {g.xx, g.xy, g.xz, g.yy, g.yz, g.zz};
+        for (int i = 0; i < 6; ++i) sum[i] += wc * comps[i];
+        total += wc;
+      }
+      const VertexId added = static_cast<VertexId>(points.size());
+      points.push_back(p);
+      metricTensors.push_back({float(sum[0] / total), float(sum[1] / total), float(sum[2] / total),
+                               float(sum[3] / total), float(sum[4] / total), float(sum[5] / total)});
+      inGraph.push_back(1);
+      for (int c = 0; c < 4; ++c) {
+        auto split = corners;
+        split[c] = added;
+        if (c == 0) tets[static_cast<std::size_t>(t)] = split;
+        else tets.push_back(split);
+      }
+      sources.push_back(added);
+      continue;
+    }
     if (tetmesh::findContainingTet(mesh, p) < 0)
       throw ToolError(kExitDomain, given.str() + ": the point lies in no tetrahedron of " + eleFile);
     const VertexId v = tetmesh::nearestVertex(mesh, p);
-    if (!inKeptTet[v])
+    if (!inGraph[v])
       throw ToolError(kExitDomain, given.str() + ": its nearest vertex " + std::to_string(mesh.fileNumber(v)) +
                                        " is outside the domain");
     sources.push_back(v);
@@ -379,12 +421,12 @@ int runTetMeshDistance(int argc, char** argv) {
   // that neighbours are close in memory (1.7 to 2.5 times less time per
   // edge than TetGen's numbering on a 490k-vertex mesh, docs/benchmarks.md);
   // results are mapped back to the file's numbering.
-  const tetmesh::VertexPermutation order = tetmesh::mortonOrder(mesh.points);
-  std::vector<SymTensor3> orderedTensors(mesh.vertexCount());
-  std::vector<std::uint8_t> orderedInDomain(mesh.vertexCount());
-  for (std::size_t n = 0; n < mesh.vertexCount(); ++n) {
+  const tetmesh::VertexPermutation order = tetmesh::mortonOrder(points);
+  std::vector<SymTensor3> orderedTensors(points.size());
+  std::vector<std::uint8_t> orderedInDomain(points.size());
+  for (std::size_t n = 0; n < points.size(); ++n) {
     orderedTensors[n] = metricTensors[order.newToOld[n]];
-    orderedInDomain[n] = inKeptTet[order.newToOld[n]];
+    orderedInDomain[n] = inGraph[order.newToOld[n]];
   }
   std::vector<VertexId> orderedSources;
   for (VertexId v : sources) orderedSources.push_back(order.oldToNew[v]);
@@ -392,7 +434,7 @@ int runTetMeshDistance(int argc, char** argv) {
   const double setupSeconds = secondsSince(start);
   const Clock::time_point propagationStart = Clock::now();
   const CellMeshDomain domain =
-      CellMeshDomain::fromTetrahedra(tetmesh::permutedPoints(mesh.points, order), tetmesh::permutedTets(tets, order));
+      CellMeshDomain::fromTetrahedra(tetmesh::permutedPoints(points, order), tetmesh::permutedTets(tets, order));
   const RiemannianMetric metric(std::move(orderedTensors), &orderedInDomain);
   PropagationOptions options;
   options.method = o.method;

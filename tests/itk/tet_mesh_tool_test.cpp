@@ -185,6 +185,30 @@ TEST_F(TetMeshTool, WithoutTensorsTheMetricIsEuclideanAndSeedPointsSnapToTheNear
   expectEdgeDistances(distances({in("cube.node"), "--seed-point", "2.2,1.9,2.1"}), identity, 1);
 }
 
+TEST_F(TetMeshTool, SeedAtPointStartsFromThePointItselfInsideItsTetrahedron) {
+  tetmesh::TetMesh m = kuhnCube({0, 0, 0}, 1);
+  m.pointAttributeCount = 6;
+  for (std::size_t v = 0; v < m.vertexCount(); ++v)
+    for (double a : {kG[0][0], kG[0][1], kG[0][2], kG[1][1], kG[1][2], kG[2][2]}) m.pointAttributes.push_back(a);
+  tetmesh::writeTetGenMesh(in("cube"), m);
+  // p lies strictly inside the tetrahedron (2,2,2) (3,2,2) (3,3,2) (3,3,3)
+  // (x - 2 > y - 2 > z - 2): its four corners are joined to p by an edge, so
+  // their distances are exactly ||corner - p||_G.
+  const Vec3d p{2.3, 2.2, 2.1};
+  const std::vector<std::string> common{in("cube.node"), "--seed-point", "2.3,2.2,2.1", "--tensors", "node",
+                                        "--tensor-kind", "metric"};
+  std::vector<std::string> atPoint = common;
+  atPoint.insert(atPoint.end(), {"--seed-at", "point"});
+  const auto d = distances(atPoint);
+  ASSERT_EQ(d.size(), 125u) << "the inserted vertex is not written";
+  for (const std::array<int, 3> c : std::vector<std::array<int, 3>>{{2, 2, 2}, {3, 2, 2}, {3, 3, 2}, {3, 3, 3}}) {
+    const double exact = normUnder(kG, Vec3d{double(c[0]), double(c[1]), double(c[2])} - p);
+    EXPECT_NEAR(d.at(latticeId(c[0], c[1], c[2]) + 1), exact, 2e-6 * exact) << c[0] << c[1] << c[2];
+  }
+  // Snapped (the default), the seed is the vertex (2, 2, 2) instead.
+  EXPECT_EQ(distances(common).at(latticeId(2, 2, 2) + 1), 0.0);
+}
+
 /// A NIfTI metric image in LPS with identity direction and 1 mm voxels,
 /// whose first voxel centre is at originLps, holding G_lps at every voxel.
 void writeMetricImage(const std::string& file, std::array<double, 3> originLps, std::array<int, 3> size,

@@ -64,22 +64,27 @@ void validateTetMesh(const TetMesh& mesh, const std::string& nodeFile, const std
   }
 }
 
-std::int64_t findContainingTet(const TetMesh& mesh, const Vec3d& p) {
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    const auto& c = mesh.tets[t];
-    const Vec3d a = mesh.points[c[0]], b = mesh.points[c[1]], d = mesh.points[c[2]], e = mesh.points[c[3]];
+std::int64_t findContainingTet(const std::vector<Vec3d>& points, const std::vector<std::array<VertexId, 4>>& tets,
+                               const Vec3d& p, std::array<double, 4>* barycentric) {
+  for (std::size_t t = 0; t < tets.size(); ++t) {
+    const auto& c = tets[t];
+    const Vec3d a = points[c[0]], b = points[c[1]], d = points[c[2]], e = points[c[3]];
     const double total = signedVolume(a, b, d, e);
     if (total == 0.0) continue;
     // Barycentric coordinates as volume ratios; slightly negative ones still
     // count so that a point on a shared face is found in one of its tets.
     const double tolerance = -1e-9;
-    if (signedVolume(p, b, d, e) / total < tolerance) continue;
-    if (signedVolume(a, p, d, e) / total < tolerance) continue;
-    if (signedVolume(a, b, p, e) / total < tolerance) continue;
-    if (signedVolume(a, b, d, p) / total < tolerance) continue;
+    const std::array<double, 4> w{signedVolume(p, b, d, e) / total, signedVolume(a, p, d, e) / total,
+                                  signedVolume(a, b, p, e) / total, signedVolume(a, b, d, p) / total};
+    if (w[0] < tolerance || w[1] < tolerance || w[2] < tolerance || w[3] < tolerance) continue;
+    if (barycentric) *barycentric = w;
     return static_cast<std::int64_t>(t);
   }
   return -1;
+}
+
+std::int64_t findContainingTet(const TetMesh& mesh, const Vec3d& p) {
+  return findContainingTet(mesh.points, mesh.tets, p);
 }
 
 VertexId nearestVertex(const TetMesh& mesh, const Vec3d& p) {

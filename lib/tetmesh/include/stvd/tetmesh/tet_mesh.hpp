@@ -87,6 +87,10 @@ void validateTetMesh(const TetMesh& mesh, const std::string& nodeFile, const std
 /// The tetrahedron containing p (boundary included, with a small relative
 /// tolerance), or -1. Linear scan: meant for a handful of seed points.
 std::int64_t findContainingTet(const TetMesh& mesh, const Vec3d& p);
+/// The same over any points and tetrahedra; when `barycentric` is not null
+/// it receives p's barycentric coordinates in the tetrahedron found.
+std::int64_t findContainingTet(const std::vector<Vec3d>& points, const std::vector<std::array<VertexId, 4>>& tets,
+                               const Vec3d& p, std::array<double, 4>* barycentric = nullptr);
 /// The vertex nearest to p (Euclidean), or kNoVertex for an empty mesh.
 VertexId nearestVertex(const TetMesh& mesh, const Vec3d& p);
 
