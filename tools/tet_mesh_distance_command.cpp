@@ -115,6 +115,11 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
   ArgumentReader args(argc, argv, 2);
   while (!args.done()) {
     const std::string a = args.take();
+    if (a == "-h" || a == "--help") {
+      // Not through takeInputOrHelp: this text has no tensor-option placeholder.
+      std::cout << kTetDistanceHelp;
+      throw ToolError(kExitOk, "");
+    }
     if (takeInputOrHelp(a, args, o.input, kTetDistanceHelp, false)) continue;
     if (a == "-o" || a == "--output") {
       o.output = args.value(a);

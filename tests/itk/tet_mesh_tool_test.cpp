@@ -311,6 +311,15 @@ TEST_F(TetMeshTool, ResamplesOntoTheGridOfAReferenceImage) {
   expectFailure({"distance", in("cube.node"), "--seed-vertex", "1", "-o", out("d.nii.gz")}, 2, "needs --reference");
 }
 
+TEST_F(TetMeshTool, HelpForAMeshListsTheMeshOptions) {
+  const ToolRun run = runTool({"distance", "any.node", "--help"});
+  EXPECT_EQ(run.exitCode, 0);
+  EXPECT_EQ(run.err, "");
+  EXPECT_EQ(run.out.rfind("Usage: stvd distance MESH.node", 0), 0u) << run.out;
+  EXPECT_NE(run.out.find("--seed-vertex N"), std::string::npos);
+  EXPECT_NE(run.out.find("--outside-image"), std::string::npos);
+}
+
 TEST_F(TetMeshTool, BadMeshesSeedsAndOutputsFailInOneLine) {
   tetmesh::TetMesh m = kuhnCube({0, 0, 0}, 1);
   tetmesh::writeTetGenMesh(in("good"), m);
