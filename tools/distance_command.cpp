@@ -22,6 +22,7 @@
 #include "stvd/steiner_propagation.hpp"
 #include "stvd/voxel_grid_domain.hpp"
 #include "subcommands.hpp"
+#include "tet_mesh_commands.hpp"
 
 #ifdef STVD_WITH_VDB_OUTPUT
 #include "stvd/vdb/distance_grid.hpp"
@@ -59,7 +60,8 @@ const char* kDistanceHelp =
     "otherwise; .vdb gives an OpenVDB FloatGrid named \"distance\" whose transform places the\n"
     "voxels in RAS millimetres and in which voxels not reached are inactive. All coordinates\n"
     "are millimetres; distances are measured in physical space (spacing and direction cosines\n"
-    "applied).\n"
+    "applied). A TetGen tetrahedral mesh (INPUT ending in .node or .ele) has options of its own:\n"
+    "see stvd distance MESH.node --help and docs/tet_meshes.md.\n"
     "\n"
     "Seeds (at least one; all given seeds are sources at distance 0):\n"
     "  --seed-voxel I,J,K      0-based voxel index (repeatable).\n"
@@ -576,6 +578,9 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
 }  // namespace
 
 int runDistance(int argc, char** argv) {
+  // A TetGen mesh (.node/.ele) goes to the tetrahedral-mesh command.
+  for (int i = 2; i < argc; ++i)
+    if (isTetMeshInput(argv[i])) return runTetMeshDistance(argc, argv);
   const Clock::time_point start = Clock::now();
   const DistanceOptions o = parseDistanceOptions(argc, argv);
   Timings t;

@@ -6,6 +6,7 @@
 
 #include "command_line.hpp"
 #include "subcommands.hpp"
+#include "tet_mesh_commands.hpp"
 
 namespace {
 
@@ -18,6 +19,8 @@ const char* kToolHelp =
     "  distance INPUT -o OUTPUT [options]   distance map (mm) from seeds over a tensor volume\n"
     "  info INPUT [options]                 geometry, layout, order, frame and eigenvalue\n"
     "                                       statistics of a tensor volume\n"
+    "  tetrahedralize SURFACE -o MESH       quality tet mesh of a closed surface (TetGen); then\n"
+    "                                       `stvd distance MESH.node` (docs/tet_meshes.md)\n"
     "  help [COMMAND]                       this text, or a command's (also COMMAND --help)\n"
     "\n"
     "Inputs: NIfTI (.nii, .nii.gz) and NRRD (.nrrd, .nhdr) tensor volumes; outputs: float32\n"
@@ -37,6 +40,7 @@ int dispatch(int argc, char** argv) {
   const std::string command = argv[1];
   if (command == "distance") return runDistance(argc, argv);
   if (command == "info") return runInfo(argc, argv);
+  if (command == "tetrahedralize") return runTetrahedralize(argc, argv);
   if (command == "-h" || command == "--help" || command == "help") {
     if (command == "help" && argc > 2) {
       char* helpArgv[] = {argv[0], argv[2], const_cast<char*>("--help")};
@@ -49,7 +53,7 @@ int dispatch(int argc, char** argv) {
     std::cout << "stvd " STVD_VERSION_TEXT "\n";
     return kExitOk;
   }
-  usageError("unknown command '" + command + "' (commands: distance, info; see stvd --help)");
+  usageError("unknown command '" + command + "' (commands: distance, info, tetrahedralize; see stvd --help)");
 }
 
 }  // namespace

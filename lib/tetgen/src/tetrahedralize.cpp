@@ -1,0 +1,221 @@
+// Our bridge to the TetGen library: surface input, validation, meshing.
+#include "stvd/tetgen/tetrahedralize.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <tetgen.h>
+
+namespace stvd::tetgen {
+namespace {
+
+using tetmesh::TetMeshError;
+
+Vec3d cross(Vec3d a, Vec3d b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+
+std::string lowerExtension(const std::string& path) {
+  const std::size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos) return "";
+  std::string e = path.substr(dot);
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
+  return e;
+}
+
+/// Points with identical coordinates become one (STL repeats the corners of
+/// every triangle); polygons are renumbered accordingly.
+SurfaceMesh mergeIdenticalPoints(const SurfaceMesh& s) {
+  SurfaceMesh merged;
+  std::map<std::tuple<double, double, double>, VertexId> index;
+  std::vector<VertexId> newIndex(s.points.size());
+  for (std::size_t v = 0; v < s.points.size(); ++v) {
+    const Vec3d p = s.points[v];
+    const auto key = std::make_tuple(p.x, p.y, p.z);
+    const auto found = index.find(key);
+    if (found != index.end()) {
+      newIndex[v] = found->second;
+    } else {
+      newIndex[v] = static_cast<VertexId>(merged.points.size());
+      index.emplace(key, newIndex[v]);
+      merged.points.push_back(p);
+    }
+  }
+  merged.polygons.reserve(s.polygons.size());
+  for (const auto& polygon : s.polygons) {
+    std::vector<VertexId> q;
+    for (VertexId v : polygon) q.push_back(v < newIndex.size() ? newIndex[v] : v);
+    merged.polygons.push_back(std::move(q));
+  }
+  return merged;
+}
+
+}  // namespace
+
+SurfaceMesh readSurface(const std::string& path) {
+  const std::string e = lowerExtension(path);
+  tetgenio io;
+  std::vector<char> name(path.begin(), path.end());
+  bool ok = false;
+  if (e == ".off") {
+    name.push_back('\0');
+    ok = io.load_off(name.data());
+  } else if (e == ".stl") {
+    name.push_back('\0');
+    ok = io.load_stl(name.data());
+  } else if (e == ".ply") {
+    name.push_back('\0');
+    ok = io.load_ply(name.data());
+  } else if (e == ".poly") {
+    name.resize(name.size() - 5);  // TetGen takes the base name
+    name.push_back('\0');
+    ok = io.load_poly(name.data());
+  } else {
+    throw TetMeshError(path + ": unknown surface format (expected .off, .stl, .ply or .poly)");
+  }
+  if (!ok) throw TetMeshError(path + ": cannot read the surface (missing file or format error)");
+  SurfaceMesh s;
+  const int base = io.firstnumber;
+  s.points.resize(static_cast<std::size_t>(std::max(io.numberofpoints, 0)));
+  for (std::size_t v = 0; v < s.points.size(); ++v)
+    s.points[v] = {io.pointlist[3 * v], io.pointlist[3 * v + 1], io.pointlist[3 * v + 2]};
+  for (int f = 0; f < io.numberoffacets; ++f) {
+    const tetgenio::facet& facet = io.facetlist[f];
+    for (int p = 0; p < facet.numberofpolygons; ++p) {
+      const tetgenio::polygon& polygon = facet.polygonlist[p];
+      std::vector<VertexId> corners;
+      for (int c = 0; c < polygon.numberofvertices; ++c) {
+        const long long index = static_cast<long long>(polygon.vertexlist[c]) - base;
+        corners.push_back(index < 0 ? kNoVertex : static_cast<VertexId>(index));
+      }
+      s.polygons.push_back(std::move(corners));
+    }
+  }
+  return s;
+}
+
+void validateSurface(const SurfaceMesh& surface, const std::string& source) {
+  if (surface.points.size() < 4 || surface.polygons.size() < 4)
+    throw TetMeshError(source + ": not a closed surface (" + std::to_string(surface.points.size()) + " points, " +
+                       std::to_string(surface.polygons.size()) + " polygons)");
+  double extent = 0.0;
+  for (std::size_t v = 0; v < surface.points.size(); ++v) {
+    const Vec3d p = surface.points[v];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw TetMeshError(source + ": point " + std::to_string(v) + " has a non-finite coordinate");
+    extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  }
+  const SurfaceMesh s = mergeIdenticalPoints(surface);
+  std::map<std::pair<VertexId, VertexId>, int> edgeUses;
+  for (std::size_t f = 0; f < s.polygons.size(); ++f) {
+    const auto& polygon = s.polygons[f];
+    const std::string name = "polygon " + std::to_string(f);
+    for (VertexId v : polygon)
+      if (v >= s.points.size()) throw TetMeshError(source + ": " + name + " has a corner out of range");
+    std::vector<VertexId> distinct(polygon);
+    std::sort(distinct.begin(), distinct.end());
+    if (std::unique(distinct.begin(), distinct.end()) - distinct.begin() < 3)
+      throw TetMeshError(source + ": " + name + " has fewer than three distinct corners");
+    // Twice the area vector of the polygon (Newell's formula about its first corner).
+    Vec3d area{0, 0, 0};
+    double longest = 0.0;
+    for (std::size_t c = 0; c < polygon.size(); ++c) {
+      const Vec3d a = s.points[polygon[c]], b = s.points[polygon[(c + 1) % polygon.size()]];
+      area = area + cross(a - s.points[polygon[0]], b - s.points[polygon[0]]);
+      longest = std::max(longest, norm(b - a));
+      const VertexId u = polygon[c], w = polygon[(c + 1) % polygon.size()];
+      if (u != w) ++edgeUses[{std::min(u, w), std::max(u, w)}];
+    }
+    if (!(norm(area) > 1e-12 * longest * longest))
+      throw TetMeshError(source + ": " + name + " is degenerate (zero area)");
+  }
+  for (const auto& [edge, uses] : edgeUses)
+    if (uses < 2)
+      throw TetMeshError(source + ": the surface is not closed (the edge between points " + std::to_string(edge.first) +
+                         " and " + std::to_string(edge.second) + " belongs to one polygon only)");
+  (void)extent;
+}
+
+tetmesh::TetMesh tetrahedralizeSurface(const SurfaceMesh& surface, const TetrahedralizeOptions& options,
+                                       const std::string& source) {
+  if (!(options.quality >= 1.0) || !std::isfinite(options.quality))
+    throw std::invalid_argument("the quality bound (radius-edge ratio) must be at least 1");
+  if (options.maxVolume && !(*options.maxVolume > 0.0 && std::isfinite(*options.maxVolume)))
+    throw std::invalid_argument("the maximum volume must be positive");
+  validateSurface(surface, source);
+  const SurfaceMesh s = mergeIdenticalPoints(surface);
+
+  tetgenio in, out;
+  in.firstnumber = 0;
+  in.numberofpoints = static_cast<int>(s.points.size());
+  in.pointlist = new REAL[3 * s.points.size()];
+  for (std::size_t v = 0; v < s.points.size(); ++v) {
+    in.pointlist[3 * v] = s.points[v].x;
+    in.pointlist[3 * v + 1] = s.points[v].y;
+    in.pointlist[3 * v + 2] = s.points[v].z;
+  }
+  in.numberoffacets = static_cast<int>(s.polygons.size());
+  in.facetlist = new tetgenio::facet[s.polygons.size()];
+  for (std::size_t f = 0; f < s.polygons.size(); ++f) {
+    tetgenio::facet& facet = in.facetlist[f];
+    tetgenio::init(&facet);
+    facet.numberofpolygons = 1;
+    facet.polygonlist = new tetgenio::polygon[1];
+    tetgenio::init(&facet.polygonlist[0]);
+    facet.polygonlist[0].numberofvertices = static_cast<int>(s.polygons[f].size());
+    facet.polygonlist[0].vertexlist = new int[s.polygons[f].size()];
+    for (std::size_t c = 0; c < s.polygons[f].size(); ++c)
+      facet.polygonlist[0].vertexlist[c] = static_cast<int>(s.polygons[f][c]);
+  }
+
+  // p: the input is a piecewise linear complex; q: radius-edge bound;
+  // a: volume bound; Q: quiet. TetGen parses a mutable char array.
+  char text[128];
+  if (options.maxVolume)
+    std::snprintf(text, sizeof text, "pq%.17ga%.17gQ", options.quality, *options.maxVolume);
+  else
+    std::snprintf(text, sizeof text, "pq%.17gQ", options.quality);
+  std::vector<char> switches(text, text + std::char_traits<char>::length(text) + 1);
+  try {
+    ::tetrahedralize(switches.data(), &in, &out);
+  } catch (...) {
+    // TetGen reports failures by throwing an int (when it survives them).
+    throw TetMeshError(source + ": TetGen failed to tetrahedralize the surface (self-intersecting or degenerate?)");
+  }
+  if (out.numberofpoints <= 0 || out.numberoftetrahedra <= 0)
+    throw TetMeshError(source + ": TetGen produced no tetrahedra");
+
+  tetmesh::TetMesh mesh;
+  mesh.firstIndex = 0;
+  mesh.points.resize(static_cast<std::size_t>(out.numberofpoints));
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
+    mesh.points[v] = {out.pointlist[3 * v], out.pointlist[3 * v + 1], out.pointlist[3 * v + 2]};
+  const int base = out.firstnumber;
+  mesh.tets.resize(static_cast<std::size_t>(out.numberoftetrahedra));
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int c = 0; c < 4; ++c)
+      mesh.tets[t][c] = static_cast<VertexId>(out.tetrahedronlist[t * out.numberofcorners + c] - base);
+  mesh.faces.resize(static_cast<std::size_t>(std::max(out.numberoftrifaces, 0)));
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f)
+    for (int c = 0; c < 3; ++c) mesh.faces[f][c] = static_cast<VertexId>(out.trifacelist[3 * f + c] - base);
+  if (out.trifacemarkerlist != nullptr) {
+    mesh.faceMarkers.resize(mesh.faces.size());
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) mesh.faceMarkers[f] = out.trifacemarkerlist[f];
+  }
+  tetmesh::validateTetMesh(mesh, source, source);
+  return mesh;
+}
+
+SurfaceMesh boxSurface(const Vec3d& lo, const Vec3d& hi) {
+  SurfaceMesh s;
+  for (int i = 0; i < 8; ++i)
+    s.points.push_back({(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z});
+  s.polygons = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  return s;
+}
+
+}  // namespace stvd::tetgen
