@@ -16,6 +16,8 @@ const char* kToolHelp =
     "\n"
     "Commands:\n"
     "  distance INPUT -o OUTPUT [options]   distance map (mm) from seeds over a tensor volume\n"
+    "  path INPUT -o PATHS [options]        geodesic paths from targets to the seeds as .tck, .trk\n"
+    "                                       or .vtk streamlines with a TSV summary (docs/paths.md)\n"
     "  info INPUT [options]                 geometry, layout, order, frame and eigenvalue\n"
     "                                       statistics of a tensor volume\n"
     "  help [COMMAND]                       this text, or a command's (also COMMAND --help)\n"
@@ -37,6 +39,7 @@ int dispatch(int argc, char** argv) {
   const std::string command = argv[1];
   if (command == "distance") return runDistance(argc, argv);
   if (command == "info") return runInfo(argc, argv);
+  if (command == "path") return runPath(argc, argv);
   if (command == "-h" || command == "--help" || command == "help") {
     if (command == "help" && argc > 2) {
       char* helpArgv[] = {argv[0], argv[2], const_cast<char*>("--help")};
@@ -49,7 +52,7 @@ int dispatch(int argc, char** argv) {
     std::cout << "stvd " STVD_VERSION_TEXT "\n";
     return kExitOk;
   }
-  usageError("unknown command '" + command + "' (commands: distance, info; see stvd --help)");
+  usageError("unknown command '" + command + "' (commands: distance, path, info; see stvd --help)");
 }
 
 }  // namespace
