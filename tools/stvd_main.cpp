@@ -18,6 +18,8 @@ const char* kToolHelp =
     "  distance INPUT -o OUTPUT [options]   distance map (mm) from seeds over a tensor volume\n"
     "  path INPUT -o PATHS [options]        geodesic paths from targets to the seeds as .tck, .trk\n"
     "                                       or .vtk streamlines with a TSV summary (docs/paths.md)\n"
+    "  connectivity INPUT --labels L -o T   geodesic distance and connectivity index between\n"
+    "                                       every pair of labelled regions, as a TSV table\n"
     "  info INPUT [options]                 geometry, layout, order, frame and eigenvalue\n"
     "                                       statistics of a tensor volume\n"
     "  help [COMMAND]                       this text, or a command's (also COMMAND --help)\n"
@@ -40,6 +42,7 @@ int dispatch(int argc, char** argv) {
   if (command == "distance") return runDistance(argc, argv);
   if (command == "info") return runInfo(argc, argv);
   if (command == "path") return runPath(argc, argv);
+  if (command == "connectivity") return runConnectivity(argc, argv);
   if (command == "-h" || command == "--help" || command == "help") {
     if (command == "help" && argc > 2) {
       char* helpArgv[] = {argv[0], argv[2], const_cast<char*>("--help")};
@@ -52,7 +55,7 @@ int dispatch(int argc, char** argv) {
     std::cout << "stvd " STVD_VERSION_TEXT "\n";
     return kExitOk;
   }
-  usageError("unknown command '" + command + "' (commands: distance, path, info; see stvd --help)");
+  usageError("unknown command '" + command + "' (commands: distance, path, connectivity, info; see stvd --help)");
 }
 
 }  // namespace

@@ -4,7 +4,9 @@
 // targets, and bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -266,6 +268,87 @@ TEST_F(ToolPath, BadRequestsFailWithTheirExitCodeAndLeaveNoFile) {
     EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
     EXPECT_TRUE(listFolder(folder()).empty());
   }
+}
+
+
+// ---------------------------------------------------------------------------
+// stvd connectivity
+
+class ToolConnectivity : public ToolPath {
+ protected:
+  /// Labels 1..n at single voxels (value 0 elsewhere) on the sample's grid.
+  std::string writeLabels(const std::vector<std::array<int, 3>>& voxels, const std::string& name,
+                          float firstLabel = 1.f) {
+    imaging::ScalarImage labels = imaging::readScalarImage(sampleFile("dti_FA.nii.gz"));
+    std::fill(labels.values.begin(), labels.values.end(), 0.f);
+    const GridGeometry& g = labels.geometry;
+    for (std::size_t n = 0; n < voxels.size(); ++n)
+      labels.values[voxels[n][0] + g.size[0] * (voxels[n][1] + g.size[1] * voxels[n][2])] = firstLabel + float(n);
+    imaging::writeScalarImage(path(name), g, labels.values);
+    return path(name);
+  }
+  ToolRun connectivityRun(const std::vector<std::string>& options) {
+    std::vector<std::string> args{"connectivity", sampleFile(kDipy)};
+    args.insert(args.end(), options.begin(), options.end());
+    return runTool(args);
+  }
+};
+
+std::string slurpFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST_F(ToolConnectivity, EveryOrderedPairGetsThePathToolsDistanceAndTheLengthRatio) {
+  const auto seeds = seedTable();
+  const std::vector<std::string> names{"CC_body_R_lateral", "CC_body_L_lateral", "CST_L_high"};
+  std::vector<std::array<int, 3>> voxels;
+  for (const auto& name : names) voxels.push_back(seeds.at(name).index);
+  const std::string labels = writeLabels(voxels, "regions.nii.gz");
+  const ToolRun run = connectivityRun({"--labels", labels, "-o", path("table.tsv"), "--threads", "2"});
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const auto rows = readTsv(path("table.tsv"));
+  ASSERT_EQ(rows.size(), 6u);
+  for (const auto& row : rows) {
+    const int a = std::stoi(row.at("region_a")) - 1, b = std::stoi(row.at("region_b")) - 1;
+    ASSERT_NE(a, b);
+    // The same pair through `stvd path` with A as the seed and B as the target.
+    const ToolRun p = pathRun({"--seed-voxel", triple(voxels[a]), "--target-voxel", triple(voxels[b]), "-o",
+                               path("pair.tck"), "-q"});
+    ASSERT_EQ(p.exitCode, 0) << p.err;
+    const auto pathRow = readTsv(path("pair.tsv")).at(0);
+    EXPECT_EQ(row.at("geodesic_mm"), pathRow.at("geodesic_mm")) << names[a] << " -> " << names[b];
+    EXPECT_EQ(row.at("path_mm"), pathRow.at("euclidean_mm")) << names[a] << " -> " << names[b];
+    EXPECT_NEAR(std::stod(row.at("connectivity")),
+                std::stod(pathRow.at("euclidean_mm")) / std::stod(pathRow.at("geodesic_mm")), 1e-3);
+  }
+}
+
+TEST_F(ToolConnectivity, TheTableDoesNotDependOnTheNumberOfThreads) {
+  const auto seeds = seedTable();
+  std::vector<std::array<int, 3>> voxels;
+  for (const auto& [name, v] : seeds) voxels.push_back(v.index);
+  const std::string labels = writeLabels(voxels, "all_seeds.nii.gz");
+  ASSERT_EQ(connectivityRun({"--labels", labels, "-o", path("one.tsv"), "--threads", "1", "-q"}).exitCode, 0);
+  ASSERT_EQ(connectivityRun({"--labels", labels, "-o", path("three.tsv"), "--threads", "3", "-q"}).exitCode, 0);
+  EXPECT_EQ(readTsv(path("one.tsv")).size(), voxels.size() * (voxels.size() - 1));
+  EXPECT_EQ(slurpFile(path("one.tsv")), slurpFile(path("three.tsv")));
+}
+
+TEST_F(ToolConnectivity, BadLabelsFailWithTheirExitCodeAndLeaveNoTable) {
+  const auto seeds = seedTable();
+  const std::string one = writeLabels({seeds.at("CC_body").index}, "one.nii.gz");
+  ToolRun run = connectivityRun({"--labels", one, "-o", path("table.tsv")});
+  EXPECT_EQ(run.exitCode, 4) << run.err;
+  EXPECT_NE(run.err.find("fewer than two regions"), std::string::npos) << run.err;
+  const std::string fractional =
+      writeLabels({seeds.at("CC_body").index, seeds.at("CST_L").index}, "fractional.nii.gz", 1.5f);
+  run = connectivityRun({"--labels", fractional, "-o", path("table.tsv")});
+  EXPECT_EQ(run.exitCode, 3) << run.err;
+  EXPECT_NE(run.err.find("is not an integer"), std::string::npos) << run.err;
+  EXPECT_FALSE(std::filesystem::exists(path("table.tsv")));
 }
 
 }  // namespace
