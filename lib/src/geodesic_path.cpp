@@ -18,10 +18,13 @@ struct CellSample {
 };
 
 /// Locates the continuous index c. False when c lies outside the box of
-/// voxel centres (by more than a rounding margin). A singleton axis accepts
-/// |c| <= 0.5 and has weight only on its one layer.
+/// voxel centres by more than a rounding margin: 1e-3 index units, because
+/// GridGeometry::physicalPointToIndex inverts the direction matrix by its
+/// transpose, and direction cosines read from single-precision headers are
+/// orthonormal only to about 1e-7 (an error of about 1e-5 at index 100).
+/// A singleton axis accepts |c| <= 0.5 and has weight only on its one layer.
 bool locate(const VoxelGridDomain& domain, Vec3d c, CellSample& s) {
-  constexpr double kMargin = 1e-9;
+  constexpr double kMargin = 1e-3;
   const auto& size = domain.geometry().size;
   const double ci[3] = {c.x, c.y, c.z};
   int lo[3], hi[3];
@@ -48,6 +51,17 @@ bool locate(const VoxelGridDomain& domain, Vec3d c, CellSample& s) {
                   ((n & 4) ? frac[2] : 1.0 - frac[2]);
   }
   return true;
+}
+
+/// The cell of c clamped into the box of voxel centres (always found): for
+/// positions the tracer has already accepted.
+CellSample locateClamped(const VoxelGridDomain& domain, Vec3d c) {
+  const auto& size = domain.geometry().size;
+  const double last[3] = {size[0] - 1.0, size[1] - 1.0, size[2] - 1.0};
+  const Vec3d clamped{std::clamp(c.x, 0.0, last[0]), std::clamp(c.y, 0.0, last[1]), std::clamp(c.z, 0.0, last[2])};
+  CellSample s;
+  locate(domain, clamped, s);
+  return s;
 }
 
 /// A 3x3 symmetric matrix in double precision.
@@ -124,8 +138,7 @@ class PathTracer {
     // down the predecessor chain (bounded by the vertex count).
     const std::size_t safety = static_cast<std::size_t>(budget) + 2 * domain_.vertexCount() + 16;
     for (std::size_t pass = 0; pass < safety; ++pass) {
-      CellSample here;
-      locate(domain_, geometry_.physicalPointToIndex(x), here);  // x is always a valid position
+      const CellSample here = locateClamped(domain_, geometry_.physicalPointToIndex(x));
       if (const VertexId source = nearbySource(here, x); source != kNoVertex) {
         if (norm(domain_.physicalPoint(source) - x) > 0.0) points.push_back(domain_.physicalPoint(source));
         return finish(path);
@@ -154,8 +167,7 @@ class PathTracer {
       ++path.fallbacks[static_cast<int>(why)];
       // Jump to the lowest valid corner of the current cell, then follow the
       // predecessor chain.
-      CellSample cell;
-      locate(domain_, geometry_.physicalPointToIndex(x), cell);
+      const CellSample cell = locateClamped(domain_, geometry_.physicalPointToIndex(x));
       VertexId v = kNoVertex;
       for (int n = 0; n < 8; ++n) {
         const VertexId c = cell.corner[n];
@@ -175,7 +187,7 @@ class PathTracer {
       ux = u_[v];
       noDescent = 0;
     }
-    throw std::logic_error("path tracing did not terminate");
+    throw std::logic_error("path tracing from vertex " + std::to_string(target) + " did not terminate (" + std::to_string(path.gradientSteps) + " steps, " + std::to_string(path.fallbackCount()) + " fallbacks)");
   }
 
  private:

@@ -225,6 +225,33 @@ TEST_F(ToolPath, LabelTargetsEndAtEachRegionsVoxelNearestToTheSeeds) {
   expectNear(l.lines[1].back(), seeds.at("CC_body_L_lateral").ras, kSeedTableTolerance, "label 7");
 }
 
+TEST_F(ToolPath, PathsToVoxelsAllOverTheBrainAllEndOnTheSeed) {
+  // Every 97th brain voxel is a target of its own (about 1,400 paths,
+  // border voxels of the brain and of the image slab included).
+  imaging::ScalarImage labels = imaging::readScalarImage(sampleFile("dti_FA.nii.gz"));
+  float next = 1.f;
+  std::size_t brain = 0;
+  for (float& value : labels.values) {
+    const bool inBrain = value > 0.f;
+    value = inBrain && brain++ % 97 == 0 ? next++ : 0.f;
+  }
+  imaging::writeScalarImage(path("targets.nii.gz"), labels.geometry, labels.values);
+  const ToolRun run = pathRun({"--seed-voxel", "55,54,15", "--targets", path("targets.nii.gz"), "-o", path("all.tck"), "-q"});
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const auto rows = readTsv(path("all.tsv"));
+  ASSERT_EQ(rows.size(), static_cast<std::size_t>(next - 1.f));
+  std::size_t withFallback = 0;
+  double worstRatio = 0.0;
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.at("seed_i") + "," + row.at("seed_j") + "," + row.at("seed_k"), "55,54,15");
+    withFallback += row.at("fallbacks") != "none" ? 1 : 0;
+    const double geodesic = std::stod(row.at("geodesic_mm"));
+    if (geodesic > 0.0) worstRatio = std::max(worstRatio, std::stod(row.at("metric_length_mm")) / geodesic);
+  }
+  std::printf("[ measured ] %zu paths from CC_body: %zu with a fallback, metric length / geodesic length at most %.3f\n",
+              rows.size(), withFallback, worstRatio);
+}
+
 TEST_F(ToolPath, DiscretePathsAreChainsOfVoxelCentres) {
   const auto seeds = seedTable();
   const ToolRun run = pathRun({"--seed-voxel", triple(seeds.at("CST_L_low").index), "--target-voxel",
