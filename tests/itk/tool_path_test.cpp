@@ -338,26 +338,34 @@ TEST_F(ToolConnectivity, EveryOrderedPairGetsThePathToolsDistanceAndTheLengthRat
   ASSERT_EQ(run.exitCode, 0) << run.err;
   const auto rows = readTsv(path("table.tsv"));
   ASSERT_EQ(rows.size(), 6u);
-  for (const auto& row : rows) {
-    const int a = std::stoi(row.at("region_a")) - 1, b = std::stoi(row.at("region_b")) - 1;
-    ASSERT_NE(a, b);
-    // The same pair through `stvd path` with A as the seed and B as the target.
-    const ToolRun p = pathRun({"--seed-voxel", triple(voxels[a]), "--target-voxel", triple(voxels[b]), "-o",
-                               path("pair.tck"), "-q"});
+  // The same pairs through `stvd path`, one run per region A as the seed
+  // with the other regions as targets (in the table's order).
+  for (std::size_t a = 0; a < voxels.size(); ++a) {
+    std::vector<std::string> options{"--seed-voxel", triple(voxels[a]), "-o", path("pair.tck"), "-q"};
+    for (std::size_t b = 0; b < voxels.size(); ++b)
+      if (b != a) options.insert(options.end(), {"--target-voxel", triple(voxels[b])});
+    const ToolRun p = pathRun(options);
     ASSERT_EQ(p.exitCode, 0) << p.err;
-    const auto pathRow = readTsv(path("pair.tsv")).at(0);
-    EXPECT_EQ(row.at("geodesic_mm"), pathRow.at("geodesic_mm")) << names[a] << " -> " << names[b];
-    EXPECT_EQ(row.at("path_mm"), pathRow.at("euclidean_mm")) << names[a] << " -> " << names[b];
-    EXPECT_NEAR(std::stod(row.at("connectivity")),
-                std::stod(pathRow.at("euclidean_mm")) / std::stod(pathRow.at("geodesic_mm")), 1e-3);
+    const auto pathRows = readTsv(path("pair.tsv"));
+    ASSERT_EQ(pathRows.size(), voxels.size() - 1);
+    for (std::size_t n = 0; n < pathRows.size(); ++n) {
+      const auto& row = rows.at(a * (voxels.size() - 1) + n);
+      const auto& pathRow = pathRows[n];
+      ASSERT_EQ(std::stoul(row.at("region_a")), a + 1);
+      EXPECT_EQ(row.at("geodesic_mm"), pathRow.at("geodesic_mm")) << names[a] << " -> " << pathRow.at("target");
+      EXPECT_EQ(row.at("path_mm"), pathRow.at("euclidean_mm")) << names[a] << " -> " << pathRow.at("target");
+      EXPECT_NEAR(std::stod(row.at("connectivity")),
+                  std::stod(pathRow.at("euclidean_mm")) / std::stod(pathRow.at("geodesic_mm")), 1e-3);
+    }
   }
 }
 
 TEST_F(ToolConnectivity, TheTableDoesNotDependOnTheNumberOfThreads) {
   const auto seeds = seedTable();
   std::vector<std::array<int, 3>> voxels;
-  for (const auto& [name, v] : seeds) voxels.push_back(v.index);
-  const std::string labels = writeLabels(voxels, "all_seeds.nii.gz");
+  for (const std::string name : {"CC_genu", "CC_splenium", "CST_L", "CST_R", "CST_R_low", "CST_R_high"})
+    voxels.push_back(seeds.at(name).index);
+  const std::string labels = writeLabels(voxels, "six_seeds.nii.gz");
   ASSERT_EQ(connectivityRun({"--labels", labels, "-o", path("one.tsv"), "--threads", "1", "-q"}).exitCode, 0);
   ASSERT_EQ(connectivityRun({"--labels", labels, "-o", path("three.tsv"), "--threads", "3", "-q"}).exitCode, 0);
   EXPECT_EQ(readTsv(path("one.tsv")).size(), voxels.size() * (voxels.size() - 1));
