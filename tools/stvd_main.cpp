@@ -17,6 +17,10 @@ const char* kToolHelp =
     "\n"
     "Commands:\n"
     "  distance INPUT -o OUTPUT [options]   distance map (mm) from seeds over a tensor volume\n"
+    "  path INPUT -o PATHS [options]        geodesic paths from targets to the seeds as .tck, .trk\n"
+    "                                       or .vtk streamlines with a TSV summary (docs/paths.md)\n"
+    "  connectivity INPUT --labels L -o T   geodesic distance and connectivity index between\n"
+    "                                       every pair of labelled regions, as a TSV table\n"
     "  info INPUT [options]                 geometry, layout, order, frame and eigenvalue\n"
     "                                       statistics of a tensor volume\n"
     "  tetrahedralize SURFACE -o MESH       quality tet mesh of a closed surface (TetGen); then\n"
@@ -41,6 +45,8 @@ int dispatch(int argc, char** argv) {
   if (command == "distance") return runDistance(argc, argv);
   if (command == "info") return runInfo(argc, argv);
   if (command == "tetrahedralize") return runTetrahedralize(argc, argv);
+  if (command == "path") return runPath(argc, argv);
+  if (command == "connectivity") return runConnectivity(argc, argv);
   if (command == "-h" || command == "--help" || command == "help") {
     if (command == "help" && argc > 2) {
       char* helpArgv[] = {argv[0], argv[2], const_cast<char*>("--help")};
@@ -53,7 +59,8 @@ int dispatch(int argc, char** argv) {
     std::cout << "stvd " STVD_VERSION_TEXT "\n";
     return kExitOk;
   }
-  usageError("unknown command '" + command + "' (commands: distance, info, tetrahedralize; see stvd --help)");
+  usageError("unknown command '" + command +
+             "' (commands: distance, path, connectivity, info, tetrahedralize; see stvd --help)");
 }
 
 }  // namespace

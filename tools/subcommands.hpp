@@ -6,5 +6,7 @@ namespace stvd::tool {
 
 int runDistance(int argc, char** argv);
 int runInfo(int argc, char** argv);
+int runPath(int argc, char** argv);
+int runConnectivity(int argc, char** argv);
 
 }  // namespace stvd::tool

@@ -1,0 +1,432 @@
+#include "stvd/geodesic_path.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace stvd {
+namespace {
+
+/// Where a continuous index falls in the grid: the cell (lower corner
+/// `base`) and the trilinear weights of its eight corners.
+struct CellSample {
+  VertexId corner[8];
+  double weight[8];
+  double frac[3];
+};
+
+/// Locates the continuous index c. False when c lies outside the box of
+/// voxel centres by more than a rounding margin: 1e-3 index units, because
+/// GridGeometry::physicalPointToIndex inverts the direction matrix by its
+/// transpose, and direction cosines read from single-precision headers are
+/// orthonormal only to about 1e-7 (an error of about 1e-5 at index 100).
+/// A singleton axis accepts |c| <= 0.5 and has weight only on its one layer.
+bool locate(const VoxelGridDomain& domain, Vec3d c, CellSample& s) {
+  constexpr double kMargin = 1e-3;
+  const auto& size = domain.geometry().size;
+  const double ci[3] = {c.x, c.y, c.z};
+  int lo[3], hi[3];
+  double frac[3];
+  for (int a = 0; a < 3; ++a) {
+    const double last = static_cast<double>(size[a]) - 1.0;
+    if (size[a] == 1) {
+      if (!(std::abs(ci[a]) <= 0.5)) return false;
+      lo[a] = hi[a] = 0;
+      frac[a] = 0.0;
+      continue;
+    }
+    if (!(ci[a] >= -kMargin && ci[a] <= last + kMargin)) return false;
+    const double clamped = std::clamp(ci[a], 0.0, last);
+    lo[a] = std::min(static_cast<int>(std::floor(clamped)), static_cast<int>(size[a]) - 2);
+    hi[a] = lo[a] + 1;
+    frac[a] = clamped - lo[a];
+  }
+  for (int a = 0; a < 3; ++a) s.frac[a] = frac[a];
+  for (int n = 0; n < 8; ++n) {
+    const int i = (n & 1) ? hi[0] : lo[0], j = (n & 2) ? hi[1] : lo[1], k = (n & 4) ? hi[2] : lo[2];
+    s.corner[n] = domain.vertexAt(i, j, k);
+    s.weight[n] = ((n & 1) ? frac[0] : 1.0 - frac[0]) * ((n & 2) ? frac[1] : 1.0 - frac[1]) *
+                  ((n & 4) ? frac[2] : 1.0 - frac[2]);
+  }
+  return true;
+}
+
+/// The cell of c clamped into the box of voxel centres (always found): for
+/// positions the tracer has already accepted.
+CellSample locateClamped(const VoxelGridDomain& domain, Vec3d c) {
+  const auto& size = domain.geometry().size;
+  const double last[3] = {size[0] - 1.0, size[1] - 1.0, size[2] - 1.0};
+  const Vec3d clamped{std::clamp(c.x, 0.0, last[0]), std::clamp(c.y, 0.0, last[1]), std::clamp(c.z, 0.0, last[2])};
+  CellSample s;
+  locate(domain, clamped, s);
+  return s;
+}
+
+/// A 3x3 symmetric matrix in double precision.
+struct Sym3 {
+  double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+  void add(double w, const SymTensor3& t) {
+    xx += w * t.xx;
+    xy += w * t.xy;
+    xz += w * t.xz;
+    yy += w * t.yy;
+    yz += w * t.yz;
+    zz += w * t.zz;
+  }
+  double quadraticForm(Vec3d v) const {
+    return xx * v.x * v.x + yy * v.y * v.y + zz * v.z * v.z +
+           2.0 * (xy * v.x * v.y + xz * v.x * v.z + yz * v.y * v.z);
+  }
+  /// G^-1 v through the adjugate; false when G is singular.
+  bool solve(Vec3d v, Vec3d& out) const {
+    const double a00 = yy * zz - yz * yz, a01 = xz * yz - xy * zz, a02 = xy * yz - xz * yy;
+    const double a11 = xx * zz - xz * xz, a12 = xy * xz - xx * yz, a22 = xx * yy - xy * xy;
+    const double det = xx * a00 + xy * a01 + xz * a02;
+    if (!(det > 0.0) || !std::isfinite(det)) return false;
+    out = {(a00 * v.x + a01 * v.y + a02 * v.z) / det, (a01 * v.x + a11 * v.y + a12 * v.z) / det,
+           (a02 * v.x + a12 * v.y + a22 * v.z) / det};
+    return true;
+  }
+};
+
+/// x moved into the box of voxel centres (its continuous index clamped):
+/// the descent slides along the image border instead of leaving it.
+Vec3d clampToImage(const GridGeometry& g, Vec3d x) {
+  const Vec3d c = g.physicalPointToIndex(x);
+  const double ci[3] = {c.x, c.y, c.z};
+  double clamped[3];
+  bool moved = false;
+  for (int a = 0; a < 3; ++a) {
+    const double last = g.size[a] == 1 ? 0.0 : static_cast<double>(g.size[a]) - 1.0;
+    clamped[a] = std::clamp(ci[a], 0.0, last);
+    moved = moved || clamped[a] != ci[a];
+  }
+  return moved ? g.indexToPhysicalPoint(clamped[0], clamped[1], clamped[2]) : x;
+}
+
+class PathTracer {
+ public:
+  PathTracer(const VoxelGridDomain& domain, const RiemannianMetric& metric,
+             const PropagationResult& result, const PathTracingOptions& options)
+      : domain_(domain), geometry_(domain.geometry()), metric_(metric), u_(result.distance),
+        result_(result), options_(options) {
+    const auto& s = geometry_.spacing;
+    step_ = options.stepFraction * std::min({s[0], s[1], s[2]});
+  }
+
+  TracedPath trace(VertexId target) {
+    TracedPath path;
+    path.discrete = predecessorPath(result_, target);
+    if (path.discrete.empty()) return path;
+    path.geodesicLength = u_[target];
+    double discreteLength = 0.0;
+    for (std::size_t n = 1; n < path.discrete.size(); ++n)
+      discreteLength += norm(domain_.physicalPoint(path.discrete[n]) - domain_.physicalPoint(path.discrete[n - 1]));
+    const double budget = std::ceil(options_.stepBudgetFactor * discreteLength / step_) + 16.0;
+    std::size_t stepsLeft = static_cast<std::size_t>(budget);
+
+    // Traced from the target down to a source; reversed at the end.
+    std::vector<Vec3d>& points = path.points;
+    Vec3d x = domain_.physicalPoint(target);
+    points.push_back(x);
+    bool gradientAllowed = true;
+    int noDescent = 0;
+    double ux = u_[target];
+    // Every pass either takes a Heun step (bounded by the budget) or moves
+    // down the predecessor chain (bounded by the vertex count).
+    const std::size_t safety = static_cast<std::size_t>(budget) + 2 * domain_.vertexCount() + 16;
+    for (std::size_t pass = 0; pass < safety; ++pass) {
+      const CellSample here = locateClamped(domain_, geometry_.physicalPointToIndex(x));
+      if (const VertexId source = nearbySource(here, x); source != kNoVertex) {
+        if (norm(domain_.physicalPoint(source) - x) > 0.0) points.push_back(domain_.physicalPoint(source));
+        return finish(path);
+      }
+      PathFallback why = PathFallback::StepLimit;
+      bool stepped = false;
+      if (gradientAllowed && stepsLeft > 0) {
+        Vec3d next;
+        double unext = 0.0;
+        if (heunStep(x, next, unext, why)) {
+          --stepsLeft;
+          ++path.gradientSteps;
+          noDescent = unext < ux ? 0 : noDescent + 1;
+          x = next;
+          ux = unext;
+          points.push_back(x);
+          stepped = noDescent < options_.noDescentSteps;
+          if (!stepped) why = PathFallback::NoDescent;
+          if (stepped) continue;
+        }
+      }
+      if (gradientAllowed && stepsLeft == 0) {
+        why = PathFallback::StepLimit;
+        gradientAllowed = false;
+      }
+      ++path.fallbacks[static_cast<int>(why)];
+      // Jump to the lowest valid corner of the current cell, then follow the
+      // predecessor chain.
+      const CellSample cell = locateClamped(domain_, geometry_.physicalPointToIndex(x));
+      VertexId v = kNoVertex;
+      for (int n = 0; n < 8; ++n) {
+        const VertexId c = cell.corner[n];
+        if (domain_.contains(c) && std::isfinite(u_[c]) && (v == kNoVertex || u_[c] < u_[v])) v = c;
+      }
+      if (v == kNoVertex) throw std::logic_error("path tracing lost the domain");
+      points.push_back(domain_.physicalPoint(v));
+      ++path.discretePoints;
+      const int chain = gradientAllowed ? options_.fallbackVertices : std::numeric_limits<int>::max();
+      for (int n = 0; n < chain && result_.predecessor[v] != kNoVertex; ++n) {
+        v = result_.predecessor[v];
+        points.push_back(domain_.physicalPoint(v));
+        ++path.discretePoints;
+      }
+      if (result_.predecessor[v] == kNoVertex) return finish(path);  // at a source
+      x = domain_.physicalPoint(v);
+      ux = u_[v];
+      noDescent = 0;
+    }
+    throw std::logic_error("path tracing from vertex " + std::to_string(target) + " did not terminate (" + std::to_string(path.gradientSteps) + " steps, " + std::to_string(path.fallbackCount()) + " fallbacks)");
+  }
+
+ private:
+  /// A source corner of the cell within one step of x, or kNoVertex.
+  VertexId nearbySource(const CellSample& cell, Vec3d x) const {
+    VertexId best = kNoVertex;
+    double bestDistance = step_;
+    for (int n = 0; n < 8; ++n) {
+      const VertexId c = cell.corner[n];
+      if (!domain_.contains(c) || u_[c] != 0.0) continue;
+      const double d = norm(domain_.physicalPoint(c) - x);
+      if (d <= bestDistance) {
+        bestDistance = d;
+        best = c;
+      }
+    }
+    return best;
+  }
+
+  /// f = u^2 at voxel (i, j, k) when it is in the image and the domain
+  /// and reached.
+  bool fieldAt(int i, int j, int k, double& f) const {
+    if (!domain_.isInsideImage(i, j, k)) return false;
+    const VertexId w = domain_.vertexAt(i, j, k);
+    if (!domain_.contains(w) || !std::isfinite(u_[w])) return false;
+    f = u_[w] * u_[w];
+    return true;
+  }
+
+  /// grad f at a voxel in index coordinates, f = u^2: central differences,
+  /// second-order one-sided ones where a neighbour is outside the image, the
+  /// domain or not reached (first-order when only one neighbour is there).
+  /// All of them are exact for a quadratic f.
+  Vec3d indexGradient(VertexId v) const {
+    const VoxelIndex c = domain_.indexOf(v);
+    const int at[3] = {c.i, c.j, c.k};
+    double g[3] = {0, 0, 0};
+    const double here = u_[v] * u_[v];
+    for (int a = 0; a < 3; ++a) {
+      auto sample = [&](int offset, double& f) {
+        int p[3] = {at[0], at[1], at[2]};
+        p[a] += offset;
+        return fieldAt(p[0], p[1], p[2], f);
+      };
+      double minus = 0, plus = 0, minus2 = 0, plus2 = 0;
+      const bool hasMinus = sample(-1, minus), hasPlus = sample(1, plus);
+      if (hasMinus && hasPlus)
+        g[a] = 0.5 * (plus - minus);
+      else if (hasPlus)
+        g[a] = sample(2, plus2) ? 0.5 * (-3.0 * here + 4.0 * plus - plus2) : plus - here;
+      else if (hasMinus)
+        g[a] = sample(-2, minus2) ? 0.5 * (3.0 * here - 4.0 * minus + minus2) : here - minus;
+    }
+    return {g[0], g[1], g[2]};
+  }
+
+  /// Unit descent direction -G^-1 grad u / |.| at x and the interpolated u.
+  bool direction(Vec3d x, Vec3d& unit, double& u, PathFallback& why) const {
+    CellSample cell;
+    if (!locate(domain_, geometry_.physicalPointToIndex(x), cell)) {
+      why = PathFallback::LeavesImage;
+      return false;
+    }
+    Sym3 g;
+    Vec3d gradIndex;
+    u = 0.0;
+    for (int n = 0; n < 8; ++n) {
+      if (cell.weight[n] <= 0.0) continue;
+      const VertexId c = cell.corner[n];
+      if (!domain_.contains(c) || !std::isfinite(u_[c])) {
+        why = PathFallback::LeavesDomain;
+        return false;
+      }
+      u += cell.weight[n] * u_[c];
+      g.add(cell.weight[n], metric_[c]);
+      gradIndex = gradIndex + cell.weight[n] * indexGradient(c);
+    }
+    // grad_x f = D S^-1 grad_ijk f (x = origin + D S ijk).
+    const auto& s = geometry_.spacing;
+    Vec3d gradient =
+        geometry_.indexToPhysicalOffset(gradIndex.x / (s[0] * s[0]), gradIndex.y / (s[1] * s[1]),
+                                        gradIndex.z / (s[2] * s[2]));
+    // grad u = grad(u^2) / 2u; u > 0 here, since a source corner within
+    // one step ends the path before.
+    gradient = (u > 0.0 ? 0.5 / u : 0.0) * gradient;
+    Vec3d d;
+    // An exact distance field has |grad u|_{G^-1} = 1 (the eikonal
+    // equation); below 0.1 the field is flat there (a ridge, a plateau).
+    if (!g.solve(gradient, d) || !(dot(gradient, d) >= 0.01)) {
+      why = PathFallback::GradientVanishes;
+      return false;
+    }
+    unit = (-1.0 / norm(d)) * d;
+    return true;
+  }
+
+  /// One Heun step from x; `next` lies in a valid cell.
+  bool heunStep(Vec3d x, Vec3d& next, double& unext, PathFallback& why) const {
+    Vec3d k1, k2;
+    double u0, u1;
+    if (!direction(x, k1, u0, why)) return false;
+    if (!direction(clampToImage(geometry_, x + step_ * k1), k2, u1, why)) return false;
+    // Stages pointing apart by more than 90 degrees: the step straddles a
+    // ridge or a kink of the field.
+    const Vec3d sum = k1 + k2;
+    if (dot(k1, k2) <= 0.0 || norm(sum) == 0.0) {
+      why = PathFallback::GradientVanishes;
+      return false;
+    }
+    next = clampToImage(geometry_, x + (step_ / norm(sum)) * sum);
+    // Pushed into the border: the descent points out of the image.
+    if (norm(next - x) < 0.5 * step_) {
+      why = PathFallback::LeavesImage;
+      return false;
+    }
+    return sampleDistance(next, unext, why);
+  }
+
+  /// u at x when x's cell is valid.
+  bool sampleDistance(Vec3d x, double& u, PathFallback& why) const {
+    CellSample cell;
+    if (!locate(domain_, geometry_.physicalPointToIndex(x), cell)) {
+      why = PathFallback::LeavesImage;
+      return false;
+    }
+    u = 0.0;
+    for (int n = 0; n < 8; ++n) {
+      if (cell.weight[n] <= 0.0) continue;
+      const VertexId c = cell.corner[n];
+      if (!domain_.contains(c) || !std::isfinite(u_[c])) {
+        why = PathFallback::LeavesDomain;
+        return false;
+      }
+      u += cell.weight[n] * u_[c];
+    }
+    return true;
+  }
+
+  /// G interpolated at x over the domain corners, or the mean of the two
+  /// end points' fields when the midpoint's cell is not fully inside.
+  Sym3 metricAt(Vec3d x) const {
+    CellSample cell;
+    Sym3 g;
+    if (!locate(domain_, geometry_.physicalPointToIndex(x), cell)) return g;
+    double total = 0.0;
+    for (int n = 0; n < 8; ++n)
+      if (cell.weight[n] > 0.0 && domain_.contains(cell.corner[n])) {
+        g.add(cell.weight[n], metric_[cell.corner[n]]);
+        total += cell.weight[n];
+      }
+    if (total > 0.0 && total < 1.0) {
+      g.xx /= total, g.xy /= total, g.xz /= total, g.yy /= total, g.yz /= total, g.zz /= total;
+    }
+    return g;
+  }
+
+  TracedPath& finish(TracedPath& path) const {
+    std::vector<Vec3d>& p = path.points;
+    std::reverse(p.begin(), p.end());
+    for (int pass = 0; pass < options_.smoothingPasses && p.size() > 2; ++pass) {
+      std::vector<Vec3d> smoothed = p;
+      for (std::size_t n = 1; n + 1 < p.size(); ++n) smoothed[n] = 0.25 * p[n - 1] + 0.5 * p[n] + 0.25 * p[n + 1];
+      p.swap(smoothed);
+    }
+    for (std::size_t n = 1; n < p.size(); ++n) {
+      const Vec3d d = p[n] - p[n - 1];
+      path.euclideanLength += norm(d);
+      path.metricLength += std::sqrt(std::max(0.0, metricAt(0.5 * (p[n] + p[n - 1])).quadraticForm(d)));
+    }
+    return path;
+  }
+
+  const VoxelGridDomain& domain_;
+  const GridGeometry& geometry_;
+  const RiemannianMetric& metric_;
+  const std::vector<double>& u_;
+  const PropagationResult& result_;
+  PathTracingOptions options_;
+  double step_ = 0.0;
+};
+
+}  // namespace
+
+std::vector<VertexId> predecessorPath(const PropagationResult& result, VertexId target) {
+  if (target >= result.distance.size() || result.predecessor.size() != result.distance.size())
+    throw std::invalid_argument("target vertex " + std::to_string(target) + " is out of range");
+  std::vector<VertexId> path;
+  if (!std::isfinite(result.distance[target])) return path;
+  VertexId v = target;
+  path.push_back(v);
+  while (result.predecessor[v] != kNoVertex) {
+    v = result.predecessor[v];
+    path.push_back(v);
+    if (path.size() > result.distance.size()) throw std::logic_error("the predecessor chain has a cycle");
+  }
+  if (result.distance[v] != 0.0) throw std::logic_error("the predecessor chain does not end at a source");
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
+TracedPath traceGeodesicPath(const VoxelGridDomain& domain, const RiemannianMetric& metric,
+                             const PropagationResult& result, VertexId target,
+                             const PathTracingOptions& options) {
+  if (metric.size() != domain.vertexCount() || result.distance.size() != domain.vertexCount() ||
+      result.predecessor.size() != domain.vertexCount())
+    throw std::invalid_argument("metric, propagation result and domain differ in size");
+  if (target >= domain.vertexCount())
+    throw std::invalid_argument("target vertex " + std::to_string(target) + " is out of range");
+  if (!(options.stepFraction > 0.0 && options.stepFraction <= 1.0))
+    throw std::invalid_argument("path step fraction must be in (0, 1]");
+  if (options.fallbackVertices < 1 || options.noDescentSteps < 1 || !(options.stepBudgetFactor > 0.0) ||
+      options.smoothingPasses < 0)
+    throw std::invalid_argument("path tracing options out of range");
+  return PathTracer(domain, metric, result, options).trace(target);
+}
+
+double interpolateAtPoint(const VoxelGridDomain& domain, const std::vector<float>& values, Vec3d point) {
+  if (values.size() != domain.vertexCount()) throw std::invalid_argument("value image and domain differ in size");
+  CellSample cell;
+  if (!locate(domain, domain.geometry().physicalPointToIndex(point), cell))
+    return std::numeric_limits<double>::quiet_NaN();
+  double sum = 0.0;
+  for (int n = 0; n < 8; ++n) {
+    if (cell.weight[n] <= 0.0) continue;
+    if (!domain.contains(cell.corner[n])) return std::numeric_limits<double>::quiet_NaN();
+    sum += cell.weight[n] * values[cell.corner[n]];
+  }
+  return sum;
+}
+
+const char* pathFallbackName(PathFallback f) {
+  switch (f) {
+    case PathFallback::GradientVanishes: return "gradient_vanishes";
+    case PathFallback::LeavesImage: return "leaves_image";
+    case PathFallback::LeavesDomain: return "leaves_domain";
+    case PathFallback::NoDescent: return "no_descent";
+    case PathFallback::StepLimit: return "step_limit";
+  }
+  return "?";
+}
+
+}  // namespace stvd

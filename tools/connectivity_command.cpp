@@ -1,0 +1,231 @@
+// `stvd connectivity`: geodesic distance and a geodesic connectivity index
+// between every pair of labelled regions, one multi-source propagation per
+// region, the regions spread over threads.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "command_line.hpp"
+#include "geodesic_options.hpp"
+#include "stvd/geodesic_path.hpp"
+#include "stvd/itk/atomic_output.hpp"
+#include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/scalar_image.hpp"
+#include "stvd/stencil.hpp"
+#include "subcommands.hpp"
+
+namespace stvd::tool {
+namespace {
+
+const char* kConnectivityHelp =
+    "Usage: stvd connectivity INPUT --labels LABELS -o TABLE.tsv [options]\n"
+    "\n"
+    "Geodesic distance and connectivity between every pair of labelled regions of LABELS (an\n"
+    "image on the grid of INPUT; each distinct non-zero integer value is a region). For each\n"
+    "region A the distance is propagated from all of A's voxels in the domain at once (as\n"
+    "`stvd distance --seeds` does); for every other region B, d(A, B) is the smallest distance\n"
+    "at a voxel of B, and the geodesic path from that voxel back to A is traced as `stvd path`\n"
+    "does. The connectivity index of the pair is the geodesic connectivity measure of Astola,\n"
+    "Florack and ter Haar Romeny (IPMI 2007): the Euclidean length of that path divided by its\n"
+    "geodesic length, L_E / L_G. Under G = (D/MD)^-1 it is about 1 through isotropic tissue and\n"
+    "grows when the path follows directions of high diffusivity. See docs/paths.md.\n"
+    "\n"
+    "Output: one row per ordered pair (A, B), A != B, with region_a, region_b, geodesic_mm,\n"
+    "path_mm (Euclidean length of the path), straight_mm (between the path's end points),\n"
+    "connectivity (path_mm / geodesic_mm), voxels_a, voxels_b; n/a where B is not reachable from\n"
+    "A. d(A, B) and d(B, A) are computed separately and agree up to discretisation.\n"
+    "\n"
+    "  --labels LABELS         the region image (required).\n"
+    "  -o, --output FILE       the table (required); written atomically.\n"
+    "  --threads N             regions propagated in parallel (default: the number of cores);\n"
+    "                          the table does not depend on N.\n"
+    "  --method, --k, --chain-measure, --stencil   as in stvd distance (defaults stvd, 8,\n"
+    "                          largest, 26).\n"
+    "  -q, --quiet             no summary on stdout.\n"
+    "\n"
+    "%TENSOR%"
+    "\n"
+    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
+    "input (also labels on another grid or not integers); 4 fewer than two regions with voxels\n"
+    "in the domain; 5 output cannot be written.\n";
+
+struct ConnectivityOptions : PropagationChoice {
+  std::string input;
+  std::string labels;
+  std::string output;
+  TensorInputOptions tensor;
+  unsigned threads = 0;
+  bool quiet = false;
+};
+
+ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
+  ConnectivityOptions o;
+  ArgumentReader args(argc, argv, 2);
+  while (!args.done()) {
+    const std::string a = args.take();
+    if (takeInputOrHelp(a, args, o.input, kConnectivityHelp, true)) continue;
+    if (a == "-o" || a == "--output") {
+      o.output = args.value(a);
+    } else if (a == "--labels") {
+      o.labels = args.value(a);
+    } else if (a == "--threads") {
+      const int n = parseInteger(a, args.value(a));
+      if (n < 1 || n > 1024) usageError("--threads must be between 1 and 1024");
+      o.threads = static_cast<unsigned>(n);
+    } else if (a == "-q" || a == "--quiet") {
+      args.noValue(a);
+      o.quiet = true;
+    } else if (parsePropagationOption(a, args, o)) {
+    } else if (!parseTensorInputOption(a, args, o.tensor)) {
+      usageError("unknown option '" + a + "' (see stvd connectivity --help)");
+    }
+  }
+  if (o.input.empty()) usageError("no input file (see stvd connectivity --help)");
+  if (o.labels.empty()) usageError("no regions: add --labels LABELS");
+  if (o.output.empty()) usageError("no output file: add -o TABLE.tsv");
+  checkPropagationChoice(o);
+  if (o.threads == 0) o.threads = std::max(1u, std::thread::hardware_concurrency());
+  return o;
+}
+
+struct Region {
+  long label = 0;
+  std::vector<VertexId> voxels;  // in the domain
+};
+
+/// d(A, B) and the path measurements for one ordered pair.
+struct PairResult {
+  double geodesic = kUnreachable;
+  double pathLength = std::numeric_limits<double>::quiet_NaN();
+  double straight = std::numeric_limits<double>::quiet_NaN();
+};
+
+std::string number(double x) { return std::isfinite(x) ? fixed(x, 4) : "n/a"; }
+
+}  // namespace
+
+int runConnectivity(int argc, char** argv) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  const ConnectivityOptions o = parseConnectivityOptions(argc, argv);
+  try {
+    imaging::checkOutputPath(o.output);
+  } catch (const imaging::ImageIoError& e) {
+    throw ToolError(kExitOutput, e.what());
+  }
+  const TensorInput input = readTensorInput(o.input, o.tensor);
+  const GridGeometry& g = input.read.volume.geometry;
+  imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
+
+  imaging::ScalarImage labels;
+  try {
+    labels = imaging::readScalarImage(o.labels);
+  } catch (const imaging::ImageIoError& e) {
+    throw ToolError(kExitInput, e.what());
+  }
+  const std::string mismatch = imaging::geometryMismatch(labels.geometry, g);
+  if (!mismatch.empty())
+    throw ToolError(kExitInput, o.labels + ": the labels are on another grid than " + o.input + " (" + mismatch + ")");
+  std::map<long, Region> byLabel;
+  for (std::size_t v = 0; v < labels.values.size(); ++v) {
+    const float value = labels.values[v];
+    if (value == 0.f || std::isnan(value)) continue;
+    if (value != std::round(value))
+      throw ToolError(kExitInput, o.labels + ": label value " + fixed(value, 3) + " is not an integer");
+    Region& r = byLabel[std::lround(value)];
+    r.label = std::lround(value);
+    if (built.inDomain[v]) r.voxels.push_back(static_cast<VertexId>(v));
+  }
+  std::vector<Region> regions;
+  std::size_t empty = 0;
+  for (auto& [label, region] : byLabel) {
+    if (region.voxels.empty())
+      ++empty;
+    else
+      regions.push_back(std::move(region));
+  }
+  if (regions.size() < 2)
+    throw ToolError(kExitDomain, o.labels + ": fewer than two regions have voxels inside the domain of " + o.input);
+
+  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
+  const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
+  const PropagationOptions propagation = propagationOptions(o);
+  const std::size_t n = regions.size();
+  std::vector<PairResult> table(n * n);
+
+  // Region a's row is written only by the thread that propagates from a,
+  // so the table is the same for any number of threads.
+  auto work = [&](std::size_t a) {
+    const PropagationResult result = propagate(domain, metric, regions[a].voxels, propagation);
+    for (std::size_t b = 0; b < n; ++b) {
+      if (b == a) continue;
+      VertexId nearest = kNoVertex;
+      for (VertexId v : regions[b].voxels)
+        if (std::isfinite(result.distance[v]) && (nearest == kNoVertex || result.distance[v] < result.distance[nearest]))
+          nearest = v;
+      if (nearest == kNoVertex) continue;
+      const TracedPath path = traceGeodesicPath(domain, metric, result, nearest);
+      PairResult& r = table[a * n + b];
+      r.geodesic = path.geodesicLength;
+      r.pathLength = path.euclideanLength;
+      r.straight = norm(path.points.back() - path.points.front());
+    }
+  };
+  const unsigned threadCount = static_cast<unsigned>(std::min<std::size_t>(o.threads, n));
+  std::exception_ptr failure;
+  std::mutex failureMutex;
+  std::vector<std::thread> threads;
+  for (unsigned t = 0; t < threadCount; ++t)
+    threads.emplace_back([&, t] {
+      try {
+        for (std::size_t a = t; a < n; a += threadCount) work(a);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(failureMutex);
+        if (!failure) failure = std::current_exception();
+      }
+    });
+  for (std::thread& t : threads) t.join();
+  if (failure) std::rethrow_exception(failure);
+
+  std::ostringstream tsv;
+  tsv << "region_a\tregion_b\tgeodesic_mm\tpath_mm\tstraight_mm\tconnectivity\tvoxels_a\tvoxels_b\n";
+  for (std::size_t a = 0; a < n; ++a)
+    for (std::size_t b = 0; b < n; ++b) {
+      if (a == b) continue;
+      const PairResult& r = table[a * n + b];
+      const double index = std::isfinite(r.geodesic) && r.geodesic > 0.0 ? r.pathLength / r.geodesic
+                                                                          : std::numeric_limits<double>::quiet_NaN();
+      tsv << regions[a].label << "\t" << regions[b].label << "\t" << number(r.geodesic) << "\t" << number(r.pathLength)
+          << "\t" << number(r.straight) << "\t" << number(index) << "\t" << regions[a].voxels.size() << "\t"
+          << regions[b].voxels.size() << "\n";
+    }
+  try {
+    imaging::AtomicOutput output(o.output);
+    {
+      std::ofstream file(output.stagingPath());
+      file << tsv.str();
+      if (!file.flush()) throw imaging::ImageIoError(o.output, "cannot write the table");
+    }
+    output.commit();
+  } catch (const imaging::ImageIoError& e) {
+    throw ToolError(kExitOutput, e.what());
+  }
+  if (!o.quiet)
+    std::cout << "Connectivity of " << n << " regions of " << o.labels
+              << (empty ? " (" + std::to_string(empty) + " more without voxels in the domain left out)" : std::string())
+              << ": " << n * (n - 1) << " ordered pairs, " << methodText(o) << " on the " << o.stencil
+              << "-neighbour stencil, " << threadCount << (threadCount == 1 ? " thread" : " threads") << ". Took "
+              << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s. Wrote " << o.output
+              << "." << std::endl;
+  return kExitOk;
+}
+
+}  // namespace stvd::tool

@@ -1,0 +1,367 @@
+// `stvd path`: geodesic paths from targets back to the seeds over a tensor
+// volume, written as streamlines (.tck, .trk, .vtk) with a TSV summary.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "command_line.hpp"
+#include "geodesic_options.hpp"
+#include "stvd/geodesic_path.hpp"
+#include "stvd/itk/atomic_output.hpp"
+#include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/scalar_image.hpp"
+#include "stvd/itk/streamline_io.hpp"
+#include "stvd/itk/symmetric_eigen.hpp"
+#include "stvd/stencil.hpp"
+#include "subcommands.hpp"
+
+namespace stvd::tool {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+const char* kPathHelp =
+    "Usage: stvd path INPUT --seed-... --target-... -o PATHS [options]\n"
+    "\n"
+    "Geodesic paths (tractography-like curves) from each target back to the nearest seed under\n"
+    "the metric of a diffusion or metric tensor volume: the distance from the seeds is propagated\n"
+    "as `stvd distance` does (same seeds, tensor and method options and defaults), and each path\n"
+    "descends that distance field from its target along the characteristic direction -G^-1 grad u\n"
+    "(Heun's method, fixed step), falling back to the propagation's predecessor chain where the\n"
+    "gradient vanishes, points out of the image or reaches a voxel outside the domain. Each path\n"
+    "runs from its seed end (first point) to its target (last point). See docs/paths.md.\n"
+    "\n"
+    "Seeds (at least one; all seeds are sources at distance 0):\n"
+    "  --seed-voxel I,J,K      0-based voxel index (repeatable).\n"
+    "  --seed-point X,Y,Z      physical point in RAS millimetres (repeatable); nearest voxel.\n"
+    "  --seeds LABELS          every non-zero voxel of LABELS (same grid) inside the domain.\n"
+    "Targets (at least one; one path per target):\n"
+    "  --target-voxel I,J,K    0-based voxel index (repeatable).\n"
+    "  --target-point X,Y,Z    physical point in RAS millimetres (repeatable); nearest voxel.\n"
+    "  --targets LABELS        one path per distinct non-zero label value of LABELS (same grid),\n"
+    "                          ending at that region's voxel nearest to the seeds (geodesically).\n"
+    "  --lps                   read --seed-point and --target-point as LPS instead of RAS.\n"
+    "\n"
+    "Propagation (as in stvd distance):\n"
+    "  --method M              stvd (default) or dijkstra.\n"
+    "  --k N                   STVD memory depth, 1..16 (default 8).\n"
+    "  --chain-measure R       largest (default) or projection.\n"
+    "  --stencil S             6, 18, 26 (default), 98 or 290.\n"
+    "\n"
+    "%TENSOR%"
+    "\n"
+    "Paths:\n"
+    "  --step F                integration step as a fraction of the smallest voxel spacing, in\n"
+    "                          (0, 1] (default 0.25).\n"
+    "  --smooth N              N passes of a [1/4 1/2 1/4] moving average over the interior\n"
+    "                          points (default 0: none).\n"
+    "  --discrete              write the discrete paths (the voxel centres of the predecessor\n"
+    "                          chain) instead of the refined continuous ones.\n"
+    "\n"
+    "Output:\n"
+    "  -o, --output FILE       the paths (required), by extension: .tck (MRtrix), .trk (TrackVis)\n"
+    "                          or .vtk (legacy VTK polydata); coordinates are RAS millimetres.\n"
+    "                          Per path: geodesic_mm (the distance value at the target), euclidean_mm\n"
+    "                          (length of the polyline) and mean_fa (diffusion tensors only) as\n"
+    "                          per-streamline values (.trk properties, .vtk cell data, .tck header\n"
+    "                          entries), and FA per point (.trk scalars, .vtk point data).\n"
+    "  --tsv FILE              the per-path summary table (default: FILE with the extension\n"
+    "                          replaced by .tsv).\n"
+    "  -q, --quiet             no summary on stdout.\n"
+    "  -h, --help              this text.\n"
+    "\n"
+    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
+    "input; 4 nothing to compute (empty domain, a seed or target outside the image or domain, a\n"
+    "target not reachable from the seeds); 5 output cannot be written. No output file is left\n"
+    "behind on failure.\n";
+
+struct PathOptions : SeedOptions, PropagationChoice {
+  std::string input;
+  std::string output;
+  std::string tsvPath;
+  std::vector<std::array<int, 3>> targetVoxels;
+  std::vector<std::array<double, 3>> targetPoints;
+  std::string targetLabels;
+  TensorInputOptions tensor;
+  PathTracingOptions tracing;
+  bool discrete = false;
+  bool quiet = false;
+};
+
+std::string replaceExtension(const std::string& path, const std::string& extension) {
+  const std::size_t slash = path.find_last_of('/');
+  const std::size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return path + extension;
+  return path.substr(0, dot) + extension;
+}
+
+PathOptions parsePathOptions(int argc, char** argv) {
+  PathOptions o;
+  ArgumentReader args(argc, argv, 2);
+  while (!args.done()) {
+    const std::string a = args.take();
+    if (takeInputOrHelp(a, args, o.input, kPathHelp, true)) continue;
+    if (a == "-o" || a == "--output") {
+      o.output = args.value(a);
+    } else if (a == "--tsv") {
+      o.tsvPath = args.value(a);
+    } else if (a == "--target-voxel") {
+      o.targetVoxels.push_back(parseIntegerTriple(a, args.value(a)));
+    } else if (a == "--target-point") {
+      o.targetPoints.push_back(parseTriple(a, args.value(a)));
+    } else if (a == "--targets") {
+      o.targetLabels = args.value(a);
+    } else if (a == "--step") {
+      o.tracing.stepFraction = parseNumber(a, args.value(a));
+      if (!(o.tracing.stepFraction > 0.0 && o.tracing.stepFraction <= 1.0)) usageError("--step must be in (0, 1]");
+    } else if (a == "--smooth") {
+      o.tracing.smoothingPasses = parseInteger(a, args.value(a));
+      if (o.tracing.smoothingPasses < 0 || o.tracing.smoothingPasses > 1000)
+        usageError("--smooth must be between 0 and 1000");
+    } else if (a == "--discrete") {
+      args.noValue(a);
+      o.discrete = true;
+    } else if (a == "-q" || a == "--quiet") {
+      args.noValue(a);
+      o.quiet = true;
+    } else if (parseSeedOption(a, args, o) || parsePropagationOption(a, args, o)) {
+    } else if (!parseTensorInputOption(a, args, o.tensor)) {
+      usageError("unknown option '" + a + "' (see stvd path --help)");
+    }
+  }
+  if (o.input.empty()) usageError("no input file (see stvd path --help)");
+  if (o.output.empty()) usageError("no output file: add -o PATHS.tck, .trk or .vtk");
+  if (!imaging::streamlineFormatOf(o.output))
+    usageError(o.output + ": unsupported output format; use .tck, .trk or .vtk");
+  if (o.tsvPath.empty()) o.tsvPath = replaceExtension(o.output, ".tsv");
+  if (o.tsvPath == o.output) usageError("--tsv names the paths file itself");
+  if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
+    usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
+  if (o.targetVoxels.empty() && o.targetPoints.empty() && o.targetLabels.empty())
+    usageError("no target: add --target-voxel I,J,K, --target-point X,Y,Z or --targets LABELS");
+  checkPropagationChoice(o);
+  if (o.tensor.metric.faThreshold && o.tensor.metric.kind != imaging::TensorKind::Diffusion)
+    usageError("--fa-threshold applies to --tensor-kind diffusion only");
+  return o;
+}
+
+struct Target {
+  VertexId vertex = kNoVertex;
+  std::string name;  // how the user gave it
+};
+
+/// One target per distinct non-zero label: the region's voxel in the domain
+/// with the smallest distance from the seeds.
+std::vector<Target> labelTargets(const PathOptions& o, const GridGeometry& g, const std::vector<std::uint8_t>& inDomain,
+                                 const std::vector<double>& distance) {
+  imaging::ScalarImage labels;
+  try {
+    labels = imaging::readScalarImage(o.targetLabels);
+  } catch (const imaging::ImageIoError& e) {
+    throw ToolError(kExitInput, e.what());
+  }
+  const std::string mismatch = imaging::geometryMismatch(labels.geometry, g);
+  if (!mismatch.empty())
+    throw ToolError(kExitInput, o.targetLabels + ": the target labels are on another grid than " + o.input + " (" +
+                                    mismatch + ")");
+  std::map<long, VertexId> nearest;  // label -> voxel (kNoVertex: none reachable)
+  for (std::size_t v = 0; v < labels.values.size(); ++v) {
+    const float value = labels.values[v];
+    if (value == 0.f || std::isnan(value)) continue;
+    if (value != std::round(value))
+      throw ToolError(kExitInput, o.targetLabels + ": label value " + fixed(value, 3) + " is not an integer");
+    auto [it, inserted] = nearest.emplace(std::lround(value), kNoVertex);
+    if (!inDomain[v] || !std::isfinite(distance[v])) continue;
+    if (it->second == kNoVertex || distance[v] < distance[it->second]) it->second = static_cast<VertexId>(v);
+  }
+  if (nearest.empty()) throw ToolError(kExitDomain, o.targetLabels + ": the target label image has no non-zero voxel");
+  std::vector<Target> targets;
+  for (const auto& [label, vertex] : nearest) {
+    if (vertex == kNoVertex)
+      throw ToolError(kExitDomain, o.targetLabels + ": no voxel of label " + std::to_string(label) +
+                                       " lies in the domain of " + o.input + " and is reachable from the seeds");
+    targets.push_back({vertex, "label " + std::to_string(label)});
+  }
+  return targets;
+}
+
+/// Length-weighted mean of per-point values (trapezoid rule); NaN when a
+/// value is missing or the path has no length.
+double lengthWeightedMean(const std::vector<Vec3d>& points, const std::vector<float>& values) {
+  double sum = 0.0, length = 0.0;
+  for (std::size_t n = 1; n < points.size(); ++n) {
+    const double l = norm(points[n] - points[n - 1]);
+    sum += 0.5 * l * (static_cast<double>(values[n - 1]) + values[n]);
+    length += l;
+  }
+  if (points.size() == 1) return values[0];
+  return length > 0.0 ? sum / length : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string tsvNumber(double x, int decimals) { return std::isfinite(x) ? fixed(x, decimals) : "n/a"; }
+
+void writeTextAtomically(const std::string& path, const std::string& text) {
+  imaging::AtomicOutput output(path);
+  {
+    std::ofstream file(output.stagingPath());
+    file << text;
+    if (!file.flush()) throw imaging::ImageIoError(path, "cannot write the file");
+  }
+  output.commit();
+}
+
+}  // namespace
+
+int runPath(int argc, char** argv) {
+  const Clock::time_point start = Clock::now();
+  const PathOptions o = parsePathOptions(argc, argv);
+  try {
+    imaging::checkOutputPath(o.output);
+    imaging::checkOutputPath(o.tsvPath);
+  } catch (const imaging::ImageIoError& e) {
+    throw ToolError(kExitOutput, e.what());
+  }
+
+  const TensorInput input = readTensorInput(o.input, o.tensor);
+  const GridGeometry& g = input.read.volume.geometry;
+  imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
+  if (built.counts.domain == 0)
+    throw ToolError(kExitDomain, o.input + ": the domain is empty: no voxel has a usable tensor");
+  std::size_t leftOut = 0;
+  const std::vector<Seed> seeds = resolveSeeds(o.input, o, input, o.tensor.metric, built.inDomain, leftOut);
+  SeedOptions targetGiven;
+  targetGiven.seedVoxels = o.targetVoxels;
+  targetGiven.seedPoints = o.targetPoints;
+  targetGiven.seedPointsInLps = o.seedPointsInLps;
+  std::size_t unused = 0;
+  const std::vector<Seed> targetSeeds =
+      resolveSeeds(o.input, targetGiven, input, o.tensor.metric, built.inDomain, unused, "target");
+
+  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
+  const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
+  std::vector<VertexId> sources;
+  for (const Seed& s : seeds) sources.push_back(domain.vertexAt(s.index.i, s.index.j, s.index.k));
+  std::sort(sources.begin(), sources.end());
+  sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
+  const Clock::time_point propagationStart = Clock::now();
+  const PropagationResult result = propagate(domain, metric, sources, propagationOptions(o));
+  const double propagationSeconds = std::chrono::duration<double>(Clock::now() - propagationStart).count();
+
+  std::vector<Target> targets;
+  for (const Seed& t : targetSeeds) targets.push_back({domain.vertexAt(t.index.i, t.index.j, t.index.k), t.givenAs});
+  if (!o.targetLabels.empty()) {
+    const std::vector<Target> fromLabels = labelTargets(o, g, built.inDomain, result.distance);
+    targets.insert(targets.end(), fromLabels.begin(), fromLabels.end());
+  }
+  for (const Target& t : targets)
+    if (!std::isfinite(result.distance[t.vertex]))
+      throw ToolError(kExitDomain, o.input + ": target " + t.name + " is not reachable from the seeds (no path "
+                                                                   "inside the domain connects them)");
+
+  // FA of the diffusion tensors, for the values along the paths.
+  const bool withFa = o.tensor.metric.kind == imaging::TensorKind::Diffusion;
+  std::vector<float> fa;
+  if (withFa) {
+    fa.assign(g.voxelCount(), 0.f);
+    for (std::size_t v = 0; v < fa.size(); ++v)
+      if (built.inDomain[v])
+        fa[v] = static_cast<float>(
+            imaging::fractionalAnisotropy(imaging::eigenDecompose(input.read.volume.tensors[v]).values));
+  }
+
+  const Clock::time_point tracingStart = Clock::now();
+  imaging::StreamlineSet set;
+  set.geometry = g;
+  set.lineValueNames = {"geodesic_mm", "euclidean_mm"};
+  set.lineValues.resize(2);
+  if (withFa) {
+    set.lineValueNames.push_back("mean_fa");
+    set.lineValues.emplace_back();
+    set.pointValueNames = {"fa"};
+    set.pointValues.resize(1);
+  }
+  std::ostringstream tsv;
+  tsv << "path\ttarget\ttarget_i\ttarget_j\ttarget_k\ttarget_x_ras_mm\ttarget_y_ras_mm\ttarget_z_ras_mm\tseed_i\tseed_j"
+         "\tseed_k\tgeodesic_mm\teuclidean_mm\tstraight_mm\tmetric_length_mm\tmean_fa\tpoints\tgradient_steps"
+         "\tdiscrete_points\tfallbacks\n";
+  std::ostringstream summary;
+  for (std::size_t n = 0; n < targets.size(); ++n) {
+    const Target& t = targets[n];
+    TracedPath path = traceGeodesicPath(domain, metric, result, t.vertex, o.tracing);
+    if (o.discrete) {
+      TracedPath d;
+      d.discrete = path.discrete;
+      d.geodesicLength = path.geodesicLength;
+      for (VertexId v : path.discrete) d.points.push_back(domain.physicalPoint(v));
+      d.discretePoints = d.points.size();
+      for (std::size_t p = 1; p < d.points.size(); ++p) d.euclideanLength += norm(d.points[p] - d.points[p - 1]);
+      d.metricLength = std::numeric_limits<double>::quiet_NaN();
+      path = d;
+    }
+    std::vector<float> faAlong;
+    double meanFa = std::numeric_limits<double>::quiet_NaN();
+    if (withFa) {
+      for (const Vec3d& p : path.points) faAlong.push_back(static_cast<float>(interpolateAtPoint(domain, fa, p)));
+      meanFa = lengthWeightedMean(path.points, faAlong);
+      set.pointValues[0].push_back(faAlong);
+      set.lineValues[2].push_back(static_cast<float>(meanFa));
+    }
+    set.lines.push_back(path.points);
+    set.lineValues[0].push_back(static_cast<float>(path.geodesicLength));
+    set.lineValues[1].push_back(static_cast<float>(path.euclideanLength));
+
+    const VoxelIndex ti = domain.indexOf(t.vertex), si = domain.indexOf(path.discrete.front());
+    const Vec3d ras = lpsToRas(domain.physicalPoint(t.vertex));
+    const double straight = norm(domain.physicalPoint(t.vertex) - domain.physicalPoint(path.discrete.front()));
+    std::string fallbacks;
+    for (int f = 0; f < kPathFallbackKinds; ++f)
+      if (path.fallbacks[f])
+        fallbacks += (fallbacks.empty() ? "" : ",") + std::string(pathFallbackName(static_cast<PathFallback>(f))) +
+                     "=" + std::to_string(path.fallbacks[f]);
+    tsv << n + 1 << "\t" << t.name << "\t" << ti.i << "\t" << ti.j << "\t" << ti.k << "\t" << fixed(ras.x, 3) << "\t"
+        << fixed(ras.y, 3) << "\t" << fixed(ras.z, 3) << "\t" << si.i << "\t" << si.j << "\t" << si.k << "\t"
+        << fixed(path.geodesicLength, 4) << "\t" << fixed(path.euclideanLength, 4) << "\t" << fixed(straight, 4) << "\t"
+        << tsvNumber(path.metricLength, 4) << "\t" << tsvNumber(meanFa, 4) << "\t" << path.points.size() << "\t"
+        << path.gradientSteps << "\t" << path.discretePoints << "\t" << (fallbacks.empty() ? "none" : fallbacks)
+        << "\n";
+    summary << "Path " << n + 1 << " from " << t.name << " to seed voxel " << voxelText(si) << ": geodesic "
+            << fixed(path.geodesicLength, 1) << " mm, length " << fixed(path.euclideanLength, 1) << " mm (straight "
+            << fixed(straight, 1) << " mm)";
+    if (withFa) summary << ", mean FA " << tsvNumber(meanFa, 3);
+    summary << ", " << path.points.size() << " points";
+    if (path.fallbackCount()) summary << ", fallbacks " << fallbacks;
+    summary << ".\n";
+  }
+  const double tracingSeconds = std::chrono::duration<double>(Clock::now() - tracingStart).count();
+
+  try {
+    // The table first: when the paths file then fails, the table is removed
+    // again, so no half result stays behind.
+    writeTextAtomically(o.tsvPath, tsv.str());
+    try {
+      imaging::writeStreamlines(o.output, set);
+    } catch (...) {
+      std::remove(o.tsvPath.c_str());
+      throw;
+    }
+  } catch (const imaging::ImageIoError& e) {
+    throw ToolError(kExitOutput, e.what());
+  }
+  if (!o.quiet) {
+    std::cout << summary.str();
+    std::cout << "Method: " << methodText(o) << " on the " << o.stencil << "-neighbour stencil; " << seeds.size()
+              << (seeds.size() == 1 ? " seed voxel" : " seed voxels") << ". Took "
+              << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s (propagation "
+              << fixed(propagationSeconds, 2) << ", paths " << fixed(tracingSeconds, 3) << "). Wrote " << o.output
+              << " and " << o.tsvPath << "." << std::endl;
+  }
+  return kExitOk;
+}
+
+}  // namespace stvd::tool
