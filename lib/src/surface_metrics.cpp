@@ -108,47 +108,78 @@ RiemannianMetric vectorFieldMetric(const SurfaceDomain& surface, const std::vect
 }
 
 std::vector<PrincipalCurvature> principalCurvatures(const SurfaceDomain& surface) {
-  std::vector<PrincipalCurvature> out(surface.vertexCount());
-  for (VertexId v = 0; v < surface.vertexCount(); ++v) {
-    const Vec3d n = surface.normal(v), t1 = surface.tangent(v), t2 = cross(n, t1);
+  const VertexId n = surface.vertexCount();
+  // Second fundamental form per vertex as a world tensor (double, xx xy xz
+  // yy yz zz), so that neighbours' estimates can be averaged.
+  std::vector<std::array<double, 6>> form(n, std::array<double, 6>{});
+  std::vector<std::uint8_t> fitted(n, 0);
+  auto toWorld = [](Vec3d t1, Vec3d t2, double a, double b, double c) {
+    auto e = [&](double p1, double p2, double q1, double q2) {
+      return a * p1 * q1 + b * (p1 * q2 + p2 * q1) + c * p2 * q2;
+    };
+    return std::array<double, 6>{e(t1.x, t2.x, t1.x, t2.x), e(t1.x, t2.x, t1.y, t2.y),
+                                 e(t1.x, t2.x, t1.z, t2.z), e(t1.y, t2.y, t1.y, t2.y),
+                                 e(t1.y, t2.y, t1.z, t2.z), e(t1.z, t2.z, t1.z, t2.z)};
+  };
+  auto quadratic = [](const std::array<double, 6>& w, Vec3d p, Vec3d q) {
+    return w[0] * p.x * q.x + w[3] * p.y * q.y + w[5] * p.z * q.z +
+           w[1] * (p.x * q.y + p.y * q.x) + w[2] * (p.x * q.z + p.z * q.x) +
+           w[4] * (p.y * q.z + p.z * q.y);
+  };
+  for (VertexId v = 0; v < n; ++v) {
+    const Vec3d nv = surface.normal(v), t1 = surface.tangent(v), t2 = cross(nv, t1);
     // Normal equations of kappa(u) = a u1^2 + 2 b u1 u2 + c u2^2.
     double m[3][3] = {}, r[3] = {};
-    int samples = 0;
     for (std::uint32_t i = surface.ringBegin(v); i < surface.ringEnd(v); ++i) {
       const Vec3d d = surface.physicalPoint(surface.ringNeighbor(i)) - surface.physicalPoint(v);
       const double l2 = dot(d, d);
       const double u1 = dot(d, t1), u2 = dot(d, t2), ul = std::hypot(u1, u2);
       if (l2 <= 0.0 || ul <= 0.0) continue;
-      const double kappa = 2.0 * dot(n, d) / l2;
+      const double kappa = 2.0 * dot(nv, d) / l2;
       const double row[3] = {(u1 / ul) * (u1 / ul), 2.0 * (u1 / ul) * (u2 / ul), (u2 / ul) * (u2 / ul)};
       for (int a = 0; a < 3; ++a) {
         r[a] += row[a] * kappa;
         for (int b = 0; b < 3; ++b) m[a][b] += row[a] * row[b];
       }
-      ++samples;
     }
-    PrincipalCurvature& pc = out[v];
-    pc.directionMin = t1;
-    pc.directionMax = t2;
-    if (samples < 3) continue;
-    // Cramer's rule on the 3x3 system.
     auto det3 = [](const double a[3][3]) {
       return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
              a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
              a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
     };
+    const double trace = m[0][0] + m[1][1] + m[2][2];
     const double det = det3(m);
-    if (std::abs(det) < 1e-12) continue;
+    // Too few distinct edge directions (e.g. a boundary vertex with three
+    // neighbours, two of them opposite): the fit is left to the neighbours.
+    if (!(trace > 0.0) || std::abs(det) < 1e-6 * trace * trace * trace) continue;
     double x[3];
-    for (int c = 0; c < 3; ++c) {
+    for (int c = 0; c < 3; ++c) {  // Cramer's rule
       double mc[3][3];
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) mc[a][b] = b == c ? r[a] : m[a][b];
       x[c] = det3(mc) / det;
     }
+    form[v] = toWorld(t1, t2, x[0], x[1], x[2]);
+    fitted[v] = 1;
+  }
+  std::vector<PrincipalCurvature> out(n);
+  for (VertexId v = 0; v < n; ++v) {
+    const Vec3d nv = surface.normal(v), t1 = surface.tangent(v), t2 = cross(nv, t1);
+    std::array<double, 6> w = form[v];
+    if (!fitted[v]) {  // mean of the fitted neighbours' forms
+      int count = 0;
+      for (std::uint32_t i = surface.ringBegin(v); i < surface.ringEnd(v); ++i) {
+        const VertexId u = surface.ringNeighbor(i);
+        if (!fitted[u]) continue;
+        for (int c = 0; c < 6; ++c) w[c] += form[u][c];
+        ++count;
+      }
+      for (int c = 0; c < 6; ++c) w[c] /= std::max(count, 1);
+    }
     double l1, l2, t;
-    eigen2(x[0], x[1], x[2], l1, l2, t);
-    const Vec3d e1 = std::cos(t) * t1 + std::sin(t) * t2, e2 = cross(n, e1);
+    eigen2(quadratic(w, t1, t1), quadratic(w, t1, t2), quadratic(w, t2, t2), l1, l2, t);
+    const Vec3d e1 = std::cos(t) * t1 + std::sin(t) * t2, e2 = cross(nv, e1);
+    PrincipalCurvature& pc = out[v];
     if (std::abs(l1) >= std::abs(l2)) {
       pc.kappaMax = l1, pc.directionMax = e1, pc.kappaMin = l2, pc.directionMin = e2;
     } else {
