@@ -21,6 +21,7 @@
 #include "stvd/stencil.hpp"
 #include "stvd/voxel_grid_domain.hpp"
 #include "subcommands.hpp"
+#include "surface_distance_command.hpp"
 
 #ifdef STVD_WITH_VDB_OUTPUT
 #include "stvd/vdb/distance_grid.hpp"
@@ -49,6 +50,7 @@ double secondsSince(Clock::time_point start) {
 
 const char* kDistanceHelp =
     "Usage: stvd distance INPUT -o OUTPUT [options]\n"
+    "       (polygon surfaces: stvd distance MESH.obj|off|ply --help)\n"
     "\n"
     "Anisotropic geodesic distance (millimetres) from seed voxels over a diffusion or metric\n"
     "tensor volume. The output format follows the extension: .nii, .nii.gz, .nrrd or .nhdr give a\n"
@@ -554,6 +556,8 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
 }  // namespace
 
 int runDistance(int argc, char** argv) {
+  // Polygon surfaces (.obj/.off/.ply, --seed-vertex) have their own path.
+  if (isSurfaceDistanceCall(argc, argv)) return runSurfaceDistance(argc, argv);
   const Clock::time_point start = Clock::now();
   const DistanceOptions o = parseDistanceOptions(argc, argv);
   Timings t;
