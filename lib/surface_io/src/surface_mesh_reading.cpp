@@ -392,7 +392,10 @@ SurfaceMesh readPly(const std::string& path) {
           const double x = body.read(q.type, where);
           if (static_cast<int>(p) != indices) continue;
           if (!(x >= 0) || x >= static_cast<double>(m.points.size()) || x != std::floor(x))
-            throw MeshFileError(path + ": " + where + ": vertex index " + std::to_string(x) +
+            throw MeshFileError(path + ": " + where + ": vertex index " +
+                                (x == std::floor(x) && std::abs(x) < 1e15
+                                     ? std::to_string(static_cast<long long>(x))
+                                     : std::to_string(x)) +
                                 " is not one of the " + std::to_string(m.points.size()) +
                                 " vertices");
           face.push_back(static_cast<VertexId>(x));
