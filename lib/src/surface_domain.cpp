@@ -242,14 +242,22 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
     tangents_[v] = unitOr(d - dot(d, normals_[v]) * normals_[v], anyOrthogonal(normals_[v]));
   }
   ringStart_[n] = static_cast<std::uint32_t>(ringNeighbor_.size());
-  ringEdgeX_.resize(ringNeighbor_.size());
-  ringEdgeY_.resize(ringNeighbor_.size());
+  const std::size_t ringSize = ringNeighbor_.size();
+  ringEdgeX_.resize(ringSize);
+  ringEdgeY_.resize(ringSize);
+  ringLength_.resize(ringSize);
+  ringDirectionX_.resize(ringSize);
+  ringDirectionY_.resize(ringSize);
   for (VertexId v = 0; v < n; ++v)
     for (std::uint32_t i = ringStart_[v]; i < ringStart_[v + 1]; ++i) {
-      const double length = norm(points_[ringNeighbor_[i]] - points_[v]);
-      ringEdgeX_[i] = static_cast<float>(length * std::cos(static_cast<double>(ringAngle_[i])));
-      ringEdgeY_[i] = static_cast<float>(length * std::sin(static_cast<double>(ringAngle_[i])));
+      ringLength_[i] = norm(points_[ringNeighbor_[i]] - points_[v]);
+      ringDirectionX_[i] = std::cos(static_cast<double>(ringAngle_[i]));
+      ringDirectionY_[i] = std::sin(static_cast<double>(ringAngle_[i]));
+      ringEdgeX_[i] = static_cast<float>(ringLength_[i] * ringDirectionX_[i]);
+      ringEdgeY_[i] = static_cast<float>(ringLength_[i] * ringDirectionY_[i]);
     }
+  unitNormals_.resize(n);
+  for (VertexId v = 0; v < n; ++v) unitNormals_[v] = toFloat(normals_[v]);
 
   // Components through edges.
   component_.assign(n, kNoVertex);
@@ -275,14 +283,19 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
 
 void SurfaceDomain::edgeFrameTensor(const SymTensor3& g, VertexId from, VertexId to, float& dd,
                                     float& dp, float& pp) const {
-  const Vec3d d = unitOr(points_[to] - points_[from], tangents_[from]);
-  const Vec3d nE = unitOr(normals_[from] + normals_[to], normals_[from]);
-  const Vec3d p = unitOr(cross(nE, d), anyOrthogonal(d));
-  const Vec3f df = toFloat(d), pf = toFloat(p);
-  const Vec3f gd = g.apply(df);
-  dd = dot(df, gd);
-  dp = dot(pf, gd);
-  pp = g.quadraticForm(pf);
+  // Single precision: this runs for every measured edge.
+  auto unit = [](Vec3f v) {
+    const float n2 = dot(v, v);
+    return n2 > 0.f ? (1.f / std::sqrt(n2)) * v : Vec3f{};
+  };
+  const Vec3f d = unit(toFloat(points_[to] - points_[from]));
+  const Vec3f nE = unit(unitNormals_[from] + unitNormals_[to]);
+  const Vec3f p = unit(Vec3f{nE.y * d.z - nE.z * d.y, nE.z * d.x - nE.x * d.z,
+                             nE.x * d.y - nE.y * d.x});
+  const Vec3f gd = g.apply(d);
+  dd = dot(d, gd);
+  dp = dot(p, gd);
+  pp = g.quadraticForm(p);
 }
 
 }  // namespace stvd

@@ -88,8 +88,8 @@ TEST_F(ToolSurfaceDistance, BadlyShapedPlaneGivesEuclideanDistancesInCsv) {
   }
   const double mean = sum / (d.size() - 1);
   std::printf("[ measured ] tool, bad plane, STVD k=8: mean %.5f max %.5f\n", mean, worst);
-  EXPECT_LT(mean, 0.0012);  // measured mean 0.00081
-  EXPECT_LT(worst, 0.013);  // measured max 0.0092
+  EXPECT_LT(mean, 0.0013);  // measured mean 0.00081-0.00091 (see surface_accuracy_test.cpp)
+  EXPECT_LT(worst, 0.013);  // measured max 0.0088-0.0092
 }
 
 TEST_F(ToolSurfaceDistance, FieldMetricOnAPrismMatchesTheUnrolledMetricInVtk) {

@@ -44,7 +44,11 @@ RelativeErrors measure(const std::string& label, const SurfaceDomain& surface,
 }
 
 /// Tolerances are about 1.4 times the figures measured (Release, x86-64),
-/// which each call quotes.
+/// which each call quotes. Where a figure is given as a range, it moved
+/// within that range when the arithmetic of the frames changed at the level
+/// of single-precision rounding (edge frames in float or double): near-ties
+/// between candidates pick other predecessors, and the chains, and so the
+/// largest errors, follow. The tolerance covers the largest figure seen.
 void expectWithin(const RelativeErrors& e, double meanTolerance, double maxTolerance) {
   EXPECT_EQ(e.unreached(), 0u);
   EXPECT_LT(e.mean(), meanTolerance);
@@ -100,8 +104,8 @@ TEST(SurfaceAccuracy, BadlyShapedPlaneWithConstantAnisotropicMetricMatchesTheTen
   const auto d = measure("bad plane, gamma 6", surface, metric, source, kDijkstra, exact);
   const auto k5 = measure("bad plane, gamma 6", surface, metric, source, kStvd5, exact);
   const auto k8 = measure("bad plane, gamma 6", surface, metric, source, kStvd8, exact);
-  expectWithin(k5, 0.017, 0.25);    // measured mean 0.0124, max 0.180
-  expectWithin(k8, 0.0085, 0.14);   // measured mean 0.0061, max 0.101
+  expectWithin(k5, 0.017, 0.25);    // measured mean 0.0106-0.0124, max 0.180
+  expectWithin(k8, 0.0085, 0.14);   // measured mean 0.0056-0.0061, max 0.096-0.101
   EXPECT_LT(k5.mean(), 0.1 * d.mean());  // measured: Dijkstra mean 0.232, max 2.86
 }
 
@@ -118,8 +122,8 @@ TEST(SurfaceAccuracy, OnABadlyShapedMeshAtGammaOneStvdIsClearlyMoreAccurateThanD
   const auto d = measure("bad plane, gamma 1", surface, metric, source, kDijkstra, exact);
   const auto k5 = measure("bad plane, gamma 1", surface, metric, source, kStvd5, exact);
   const auto k8 = measure("bad plane, gamma 1", surface, metric, source, kStvd8, exact);
-  expectWithin(k5, 0.0045, 0.036);  // measured mean 0.00325, max 0.0256
-  expectWithin(k8, 0.0013, 0.016);  // measured mean 0.00089, max 0.0114
+  expectWithin(k5, 0.0050, 0.041);  // measured mean 0.00314-0.00360, max 0.0220-0.0294
+  expectWithin(k8, 0.0015, 0.031);  // measured mean 0.00089-0.00107, max 0.0098-0.0222
   // Measured: Dijkstra mean 0.0990, max 0.315, 30 times STVD k = 5.
   EXPECT_LT(k5.mean(), 0.1 * d.mean());
 }
@@ -177,7 +181,7 @@ TEST(SurfaceAccuracy, PrismWithAxisAlignedAnisotropyMatchesTheUnrolledTensorNorm
   const auto k5 = measure("prism around 3 along 1", surface, metric, source, kStvd5, exact);
   const auto k8 = measure("prism around 3 along 1", surface, metric, source, kStvd8, exact);
   expectWithin(k5, 0.0026, 0.037);  // measured mean 0.00182, max 0.0264
-  expectWithin(k8, 0.0013, 0.018);  // measured mean 0.00095, max 0.0128
+  expectWithin(k8, 0.0013, 0.025);  // measured mean 0.00093-0.00095, max 0.0128-0.0179
   EXPECT_LT(k5.mean(), 0.1 * d.mean());  // measured: Dijkstra mean 0.0674, max 0.413
 }
 
@@ -215,8 +219,8 @@ TEST(SurfaceAccuracy, JitteredQuadPlaneWithoutTriangulation) {
   const auto d = measure("quad plane, gamma 1", surface, metric, source, kDijkstra, exact);
   const auto k5 = measure("quad plane, gamma 1", surface, metric, source, kStvd5, exact);
   const auto k8 = measure("quad plane, gamma 1", surface, metric, source, kStvd8, exact);
-  expectWithin(k5, 0.0082, 0.060);  // measured mean 0.00584, max 0.0433
-  expectWithin(k8, 0.0023, 0.021);  // measured mean 0.00163, max 0.0150
+  expectWithin(k5, 0.0082, 0.060);  // measured mean 0.00499-0.00584, max 0.0276-0.0433
+  expectWithin(k8, 0.0024, 0.040);  // measured mean 0.00146-0.00172, max 0.0150-0.0281
   EXPECT_LT(k5.mean(), 0.1 * d.mean());  // measured: Dijkstra mean 0.226, max 0.417
 }
 
@@ -231,7 +235,7 @@ TEST(SurfaceAccuracy, QuadPrismDistancesAreThoseOfTheUnrolledStrip) {
   const auto d = measure("quad prism isotropic", surface, metric, source, kDijkstra, exact);
   const auto k5 = measure("quad prism isotropic", surface, metric, source, kStvd5, exact);
   const auto k8 = measure("quad prism isotropic", surface, metric, source, kStvd8, exact);
-  expectWithin(k5, 0.0081, 0.070);  // measured mean 0.00579, max 0.0503
+  expectWithin(k5, 0.0084, 0.078);  // measured mean 0.00579-0.00596, max 0.0503-0.0559
   expectWithin(k8, 0.0022, 0.025);  // measured mean 0.00157, max 0.0179
   EXPECT_LT(k5.mean(), 0.1 * d.mean());  // measured: Dijkstra mean 0.294, max 0.414
 }

@@ -94,6 +94,12 @@ class SurfaceDomain {
   std::uint32_t ringEnd(VertexId v) const { return ringStart_[v + 1]; }
   VertexId ringNeighbor(std::uint32_t i) const { return ringNeighbor_[i]; }
   float ringAngle(std::uint32_t i) const { return ringAngle_[i]; }
+  /// The edge to ring entry i in v's frame, its length and unit direction.
+  float ringEdgeX(std::uint32_t i) const { return ringEdgeX_[i]; }
+  float ringEdgeY(std::uint32_t i) const { return ringEdgeY_[i]; }
+  double ringLength(std::uint32_t i) const { return ringLength_[i]; }
+  double ringDirectionX(std::uint32_t i) const { return ringDirectionX_[i]; }
+  double ringDirectionY(std::uint32_t i) const { return ringDirectionY_[i]; }
   /// Index of w in v's ring; throws std::logic_error when w is no neighbour.
   std::uint32_t ringIndex(VertexId v, VertexId w) const {
     for (std::uint32_t i = ringStart_[v]; i < ringStart_[v + 1]; ++i)
@@ -128,6 +134,8 @@ class SurfaceDomain {
   std::vector<std::uint32_t> ringStart_;
   std::vector<VertexId> ringNeighbor_;
   std::vector<float> ringAngle_, ringEdgeX_, ringEdgeY_;
+  std::vector<double> ringLength_, ringDirectionX_, ringDirectionY_;
+  std::vector<Vec3f> unitNormals_;  // normals_ in single precision, for edgeFrameTensor
 };
 
 /// The STVD chain on a surface: unfolded edge by edge into v's frame. At
@@ -141,22 +149,28 @@ struct ChainUnfolding<SurfaceDomain> {
   static void place(const SurfaceDomain& domain, const VertexId* chain, int count, Vec3f* p) {
     p[0] = Vec3f{};
     if (count < 2) return;
+    // Directions are unit complex numbers (x, y); turning by the angle
+    // between two ring entries is a product, so no trigonometry is needed.
     const std::uint32_t first = domain.ringIndex(chain[0], chain[1]);
-    p[1] = Vec3f{std::cos(domain.ringAngle(first)), std::sin(domain.ringAngle(first)), 0.f};
-    double length = edgeLength(domain, chain[0], chain[1]);
-    p[1] = static_cast<float>(length) * p[1];
+    double x = domain.ringEdgeX(first), y = domain.ringEdgeY(first);
+    p[1] = Vec3f{static_cast<float>(x), static_cast<float>(y), 0.f};
     // Direction (in the common frame) of the edge from c_i back to c_{i-1}.
-    double back = domain.ringAngle(first) + kPi;
-    double x = p[1].x, y = p[1].y;
+    double backX = -domain.ringDirectionX(first), backY = -domain.ringDirectionY(first);
     for (int i = 1; i + 1 < count; ++i) {
-      const double toPrevious = domain.ringAngle(domain.ringIndex(chain[i], chain[i - 1]));
-      const double toNext = domain.ringAngle(domain.ringIndex(chain[i], chain[i + 1]));
-      const double direction = back + (toNext - toPrevious);
-      length = edgeLength(domain, chain[i], chain[i + 1]);
-      x += length * std::cos(direction);
-      y += length * std::sin(direction);
+      const std::uint32_t toPrevious = domain.ringIndex(chain[i], chain[i - 1]);
+      const std::uint32_t toNext = domain.ringIndex(chain[i], chain[i + 1]);
+      // The turn from the edge back to c_{i-1} to the edge on to c_{i+1}
+      // in c_i's frame: conj(previous) * next.
+      const double ax = domain.ringDirectionX(toPrevious), ay = domain.ringDirectionY(toPrevious);
+      const double bx = domain.ringDirectionX(toNext), by = domain.ringDirectionY(toNext);
+      const double turnX = ax * bx + ay * by, turnY = ax * by - ay * bx;
+      const double dx = backX * turnX - backY * turnY, dy = backX * turnY + backY * turnX;
+      const double length = domain.ringLength(toNext);
+      x += length * dx;
+      y += length * dy;
       p[i + 1] = Vec3f{static_cast<float>(x), static_cast<float>(y), 0.f};
-      back = direction + kPi;
+      backX = -dx;
+      backY = -dy;
     }
   }
 
@@ -181,11 +195,6 @@ struct ChainUnfolding<SurfaceDomain> {
     return m;
   }
 
- private:
-  static constexpr double kPi = 3.14159265358979323846;
-  static double edgeLength(const SurfaceDomain& d, VertexId a, VertexId b) {
-    return norm(d.physicalPoint(b) - d.physicalPoint(a));
-  }
 };
 
 extern template PropagationResult propagate(const SurfaceDomain&, const RiemannianMetric&,
