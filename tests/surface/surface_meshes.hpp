@@ -137,4 +137,38 @@ inline GeneratedSurface icosphere(int levels, double r) {
   return s;
 }
 
+/// Latitude-longitude sphere of radius r: `around` meridians, `rows` bands,
+/// one vertex at each pole. The triangles at the poles are needles and the
+/// quads of the bands (split along alternating diagonals) stretch towards
+/// the poles: a badly shaped mesh of a smooth surface.
+inline GeneratedSurface uvSphere(int around, int rows, double r) {
+  GeneratedSurface s;
+  s.points.push_back({0, 0, r});
+  for (int j = 1; j < rows; ++j) {
+    const double theta = kPi * j / rows;
+    for (int i = 0; i < around; ++i) {
+      const double phi = 2.0 * kPi * i / around;
+      s.points.push_back({r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi),
+                          r * std::cos(theta)});
+    }
+  }
+  s.points.push_back({0, 0, -r});
+  const VertexId south = static_cast<VertexId>(s.points.size() - 1);
+  auto id = [around](int i, int j) { return static_cast<VertexId>(1 + (j - 1) * around + (i % around)); };
+  for (int i = 0; i < around; ++i) s.faces.add({0, id(i, 1), id(i + 1, 1)});
+  for (int j = 1; j + 1 < rows; ++j)
+    for (int i = 0; i < around; ++i) {
+      const VertexId a = id(i, j), b = id(i, j + 1), c = id(i + 1, j + 1), d = id(i + 1, j);
+      if ((i + j) % 2) {
+        s.faces.add({a, b, c});
+        s.faces.add({a, c, d});
+      } else {
+        s.faces.add({a, b, d});
+        s.faces.add({b, c, d});
+      }
+    }
+  for (int i = 0; i < around; ++i) s.faces.add({south, id(i + 1, rows - 1), id(i, rows - 1)});
+  return s;
+}
+
 }  // namespace stvd::test
