@@ -38,7 +38,9 @@ const char* kSurfaceDistanceHelp =
     "                          field:FILE: one direction \"dx dy dz\" per vertex (world frame);\n"
     "                          a unit step along it costs 1, across it G (--anisotropy);\n"
     "                          tensors:FILE: one 3D tensor \"xx xy xz yy yz zz\" per vertex\n"
-    "                          (world frame), projected to the tangent plane.\n"
+    "                          (world frame), projected to the tangent plane;\n"
+    "                          face-tensors:FILE: the same per face (file order), averaged\n"
+    "                          to the vertices by corner angle.\n"
     "  --anisotropy G          G >= 1 for curvature and field metrics (required for them).\n"
     "\n"
     "Propagation:\n"
@@ -94,9 +96,10 @@ SurfaceOptions parse(int argc, char** argv) {
     } else if (a == "--metric") {
       o.metric = args.value(a);
       if (o.metric != "isotropic" && o.metric != "curvature" && o.metric.rfind("field:", 0) != 0 &&
-          o.metric.rfind("tensors:", 0) != 0)
+          o.metric.rfind("tensors:", 0) != 0 && o.metric.rfind("face-tensors:", 0) != 0)
         usageError("--metric: '" + o.metric +
-                   "' is not one of isotropic, curvature, field:FILE, tensors:FILE");
+                   "' is not one of isotropic, curvature, field:FILE, tensors:FILE, "
+                   "face-tensors:FILE");
     } else if (a == "--anisotropy") {
       o.anisotropy = parseNumber(a, args.value(a));
       o.anisotropyGiven = true;
@@ -142,8 +145,11 @@ RiemannianMetric buildMetric(const SurfaceOptions& o, const SurfaceDomain& surfa
   if (o.metric == "isotropic") return isotropicSurfaceMetric(surface);
   if (o.metric == "curvature") return curvatureMetric(surface, o.anisotropy);
   const bool field = o.metric.rfind("field:", 0) == 0;
+  const bool perFace = o.metric.rfind("face-tensors:", 0) == 0;
   const std::string file = o.metric.substr(o.metric.find(':') + 1);
-  const auto table = surface_io::readVertexTable(file, field ? 3 : 6, surface.vertexCount());
+  const auto table = surface_io::readVertexTable(file, field ? 3 : 6,
+                                                 perFace ? surface.faceCount() : surface.vertexCount(),
+                                                 perFace ? "face" : "vertex");
   if (field) {
     std::vector<Vec3d> directions;
     for (const auto& r : table) directions.push_back({r[0], r[1], r[2]});
@@ -153,7 +159,8 @@ RiemannianMetric buildMetric(const SurfaceOptions& o, const SurfaceDomain& surfa
   for (const auto& r : table)
     tensors.push_back({float(r[0]), float(r[1]), float(r[2]), float(r[3]), float(r[4]), float(r[5])});
   try {
-    return surfaceMetricFromWorldTensors(surface, tensors);
+    return perFace ? surfaceMetricFromFaceTensors(surface, tensors)
+                   : surfaceMetricFromWorldTensors(surface, tensors);
   } catch (const std::invalid_argument& e) {
     throw surface_io::MeshFileError(file + ": " + e.what());
   }

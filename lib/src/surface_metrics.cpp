@@ -67,6 +67,43 @@ RiemannianMetric surfaceMetricFromWorldTensors(const SurfaceDomain& surface,
   return RiemannianMetric(std::move(g));
 }
 
+RiemannianMetric surfaceMetricFromFaceTensors(const SurfaceDomain& surface,
+                                              const std::vector<SymTensor3>& faceTensors) {
+  const PolygonList& faces = surface.faces();
+  if (faceTensors.size() != faces.faceCount())
+    throw std::invalid_argument("there are " + std::to_string(faceTensors.size()) +
+                                " face tensors for " + std::to_string(faces.faceCount()) + " faces");
+  std::vector<std::array<double, 6>> sum(surface.vertexCount(), std::array<double, 6>{});
+  std::vector<double> weight(surface.vertexCount(), 0.0);
+  for (std::size_t f = 0; f < faces.faceCount(); ++f) {
+    const std::uint32_t b = faces.faceStart[f], e = faces.faceStart[f + 1];
+    const SymTensor3& t = faceTensors[f];
+    const double entries[6] = {t.xx, t.xy, t.xz, t.yy, t.yz, t.zz};
+    for (std::uint32_t c = b; c < e; ++c) {
+      const VertexId v = faces.faceVertex[c];
+      const Vec3d p = surface.physicalPoint(v);
+      const Vec3d a = surface.physicalPoint(faces.faceVertex[c + 1 < e ? c + 1 : b]) - p;
+      const Vec3d q = surface.physicalPoint(faces.faceVertex[c > b ? c - 1 : e - 1]) - p;
+      const double angle = std::atan2(norm(cross(a, q)), dot(a, q));
+      for (int k = 0; k < 6; ++k) sum[v][k] += angle * entries[k];
+      weight[v] += angle;
+    }
+  }
+  std::vector<SymTensor3> g(surface.vertexCount());
+  for (VertexId v = 0; v < surface.vertexCount(); ++v) {
+    if (!(weight[v] > 0.0)) {
+      g[v] = SymTensor3{1, 0, 0, 1, 0, 1};
+      continue;
+    }
+    const auto& m = sum[v];
+    const double w = weight[v];
+    g[v] = tangentialPart(surface, v,
+                          SymTensor3{float(m[0] / w), float(m[1] / w), float(m[2] / w),
+                                     float(m[3] / w), float(m[4] / w), float(m[5] / w)});
+  }
+  return RiemannianMetric(std::move(g));
+}
+
 RiemannianMetric surfaceMetricFromLocalTensors(const SurfaceDomain& surface,
                                                const std::vector<std::array<double, 3>>& tensors) {
   if (tensors.size() != surface.vertexCount())

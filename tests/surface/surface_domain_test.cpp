@@ -205,5 +205,22 @@ TEST(SurfaceMetrics, LocalTensorsAndWorldTensorsDescribeTheSameMetric) {
   }
 }
 
+TEST(SurfaceMetrics, FaceTensorsAreAveragedToTheVerticesByCornerAngle) {
+  // A unit square split into two triangles: vertex 0 has corners of 45 and
+  // 45 degrees, vertex 1 one corner of 90 degrees (in face 0 only).
+  PolygonList f;
+  f.add({0, 1, 2});
+  f.add({0, 2, 3});
+  const SurfaceDomain surface({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, f);
+  const SymTensor3 a{4, 0, 0, 1, 0, 1}, b{2, 0, 0, 3, 0, 1};
+  const RiemannianMetric m = surfaceMetricFromFaceTensors(surface, {a, b});
+  const Vec3f x{1, 0, 0}, y{0, 1, 0};
+  EXPECT_NEAR(m[1].quadraticForm(x), 4.0, 1e-5);  // face 0 alone
+  EXPECT_NEAR(m[3].quadraticForm(y), 3.0, 1e-5);  // face 1 alone
+  EXPECT_NEAR(m[0].quadraticForm(x), 3.0, 1e-5);  // equal corners: the mean
+  EXPECT_NEAR(m[0].quadraticForm(y), 2.0, 1e-5);
+  EXPECT_THROW(surfaceMetricFromFaceTensors(surface, {a}), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace stvd::test

@@ -32,6 +32,14 @@ RiemannianMetric isotropicSurfaceMetric(const SurfaceDomain& surface);
 RiemannianMetric surfaceMetricFromWorldTensors(const SurfaceDomain& surface,
                                                const std::vector<SymTensor3>& tensors);
 
+/// 3D tensors per face (world frame, faces in input order), averaged to the
+/// vertices weighted by the faces' corner angles and then projected to the
+/// tangent planes: the paper's "approximate one form from another via
+/// averaging" (section 3). A vertex in no face gets the identity. Throws like
+/// surfaceMetricFromWorldTensors.
+RiemannianMetric surfaceMetricFromFaceTensors(const SurfaceDomain& surface,
+                                              const std::vector<SymTensor3>& faceTensors);
+
 /// 2x2 tensors {g11, g12, g22} in each vertex's frame (t1, t2 = n x t1,
 /// SurfaceDomain::tangent). Throws like surfaceMetricFromWorldTensors.
 RiemannianMetric surfaceMetricFromLocalTensors(const SurfaceDomain& surface,

@@ -424,7 +424,8 @@ SurfaceMesh readPly(const std::string& path) {
 namespace stvd::surface_io {
 
 std::vector<std::vector<double>> readVertexTable(const std::string& path, std::size_t columns,
-                                                 std::size_t rows) {
+                                                 std::size_t rows, const std::string& rowKind) {
+  const std::string plural = rowKind == "vertex" ? "vertices" : rowKind + "s";
   const std::vector<std::string> lines = splitLines(readAll(path));
   std::vector<std::vector<double>> table;
   bool first = true;
@@ -450,13 +451,13 @@ std::vector<std::vector<double>> readVertexTable(const std::string& path, std::s
     first = false;
     if (!numeric || row.size() != columns)
       throw MeshFileError(at(path, i + 1) + "expected " + std::to_string(columns) +
-                          " finite numbers (the values of vertex " + std::to_string(table.size()) +
+                          " finite numbers (the values of " + rowKind + " " + std::to_string(table.size()) +
                           ")");
     table.push_back(std::move(row));
   }
   if (table.size() != rows)
     throw MeshFileError(path + ": " + std::to_string(table.size()) + " rows for " +
-                        std::to_string(rows) + " vertices");
+                        std::to_string(rows) + " " + plural);
   return table;
 }
 

@@ -57,8 +57,10 @@ namespace stvd::surface_io {
 /// `columns` numbers per row separated by spaces, tabs or commas. Empty
 /// lines and lines starting with '#' are skipped, and so is a first row
 /// that is not numeric (a header). Throws MeshFileError naming the file and
-/// line for a bad row, or when the row count differs from `rows`.
+/// line for a bad row, or when the row count differs from `rows`. `rowKind`
+/// names what a row describes in messages ("vertex", "face").
 std::vector<std::vector<double>> readVertexTable(const std::string& path, std::size_t columns,
-                                                 std::size_t rows);
+                                                 std::size_t rows,
+                                                 const std::string& rowKind = "vertex");
 
 }  // namespace stvd::surface_io
