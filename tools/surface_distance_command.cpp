@@ -169,10 +169,17 @@ RiemannianMetric buildMetric(const SurfaceOptions& o, const SurfaceDomain& surfa
 }  // namespace
 
 bool isSurfaceDistanceCall(int argc, char** argv) {
-  if (argc > 2 && surface_io::isSurfaceMeshPath(argv[2])) return true;
-  for (int i = 2; i < argc; ++i)
-    if (std::string(argv[i]) == "--seed-vertex" || std::string(argv[i]).rfind("--seed-vertex=", 0) == 0)
+  // A volume command never names a .obj/.off/.ply file (its inputs are
+  // images, its outputs images or .vdb), so any such argument other than
+  // the output marks a surface call; so does --seed-vertex.
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--seed-vertex" || a.rfind("--seed-vertex=", 0) == 0) return true;
+    const std::string previous = argv[i - 1];
+    if (!a.empty() && a[0] != '-' && previous != "-o" && previous != "--output" &&
+        surface_io::isSurfaceMeshPath(a))
       return true;
+  }
   return false;
 }
 

@@ -3,8 +3,8 @@
 
 namespace stvd::tool {
 
-/// True when `stvd distance` is called for a surface: its input (argv[2])
-/// is a .obj/.off/.ply mesh, or --seed-vertex is given.
+/// True when `stvd distance` is called for a surface: an argument other
+/// than the output's is a .obj/.off/.ply file, or --seed-vertex is given.
 bool isSurfaceDistanceCall(int argc, char** argv);
 int runSurfaceDistance(int argc, char** argv);
 

@@ -217,6 +217,8 @@ TEST_F(ToolSurfaceBadInput, CommandLineMistakes) {
                 kUsage, "needs --anisotropy");
   expectFailure({path("ok.obj"), "--seed-vertex", "-2", "-o", path("out/d.csv")}, kUsage,
                 "--seed-vertex");
+  // The mesh after the options is still a surface call.
+  expectFailure({"-o", path("out/d.csv"), path("ok.obj")}, kUsage, "no seed given");
 }
 
 TEST_F(ToolSurfaceBadInput, BadFieldFileNamesItsLine) {
