@@ -205,6 +205,25 @@ TEST(SurfaceMetrics, LocalTensorsAndWorldTensorsDescribeTheSameMetric) {
   }
 }
 
+TEST(SurfaceMetrics, PrincipalCurvaturesOfACylinderAndASphere) {
+  const GeneratedSurface prism = prismMesh(64, 20, 2.0, 0.2, false, 6);
+  const SurfaceDomain cylinder(prism.points, prism.faces);
+  const auto pc = principalCurvatures(cylinder);
+  for (VertexId v = 0; v < cylinder.vertexCount(); ++v) {
+    // Measured largest deviations: 0.0032, 0.00017 and 1.8e-7.
+    EXPECT_NEAR(std::abs(pc[v].kappaMax), 0.5, 0.0045) << v;  // 1 / radius
+    EXPECT_NEAR(pc[v].kappaMin, 0.0, 0.00025) << v;
+    EXPECT_NEAR(std::abs(pc[v].directionMin.z), 1.0, 1e-6) << v;  // along the axis
+  }
+  const GeneratedSurface ico = icosphere(3, 4.0);
+  const SurfaceDomain sphere(ico.points, ico.faces);
+  for (const PrincipalCurvature& c : principalCurvatures(sphere)) {
+    // Measured largest deviations: 0.00135 and 0.00067.
+    EXPECT_NEAR(std::abs(c.kappaMax), 0.25, 0.0019);
+    EXPECT_NEAR(std::abs(c.kappaMin), 0.25, 0.001);
+  }
+}
+
 TEST(SurfaceMetrics, FaceTensorsAreAveragedToTheVerticesByCornerAngle) {
   // A unit square split into two triangles: vertex 0 has corners of 45 and
   // 45 degrees, vertex 1 one corner of 90 degrees (in face 0 only).
