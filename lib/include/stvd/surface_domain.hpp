@@ -208,7 +208,6 @@ struct ChainUnfolding<SurfaceDomain> {
     m.xy = dd * ux * uy + dp * (ux * wy + wx * uy) + pp * wx * wy;
     return m;
   }
-
 };
 
 extern template PropagationResult propagate(const SurfaceDomain&, const RiemannianMetric&,
