@@ -155,6 +155,33 @@ TEST_F(ToolSurfaceDistance, ConstantFaceTensorsGiveTheTensorNormInPly) {
   EXPECT_LT(mean, 0.0035);  // measured mean 0.00209-0.00245
 }
 
+TEST_F(ToolSurfaceDistance, VertexTensorsAreProjectedToTheSurface) {
+  // The plane z = 0 with tensors diag(9, 1, 5) per vertex: the z entry is
+  // across the surface and must not matter.
+  const GeneratedSurface s = test::planeMesh(20, 20, 10.0, 10.0, 0.15, 0.6, false, 13);
+  writeOff(path("plane.off"), s);
+  {
+    std::ofstream tensors(path("tensors.txt"));
+    for (std::size_t v = 0; v < s.points.size(); ++v) tensors << "9 0 0 1 0 5\n";
+  }
+  const VertexId seed = 10 * 21 + 10;
+  const ToolRun run = runTool({"distance", path("plane.off"), "--seed-vertex", std::to_string(seed),
+                               "--metric", "tensors:" + path("tensors.txt"), "-q", "-o",
+                               path("d.csv")});
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const std::vector<double> d = readCsv(path("d.csv"));
+  double sum = 0.0;
+  for (VertexId v = 0; v < d.size(); ++v) {
+    if (v == seed) continue;
+    const double dx = s.flat[v][0] - s.flat[seed][0], dy = s.flat[v][1] - s.flat[seed][1];
+    const double exact = std::sqrt(9.0 * dx * dx + dy * dy);
+    sum += std::abs(d[v] - exact) / exact;
+  }
+  const double mean = sum / (d.size() - 1);
+  std::printf("[ measured ] tool, bad plane 20x20, vertex tensors gamma 3, STVD k=8: mean %.5f\n", mean);
+  EXPECT_LT(mean, 0.0021);  // measured mean 0.00137
+}
+
 TEST_F(ToolSurfaceDistance, ComponentsWithoutASeedAreReportedUnreachable) {
   std::ofstream(path("two.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 0 0\nv 6 0 0\nv 5 1 0\n"
                                     "f 1 2 3\nf 4 5 6\n";
@@ -228,6 +255,14 @@ TEST_F(ToolSurfaceBadInput, BadFieldFileNamesItsLine) {
   expectFailure({path("ok.obj"), "--seed-vertex", "0", "--metric", "field:" + path("field.txt"),
                  "--anisotropy", "2", "-o", path("out/d.csv")},
                 kInput, path("field.txt") + ": line 2");
+}
+
+TEST_F(ToolSurfaceBadInput, IndefiniteVertexTensorNamesTheFileAndVertex) {
+  // Vertex 2's tensor is negative along y, which lies in the triangle's plane.
+  std::ofstream(path("tensors.txt")) << "1 0 0 1 0 1\n1 0 0 1 0 1\n1 0 0 -1 0 1\n";
+  expectFailure({path("ok.obj"), "--seed-vertex", "0", "--metric", "tensors:" + path("tensors.txt"),
+                 "-o", path("out/d.csv")},
+                kInput, path("tensors.txt") + ": metric at vertex 2");
 }
 
 TEST_F(ToolSurfaceBadInput, OutputFolderMissing) {
