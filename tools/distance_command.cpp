@@ -24,6 +24,8 @@
 #include "subcommands.hpp"
 #include "tet_mesh_commands.hpp"
 
+#include "surface_distance_command.hpp"
+
 #ifdef STVD_WITH_VDB_OUTPUT
 #include "stvd/vdb/distance_grid.hpp"
 #endif
@@ -51,6 +53,7 @@ double secondsSince(Clock::time_point start) {
 
 const char* kDistanceHelp =
     "Usage: stvd distance INPUT -o OUTPUT [options]\n"
+    "       (polygon surfaces: stvd distance MESH.obj|off|ply --help)\n"
     "\n"
     "Anisotropic geodesic distance (millimetres) from seed voxels over a diffusion or metric\n"
     "tensor volume. The output format follows the extension: .nii, .nii.gz, .nrrd or .nhdr give a\n"
@@ -581,6 +584,9 @@ int runDistance(int argc, char** argv) {
   // A TetGen mesh (.node/.ele) goes to the tetrahedral-mesh command.
   for (int i = 2; i < argc; ++i)
     if (isTetMeshInput(argv[i])) return runTetMeshDistance(argc, argv);
+
+  // Polygon surfaces (.obj/.off/.ply, --seed-vertex) have their own path.
+  if (isSurfaceDistanceCall(argc, argv)) return runSurfaceDistance(argc, argv);
   const Clock::time_point start = Clock::now();
   const DistanceOptions o = parseDistanceOptions(argc, argv);
   Timings t;

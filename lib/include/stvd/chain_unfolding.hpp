@@ -18,11 +18,25 @@ namespace stvd {
 /// surface domain specialises it to unfold the chain edge by edge into v's
 /// tangent plane, preserving edge lengths and relative 1-ring angles
 /// (section 6), with vectors in that plane stored as (x, y, 0).
+///
+/// edgeNorm() gives the norm that measures the edge from -> to whose vector
+/// in the common frame is `e`; the propagation asks it for every edge it
+/// measures (Dijkstra's edges, edge 1 and the chain edges of STVD). In R^3
+/// every edge shares the one world frame, so it is Norm::edgeParams of the
+/// end points, the same expression the propagation used before the hook. A
+/// surface's norms live in tangent planes and must be carried into the frame
+/// the chain was unfolded into, which is why the edge vector is handed over.
 template <class Domain>
 struct ChainUnfolding {
   static void place(const Domain& domain, const VertexId* chain, int count, Vec3f* p) {
     p[0] = Vec3f{};
     for (int i = 1; i < count; ++i) p[i] = domain.displacement(chain[0], chain[i]);
+  }
+  template <class Norm>
+  STVD_ALWAYS_INLINE static typename Norm::EdgeParams edgeNorm(
+      const Domain&, const typename Norm::VertexParams& from,
+      const typename Norm::VertexParams& to, VertexId, VertexId, Vec3f) {
+    return Norm::edgeParams(from, to);
   }
 };
 

@@ -211,7 +211,10 @@ class Propagation {
     domain_.forEachNeighbor(v, [&](VertexId w, Vec3f e) {
       if (queue_.isFinal(w)) return;
       ++relaxed_;
-      update(w, v, dv + Norm::length(Norm::edgeParams(pv, metric_[w]), e.x, e.y, e.z));
+      // Norm::edgeParams(pv, metric_[w]) for domains in R^3; a surface
+      // carries the norm into v's tangent frame (chain_unfolding.hpp).
+      const auto g = ChainUnfolding<Domain>::template edgeNorm<Norm>(domain_, pv, metric_[w], v, w, e);
+      update(w, v, dv + Norm::length(g, e.x, e.y, e.z));
     });
   }
 
@@ -232,7 +235,11 @@ class Propagation {
     ChainUnfolding<Domain>::place(domain_, chain, count, p);
     for (int j = 2; j <= count; ++j) {
       memory.edge[j] = p[j - 2] - p[j - 1];
-      memory.edgeNorm[j] = Norm::edgeParams(metric_[chain[j - 1]], metric_[chain[j - 2]]);
+      // The norm in the unfolded frame (Norm::edgeParams of the end points
+      // for domains in R^3; see chain_unfolding.hpp).
+      memory.edgeNorm[j] = ChainUnfolding<Domain>::template edgeNorm<Norm>(
+          domain_, metric_[chain[j - 1]], metric_[chain[j - 2]], chain[j - 1], chain[j - 2],
+          memory.edge[j]);
     }
     // Padding lanes repeat the last chain vertex so that every lane stays
     // finite, and their base distance is +inf so that they never win.
@@ -249,7 +256,8 @@ class Propagation {
     domain_.forEachNeighbor(v, [&](VertexId w, Vec3f e1) STVD_ALWAYS_INLINE_LAMBDA {
       if (queue_.isFinal(w)) return;
       ++relaxed_;
-      const typename Norm::EdgeParams g1 = Norm::edgeParams(pv, metric_[w]);
+      const typename Norm::EdgeParams g1 =
+          ChainUnfolding<Domain>::template edgeNorm<Norm>(domain_, pv, metric_[w], v, w, e1);
       // i = 1 is the Dijkstra term, measured exactly as Dijkstra measures it
       // (so that k = 1 and Dijkstra agree bit for bit).
       double best = dv + Norm::length(g1, e1.x, e1.y, e1.z);

@@ -1,0 +1,66 @@
+// Reading polygon surfaces from .obj, .off and .ply (ASCII and binary
+// little/big-endian), and writing a per-vertex distance as .ply, .vtk
+// (legacy POLYDATA) or .csv. No dependency beyond the core. See
+// docs/surfaces.md for what each reader accepts.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "stvd/surface_domain.hpp"
+#include "stvd/types.hpp"
+
+namespace stvd::surface_io {
+
+/// A file that cannot be read as a surface; what() is one line naming the
+/// file and, where it applies, the line or element.
+class MeshFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct SurfaceMesh {
+  std::vector<Vec3d> points;  // in file order: vertex i is the i-th vertex of the file
+  PolygonList faces;          // polygons as given (not triangulated)
+};
+
+/// True when the path ends in .obj, .off or .ply (any letter case).
+bool isSurfaceMeshPath(const std::string& path);
+
+/// Reads by the extension. Throws MeshFileError.
+SurfaceMesh readSurfaceMesh(const std::string& path);
+SurfaceMesh readObj(const std::string& path);
+SurfaceMesh readOff(const std::string& path);
+SurfaceMesh readPly(const std::string& path);
+
+/// True when the path ends in .ply, .vtk or .csv (any letter case).
+bool isSurfaceOutputPath(const std::string& path);
+
+/// Writes the mesh and one distance per vertex to `path` in the format of
+/// `formatPath`'s extension (the two differ when the caller stages the file
+/// under a temporary name):
+///  .ply  binary little-endian PLY: x y z (float), distance (double); faces
+///  .vtk  legacy ASCII POLYDATA, POINT_DATA SCALARS distance double
+///  .csv  "vertex,distance" then one row per vertex, vertices from 0
+/// A vertex that was not reached has distance +inf in .ply and .csv ("inf")
+/// and -1 in .vtk (legacy VTK readers do not parse "inf"). Throws
+/// MeshFileError when the file cannot be written.
+void writeSurfaceDistances(const std::string& path, const std::string& formatPath,
+                           const SurfaceMesh& mesh, const std::vector<double>& distance);
+
+}  // namespace stvd::surface_io
+
+namespace stvd::surface_io {
+
+/// A per-vertex table in a text file: one row per vertex in vertex order,
+/// `columns` numbers per row separated by spaces, tabs or commas. Empty
+/// lines and lines starting with '#' are skipped, and so is a first row
+/// that is not numeric (a header). Throws MeshFileError naming the file and
+/// line for a bad row, or when the row count differs from `rows`. `rowKind`
+/// names what a row describes in messages ("vertex", "face").
+std::vector<std::vector<double>> readVertexTable(const std::string& path, std::size_t columns,
+                                                 std::size_t rows,
+                                                 const std::string& rowKind = "vertex");
+
+}  // namespace stvd::surface_io

@@ -1,0 +1,218 @@
+// Surface files: .obj, .off and .ply (ASCII, binary little- and big-endian)
+// written byte by byte here, read into the same mesh; errors name the file
+// and the line or element; the distance writers' .ply, .vtk and .csv.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "stvd/surface_io/surface_mesh_io.hpp"
+
+namespace stvd::surface_io {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SurfaceFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = fs::temp_directory_path() /
+              ("stvd-surface-io-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+               "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+  std::string write(const std::string& name, const std::string& bytes) const {
+    const std::string p = (folder_ / name).string();
+    std::ofstream(p, std::ios::binary) << bytes;
+    return p;
+  }
+  std::string path(const std::string& name) const { return (folder_ / name).string(); }
+  static std::string errorOf(const std::string& p) {
+    try {
+      readSurfaceMesh(p);
+    } catch (const MeshFileError& e) {
+      return e.what();
+    }
+    return "";
+  }
+
+ private:
+  fs::path folder_;
+};
+
+// The reference mesh of these files: a unit square as one quad and a
+// triangle on top, vertices 0..4.
+void expectReferenceMesh(const SurfaceMesh& m) {
+  ASSERT_EQ(m.points.size(), 5u);
+  EXPECT_EQ(m.points[2].x, 1.0);
+  EXPECT_EQ(m.points[2].y, 1.0);
+  EXPECT_EQ(m.points[4].x, 0.5);
+  EXPECT_EQ(m.points[4].y, 2.0);
+  EXPECT_EQ(m.points[4].z, -0.25);
+  ASSERT_EQ(m.faces.faceCount(), 2u);
+  EXPECT_EQ(m.faces.faceStart, (std::vector<std::uint32_t>{0, 4, 7}));
+  EXPECT_EQ(m.faces.faceVertex, (std::vector<VertexId>{0, 1, 2, 3, 3, 2, 4}));
+}
+
+TEST_F(SurfaceFiles, ObjWithTextureAndNormalIndicesAndNegativeIndices) {
+  expectReferenceMesh(readSurfaceMesh(write("m.OBJ",
+                                            "# square and roof\r\n"
+                                            "mtllib x.mtl\n"
+                                            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                            "vt 0 0\nvn 0 0 1\n"
+                                            "g roof\n"
+                                            "f 1/1/1 2/1/1 3//1 4\n"
+                                            "v 0.5 2 -0.25  # apex\n"
+                                            "f -2 -3 -1\n")));
+}
+
+TEST_F(SurfaceFiles, ObjErrorsNameTheLine) {
+  EXPECT_EQ(errorOf(write("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")),
+            path("a.obj") + ": line 4: vertex index 9 refers to no vertex defined so far (3)");
+  EXPECT_EQ(errorOf(write("b.obj", "v 0 0\n")),
+            path("b.obj") + ": line 1: a vertex needs three finite coordinates");
+  EXPECT_EQ(errorOf(write("c.obj", "v 0 0 0\n")), path("c.obj") + ": the file has no faces");
+}
+
+TEST_F(SurfaceFiles, OffWithCommentsAndColours) {
+  expectReferenceMesh(readSurfaceMesh(write("m.off",
+                                            "COFF\n# counts\n5 2 0\n"
+                                            "0 0 0 255 0 0 255\n1 0 0 255 0 0 255\n"
+                                            "1 1 0 255 0 0 255\n0 1 0 255 0 0 255\n"
+                                            "0.5 2 -0.25 255 0 0 255\n"
+                                            "4 0 1 2 3\n3 3 2 4 10 20 30\n")));
+  expectReferenceMesh(readSurfaceMesh(write(
+      "n.off", "OFF 5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 2 -0.25\n4 0 1 2 3\n3 3 2 4\n")));
+}
+
+TEST_F(SurfaceFiles, OffErrorsNameTheLineAndElement) {
+  EXPECT_EQ(errorOf(write("a.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n")),
+            path("a.off") + ": the file ends after 2 of 4 vertices");
+  EXPECT_EQ(errorOf(write("b.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n")),
+            path("b.off") + ": line 6: face 0: vertex index \"3\" is not one of the 3 vertices");
+  EXPECT_EQ(errorOf(write("c.off", "PLY\n")),
+            path("c.off") + ": line 1: not an OFF file (the first word is \"PLY\")");
+}
+
+const char* kPlyAscii =
+    "ply\nformat ascii 1.0\ncomment made by hand\n"
+    "element vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+    "property uchar red\n"
+    "element edge 1\nproperty int vertex1\nproperty int vertex2\n"
+    "element face 2\nproperty list uchar int vertex_indices\nproperty float quality\n"
+    "end_header\n"
+    "0 0 0 9\n1 0 0 9\n1 1 0 9\n0 1 0 9\n0.5 2 -0.25 9\n"
+    "0 1\n"
+    "4 0 1 2 3 0.5\n3 3 2 4 0.5\n";
+
+/// The reference mesh in binary PLY: double coordinates, a ushort property
+/// between them, uint indices with a uchar count, in the given byte order.
+std::string binaryPly(bool littleEndian) {
+  std::string s = std::string("ply\nformat ") +
+                  (littleEndian ? "binary_little_endian" : "binary_big_endian") +
+                  " 1.0\nelement vertex 5\nproperty double x\nproperty ushort flags\n"
+                  "property double y\nproperty double z\n"
+                  "element face 2\nproperty list uchar uint vertex_indices\nend_header\n";
+  auto put = [&](const void* p, std::size_t n) {
+    std::string b(static_cast<const char*>(p), n);
+    const std::uint16_t one = 1;
+    const bool hostLittle = *reinterpret_cast<const unsigned char*>(&one) == 1;
+    if (hostLittle != littleEndian) std::reverse(b.begin(), b.end());
+    s += b;
+  };
+  const double xyz[5][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 2, -0.25}};
+  for (const auto& p : xyz) {
+    const std::uint16_t flags = 0xABCD;
+    put(&p[0], 8);
+    put(&flags, 2);
+    put(&p[1], 8);
+    put(&p[2], 8);
+  }
+  const std::vector<std::vector<std::uint32_t>> faces{{0, 1, 2, 3}, {3, 2, 4}};
+  for (const auto& f : faces) {
+    const std::uint8_t n = static_cast<std::uint8_t>(f.size());
+    put(&n, 1);
+    for (const std::uint32_t i : f) put(&i, 4);
+  }
+  return s;
+}
+
+TEST_F(SurfaceFiles, PlyAsciiAndBinaryOfBothByteOrdersGiveTheSameMesh) {
+  expectReferenceMesh(readSurfaceMesh(write("a.ply", kPlyAscii)));
+  expectReferenceMesh(readSurfaceMesh(write("le.ply", binaryPly(true))));
+  expectReferenceMesh(readSurfaceMesh(write("be.ply", binaryPly(false))));
+}
+
+TEST_F(SurfaceFiles, PlyErrorsNameTheElement) {
+  std::string truncated = binaryPly(true);
+  truncated.resize(truncated.size() - 3);
+  EXPECT_EQ(errorOf(write("t.ply", truncated)), path("t.ply") + ": face 1: the file ends early");
+  std::string badIndex = kPlyAscii;
+  badIndex.replace(badIndex.find("3 3 2 4"), 7, "3 3 2 7");
+  EXPECT_EQ(errorOf(write("i.ply", badIndex)),
+            path("i.ply") + ": face 1: vertex index 7 is not one of the 5 vertices");
+  EXPECT_EQ(errorOf(write("f.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n")),
+            path("f.ply") + ": line 2: unknown PLY format \"binary_middle_endian\"");
+  EXPECT_EQ(errorOf(path("missing.ply")).rfind(path("missing.ply") + ": cannot open the file", 0), 0u);
+}
+
+TEST_F(SurfaceFiles, DistancesAreWrittenAsPlyVtkAndCsv) {
+  const SurfaceMesh m = readSurfaceMesh(write("m.ply", kPlyAscii));
+  const std::vector<double> d{0.0, 1.0, 1.5, 1.0, std::numeric_limits<double>::infinity()};
+  writeSurfaceDistances(path("d.csv"), path("d.csv"), m, d);
+  std::ifstream csv(path("d.csv"));
+  std::stringstream text;
+  text << csv.rdbuf();
+  EXPECT_EQ(text.str(), "vertex,distance\n0,0\n1,1\n2,1.5\n3,1\n4,inf\n");
+
+  writeSurfaceDistances(path("staged.tmp"), path("d.vtk"), m, d);
+  std::ifstream vtk(path("staged.tmp"));
+  std::stringstream v;
+  v << vtk.rdbuf();
+  EXPECT_NE(v.str().find("DATASET POLYDATA\nPOINTS 5 double\n"), std::string::npos);
+  EXPECT_NE(v.str().find("POLYGONS 2 9\n4 0 1 2 3\n3 3 2 4\n"), std::string::npos);
+  EXPECT_NE(v.str().find("POINT_DATA 5\nSCALARS distance double 1\nLOOKUP_TABLE default\n0\n1\n1.5\n1\n-1\n"),
+            std::string::npos);
+
+  // The .ply reads back as the same mesh; its distance column is checked
+  // from the bytes (x y z float, distance double, little-endian).
+  writeSurfaceDistances(path("d.ply"), path("d.ply"), m, d);
+  expectReferenceMesh(readSurfaceMesh(path("d.ply")));
+  std::ifstream ply(path("d.ply"), std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(ply)), std::istreambuf_iterator<char>());
+  const std::size_t body = bytes.find("end_header\n") + 11;
+  for (std::size_t v2 = 0; v2 < 5; ++v2) {
+    double value;
+    std::memcpy(&value, bytes.data() + body + v2 * 20 + 12, 8);
+    EXPECT_EQ(value, d[v2]);
+  }
+}
+
+TEST_F(SurfaceFiles, VertexTablesSkipAHeaderAndNameBadRows) {
+  const auto t = readVertexTable(write("t.csv", "dx,dy,dz\n1,0,0\n# note\n0, 1, 0\n"), 3, 2);
+  EXPECT_EQ(t[1], (std::vector<double>{0, 1, 0}));
+  try {
+    readVertexTable(write("u.txt", "1 0 0\n1 0\n"), 3, 2);
+    FAIL();
+  } catch (const MeshFileError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              path("u.txt") + ": line 2: expected 3 finite numbers (the values of vertex 1)");
+  }
+  try {
+    readVertexTable(write("v.txt", "1 0 0\n"), 3, 2);
+    FAIL();
+  } catch (const MeshFileError& e) {
+    EXPECT_EQ(std::string(e.what()), path("v.txt") + ": 1 rows for 2 vertices");
+  }
+}
+
+}  // namespace
+}  // namespace stvd::surface_io
