@@ -91,7 +91,7 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
   if (o.input.empty()) usageError("no input file (see stvd connectivity --help)");
   if (o.labels.empty()) usageError("no regions: add --labels LABELS");
   if (o.output.empty()) usageError("no output file: add -o TABLE.tsv");
-  checkPropagationChoice(o);
+  checkPropagationChoice(o, /*lanthierAllowed=*/false);
   if (o.threads == 0) o.threads = std::max(1u, std::thread::hardware_concurrency());
   return o;
 }

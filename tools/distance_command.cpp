@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "command_line.hpp"
+#include "geodesic_options.hpp"
 #include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
@@ -22,9 +23,8 @@
 #include "stvd/steiner_propagation.hpp"
 #include "stvd/voxel_grid_domain.hpp"
 #include "subcommands.hpp"
-#include "tet_mesh_commands.hpp"
-
 #include "surface_distance_command.hpp"
+#include "tet_mesh_commands.hpp"
 
 #ifdef STVD_WITH_VDB_OUTPUT
 #include "stvd/vdb/distance_grid.hpp"
@@ -34,18 +34,6 @@ namespace stvd::tool {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-/// The tool measures STVD's chain sums with the largest edge norm on the
-/// chain, not with the paper's projection-weighted rule (the core's
-/// default): real DTI tensor fields vary strongly from voxel to voxel, and
-/// there the paper's rule lets backward portions cancel forward ones, so
-/// distances collapse as k grows (on the shipped brain, k = 8 puts 44,000
-/// to 70,000 voxels below the bound |x - seed|/sqrt(3) that G = (D/MD)^-1
-/// guarantees). The largest-norm rule cannot cancel; with it the median
-/// difference to Dijkstra on the 290-offset stencil settles at +1.7 to
-/// +2.2 % from k = 8 on (docs/cli.md, "Chain measure and k").
-constexpr ChainMeasure kToolChainMeasure = ChainMeasure::LargestEdgeNorm;
-constexpr int kToolMemoryDepth = 8;
 
 double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -108,22 +96,9 @@ const char* kDistanceHelp =
     "seed outside the image or the domain); 5 output cannot be written. On failure one line on\n"
     "stderr names the file and the problem, and no output file is left behind.\n";
 
-struct DistanceOptions {
+struct DistanceOptions : SeedOptions, PropagationChoice {
   std::string input;
   std::string output;
-  std::vector<std::array<int, 3>> seedVoxels;
-  std::vector<std::array<double, 3>> seedPoints;
-  bool seedPointsInLps = false;
-  std::string seedLabels;
-  Method method = Method::ShortTermVectorDijkstra;
-  bool lanthier = false;  // Steiner-point propagation instead of `method`
-  int steinerPoints = 0;  // 0: --steiner not given
-  bool stencilGiven = false;
-  int k = kToolMemoryDepth;
-  bool kGiven = false;
-  ChainMeasure chainMeasure = kToolChainMeasure;
-  bool chainMeasureGiven = false;
-  std::string stencil = "26";
   double maxDistance = std::numeric_limits<double>::infinity();
   TensorInputOptions tensor;
   float unreachableValue = -1.f;
@@ -143,50 +118,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
     if (takeInputOrHelp(a, args, o.input, kDistanceHelp, true)) continue;
     if (a == "-o" || a == "--output") {
       o.output = args.value(a);
-    } else if (a == "--seed-voxel") {
-      o.seedVoxels.push_back(parseIntegerTriple(a, args.value(a)));
-    } else if (a == "--seed-point") {
-      o.seedPoints.push_back(parseTriple(a, args.value(a)));
-    } else if (a == "--lps") {
-      args.noValue(a);
-      o.seedPointsInLps = true;
-    } else if (a == "--seeds") {
-      o.seedLabels = args.value(a);
-    } else if (a == "--method") {
-      const std::string m = args.value(a);
-      o.lanthier = m == "lanthier";
-      if (m == "stvd")
-        o.method = Method::ShortTermVectorDijkstra;
-      else if (m == "dijkstra")
-        o.method = Method::Dijkstra;
-      else if (!o.lanthier)
-        usageError("--method: '" + m + "' is not one of stvd, dijkstra, lanthier");
-    } else if (a == "--steiner") {
-      o.steinerPoints = parseInteger(a, args.value(a));
-      if (o.steinerPoints < 1 || o.steinerPoints > kMaxSteinerPoints)
-        usageError("--steiner must be between 1 and " + std::to_string(kMaxSteinerPoints));
-    } else if (a == "--k") {
-      o.k = parseInteger(a, args.value(a));
-      o.kGiven = true;
-      if (o.k < 1 || o.k > kMaxMemoryDepth)
-        usageError("--k must be between 1 and " + std::to_string(kMaxMemoryDepth));
-    } else if (a == "--chain-measure") {
-      const std::string m = args.value(a);
-      if (m == "projection")
-        o.chainMeasure = ChainMeasure::ProjectionWeighted;
-      else if (m == "largest")
-        o.chainMeasure = ChainMeasure::LargestEdgeNorm;
-      else
-        usageError("--chain-measure: '" + m + "' is not one of projection, largest");
-      o.chainMeasureGiven = true;
-    } else if (a == "--stencil") {
-      o.stencil = args.value(a);
-      o.stencilGiven = true;
-      try {
-        Stencil::byName(o.stencil);
-      } catch (const std::invalid_argument&) {
-        usageError("--stencil: '" + o.stencil + "' is not one of 6, 18, 26, 98, 290");
-      }
+    } else if (parseSeedOption(a, args, o) || parsePropagationOption(a, args, o)) {
     } else if (a == "--max-distance") {
       o.maxDistance = parseNumber(a, args.value(a));
       if (!(o.maxDistance > 0.0)) usageError("--max-distance must be positive");
@@ -214,14 +146,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   }
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
     usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
-  if (o.kGiven && (o.lanthier || o.method != Method::ShortTermVectorDijkstra))
-    usageError("--k applies to --method stvd only");
-  if (o.chainMeasureGiven && (o.lanthier || o.method != Method::ShortTermVectorDijkstra))
-    usageError("--chain-measure applies to --method stvd only");
-  if (o.lanthier && o.steinerPoints == 0)
-    usageError("--method lanthier needs --steiner M, the Steiner points per cube edge (1..16; try 2)");
-  if (!o.lanthier && o.steinerPoints != 0) usageError("--steiner applies to --method lanthier only");
-  if (o.lanthier && o.stencilGiven) usageError("--stencil does not apply to --method lanthier (it uses cubes)");
+  checkPropagationChoice(o, /*lanthierAllowed=*/true);
   if (o.tensor.metric.faThreshold && o.tensor.metric.kind != imaging::TensorKind::Diffusion)
     usageError("--fa-threshold applies to --tensor-kind diffusion only");
   return o;
@@ -257,110 +182,6 @@ class ProgressBar {
   Clock::time_point start_;
 };
 
-struct Seed {
-  VoxelIndex index;
-  std::string givenAs;  // how the user gave it, for messages
-};
-
-std::string voxelText(const VoxelIndex& v) {
-  return "(" + std::to_string(v.i) + ", " + std::to_string(v.j) + ", " + std::to_string(v.k) + ")";
-}
-
-std::string pointText(const Vec3d& p, int decimals) {
-  return "(" + fixed(p.x, decimals) + ", " + fixed(p.y, decimals) + ", " + fixed(p.z, decimals) + ")";
-}
-
-Vec3d lpsToRas(const Vec3d& p) { return {-p.x, -p.y, p.z}; }
-
-/// Why voxel v is outside the domain, for an error message.
-std::string whyOutside(std::size_t v, const TensorInput& input, const imaging::MetricOptions& metric) {
-  const SymTensor3& t = input.read.volume.tensors[v];
-  if (!input.mask.empty() && input.mask[v] == 0) return "it is outside the mask (" + input.maskDescription + ")";
-  const float c[6] = {t.xx, t.xy, t.xz, t.yy, t.yz, t.zz};
-  bool zero = true;
-  for (float x : c) {
-    if (!std::isfinite(x)) return "its tensor is not finite";
-    zero = zero && x == 0.f;
-  }
-  if (zero) return "its tensor is zero (no data there)";
-  const imaging::SymmetricEigen e = imaging::eigenDecompose(t);
-  if (!(e.values[0] > 0.0)) return "its tensor has no positive eigenvalue";
-  if (metric.faThreshold)
-    return "its FA " + fixed(imaging::fractionalAnisotropy(e.values), 3) + " is below --fa-threshold";
-  return "it is outside the domain";
-}
-
-std::vector<Seed> resolveSeeds(const DistanceOptions& o, const TensorInput& input,
-                               const std::vector<std::uint8_t>& inDomain, std::size_t& labelSeedsLeftOut) {
-  const GridGeometry& g = input.read.volume.geometry;
-  std::vector<Seed> seeds;
-  const std::string size = std::to_string(g.size[0]) + " x " + std::to_string(g.size[1]) + " x " +
-                           std::to_string(g.size[2]) + " voxels";
-  auto inside = [&](const std::array<long, 3>& idx) {
-    for (int a = 0; a < 3; ++a)
-      if (idx[a] < 0 || idx[a] >= static_cast<long>(g.size[a])) return false;
-    return true;
-  };
-  auto linear = [&](const VoxelIndex& v) {
-    return static_cast<std::size_t>(v.i) + g.size[0] * (static_cast<std::size_t>(v.j) + g.size[1] * v.k);
-  };
-  auto requireInDomain = [&](const Seed& s) {
-    const std::size_t v = linear(s.index);
-    if (!inDomain[v])
-      throw ToolError(kExitDomain, o.input + ": seed " + s.givenAs + " lies outside the domain: " +
-                                       whyOutside(v, input, o.tensor.metric));
-  };
-  for (const auto& s : o.seedVoxels) {
-    Seed seed{{s[0], s[1], s[2]}, "voxel " + voxelText({s[0], s[1], s[2]})};
-    if (!inside({s[0], s[1], s[2]}))
-      throw ToolError(kExitDomain, o.input + ": seed " + seed.givenAs + " lies outside the image (" + size +
-                                       ", indices from 0)");
-    requireInDomain(seed);
-    seeds.push_back(seed);
-  }
-  for (const auto& p : o.seedPoints) {
-    const Vec3d given{p[0], p[1], p[2]};
-    const Vec3d lps = o.seedPointsInLps ? given : lpsToRas(given);  // the flip is its own inverse
-    const Vec3d c = g.physicalPointToIndex(lps);
-    const std::array<long, 3> idx{std::lround(c.x), std::lround(c.y), std::lround(c.z)};
-    Seed seed{{static_cast<int>(idx[0]), static_cast<int>(idx[1]), static_cast<int>(idx[2])},
-              std::string("point ") + (o.seedPointsInLps ? "LPS " : "RAS ") + pointText(given, 2) + " mm"};
-    if (!inside(idx))
-      throw ToolError(kExitDomain, o.input + ": seed " + seed.givenAs + " lies outside the image (continuous index " +
-                                       pointText(c, 2) + ", image " + size + ")");
-    seed.givenAs += " (voxel " + voxelText(seed.index) + ")";
-    requireInDomain(seed);
-    seeds.push_back(seed);
-  }
-  if (!o.seedLabels.empty()) {
-    imaging::ScalarImage labels;
-    try {
-      labels = imaging::readScalarImage(o.seedLabels);
-    } catch (const imaging::ImageIoError& e) {
-      throw ToolError(kExitInput, e.what());
-    }
-    const std::string mismatch = imaging::geometryMismatch(labels.geometry, g);
-    if (!mismatch.empty())
-      throw ToolError(kExitInput, o.seedLabels + ": the seed labels are on another grid than " + o.input + " (" +
-                                      mismatch + ")");
-    std::size_t nonZero = 0;
-    for (std::size_t v = 0; v < labels.values.size(); ++v) {
-      if (labels.values[v] == 0.f || std::isnan(labels.values[v])) continue;
-      ++nonZero;
-      if (!inDomain[v]) {
-        ++labelSeedsLeftOut;
-        continue;
-      }
-      const std::size_t i = v % g.size[0], j = (v / g.size[0]) % g.size[1], k = v / (g.size[0] * g.size[1]);
-      seeds.push_back({{static_cast<int>(i), static_cast<int>(j), static_cast<int>(k)}, "label voxel"});
-    }
-    if (nonZero == 0) throw ToolError(kExitDomain, o.seedLabels + ": the seed label image has no non-zero voxel");
-    if (labelSeedsLeftOut == nonZero)
-      throw ToolError(kExitDomain, o.seedLabels + ": none of its " + withThousands(nonZero) +
-                                       " non-zero voxels lies inside the domain of " + o.input);
-  }
-  return seeds;
-}
 
 std::string jsonString(const std::string& s) {
   std::string out = "\"";
@@ -416,15 +237,6 @@ std::uint64_t peakMemoryBytes() {
   rusage usage{};
   ::getrusage(RUSAGE_SELF, &usage);
   return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
-}
-
-std::string methodText(const DistanceOptions& o) {
-  if (o.lanthier)
-    return "Lanthier Steiner-point propagation with M = " + std::to_string(o.steinerPoints) + " points per cube edge";
-  if (o.method == Method::Dijkstra) return "Dijkstra";
-  return "STVD with k = " + std::to_string(o.k) +
-         (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? " (largest-norm chain measure)"
-                                                          : " (projection chain measure)");
 }
 
 std::string terminationName(Termination t) {
@@ -614,7 +426,7 @@ int runDistance(int argc, char** argv) {
 
   phase = Clock::now();  // reading a seed label image counts as reading
   std::size_t labelSeedsLeftOut = 0;
-  const std::vector<Seed> seeds = resolveSeeds(o, input, built.inDomain, labelSeedsLeftOut);
+  const std::vector<Seed> seeds = resolveSeeds(o.input, o, input, o.tensor.metric, built.inDomain, labelSeedsLeftOut);
   t.read += secondsSince(phase);
 
   phase = Clock::now();
@@ -628,10 +440,7 @@ int runDistance(int argc, char** argv) {
   sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
 
   phase = Clock::now();
-  PropagationOptions options;
-  options.method = o.method;
-  options.k = o.method == Method::Dijkstra ? 1 : o.k;
-  options.chainMeasure = o.chainMeasure;
+  PropagationOptions options = propagationOptions(o);
   options.maxDistance = o.maxDistance;
   ProgressBar bar(!o.quiet);
   options.progress = [&bar](const PropagationProgress& p) {

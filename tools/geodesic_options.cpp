@@ -6,6 +6,7 @@
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/symmetric_eigen.hpp"
 #include "stvd/stencil.hpp"
+#include "stvd/steiner_propagation.hpp"
 
 namespace stvd::tool {
 
@@ -28,14 +29,17 @@ bool parseSeedOption(const std::string& a, ArgumentReader& args, SeedOptions& o)
 bool parsePropagationOption(const std::string& a, ArgumentReader& args, PropagationChoice& o) {
   if (a == "--method") {
     const std::string m = args.value(a);
+    o.lanthier = m == "lanthier";
     if (m == "stvd")
       o.method = Method::ShortTermVectorDijkstra;
     else if (m == "dijkstra")
       o.method = Method::Dijkstra;
-    else if (m == "lanthier")
-      usageError("--method lanthier is not implemented yet; use stvd or dijkstra");
-    else
-      usageError("--method: '" + m + "' is not one of stvd, dijkstra");
+    else if (!o.lanthier)
+      usageError("--method: '" + m + "' is not one of stvd, dijkstra, lanthier");
+  } else if (a == "--steiner") {
+    o.steinerPoints = parseInteger(a, args.value(a));
+    if (o.steinerPoints < 1 || o.steinerPoints > kMaxSteinerPoints)
+      usageError("--steiner must be between 1 and " + std::to_string(kMaxSteinerPoints));
   } else if (a == "--k") {
     o.k = parseInteger(a, args.value(a));
     o.kGiven = true;
@@ -52,6 +56,7 @@ bool parsePropagationOption(const std::string& a, ArgumentReader& args, Propagat
     o.chainMeasureGiven = true;
   } else if (a == "--stencil") {
     o.stencil = args.value(a);
+    o.stencilGiven = true;
     try {
       Stencil::byName(o.stencil);
     } catch (const std::invalid_argument&) {
@@ -63,10 +68,16 @@ bool parsePropagationOption(const std::string& a, ArgumentReader& args, Propagat
   return true;
 }
 
-void checkPropagationChoice(const PropagationChoice& o) {
-  if (o.kGiven && o.method != Method::ShortTermVectorDijkstra) usageError("--k applies to --method stvd only");
-  if (o.chainMeasureGiven && o.method != Method::ShortTermVectorDijkstra)
-    usageError("--chain-measure applies to --method stvd only");
+void checkPropagationChoice(const PropagationChoice& o, bool lanthierAllowed) {
+  if (o.lanthier && !lanthierAllowed)
+    usageError("--method lanthier gives distances but no predecessors, which paths need; use stvd or dijkstra");
+  const bool stvd = !o.lanthier && o.method == Method::ShortTermVectorDijkstra;
+  if (o.kGiven && !stvd) usageError("--k applies to --method stvd only");
+  if (o.chainMeasureGiven && !stvd) usageError("--chain-measure applies to --method stvd only");
+  if (o.lanthier && o.steinerPoints == 0)
+    usageError("--method lanthier needs --steiner M, the Steiner points per cube edge (1..16; try 2)");
+  if (!o.lanthier && o.steinerPoints != 0) usageError("--steiner applies to --method lanthier only");
+  if (o.lanthier && o.stencilGiven) usageError("--stencil does not apply to --method lanthier (it uses cubes)");
 }
 
 PropagationOptions propagationOptions(const PropagationChoice& o) {
@@ -78,6 +89,8 @@ PropagationOptions propagationOptions(const PropagationChoice& o) {
 }
 
 std::string methodText(const PropagationChoice& o) {
+  if (o.lanthier)
+    return "Lanthier Steiner-point propagation with M = " + std::to_string(o.steinerPoints) + " points per cube edge";
   if (o.method == Method::Dijkstra) return "Dijkstra";
   return "STVD with k = " + std::to_string(o.k) +
          (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? " (largest-norm chain measure)"

@@ -34,14 +34,17 @@ struct SeedOptions {
   std::string seedLabels;
 };
 
-/// --method, --k, --chain-measure, --stencil.
+/// --method, --steiner, --k, --chain-measure, --stencil.
 struct PropagationChoice {
   Method method = Method::ShortTermVectorDijkstra;
+  bool lanthier = false;  // Steiner-point propagation instead of `method`
+  int steinerPoints = 0;  // 0: --steiner not given
   int k = kToolMemoryDepth;
   bool kGiven = false;
   ChainMeasure chainMeasure = kToolChainMeasure;
   bool chainMeasureGiven = false;
   std::string stencil = "26";
+  bool stencilGiven = false;
 };
 
 /// When `option` is a seed option, reads it into `seeds` and returns true.
@@ -49,10 +52,12 @@ bool parseSeedOption(const std::string& option, ArgumentReader& args, SeedOption
 /// When `option` is a propagation option, reads it into `choice` and returns true.
 bool parsePropagationOption(const std::string& option, ArgumentReader& args, PropagationChoice& choice);
 /// Usage errors for combinations that make no sense (--k with Dijkstra, ...).
-void checkPropagationChoice(const PropagationChoice& choice);
-/// The propagation options of the choice (k = 1 for Dijkstra).
+/// Commands that need predecessors (paths) refuse lanthier, which has none.
+void checkPropagationChoice(const PropagationChoice& choice, bool lanthierAllowed);
+/// The propagation options of the choice (k = 1 for Dijkstra; not lanthier).
 PropagationOptions propagationOptions(const PropagationChoice& choice);
-/// "STVD with k = 8 (largest-norm chain measure)" or "Dijkstra".
+/// "STVD with k = 8 (largest-norm chain measure)", "Dijkstra" or the
+/// Steiner-point method with its M.
 std::string methodText(const PropagationChoice& choice);
 
 /// A voxel the user named, and how (for messages).

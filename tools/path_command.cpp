@@ -145,7 +145,7 @@ PathOptions parsePathOptions(int argc, char** argv) {
     usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
   if (o.targetVoxels.empty() && o.targetPoints.empty() && o.targetLabels.empty())
     usageError("no target: add --target-voxel I,J,K, --target-point X,Y,Z or --targets LABELS");
-  checkPropagationChoice(o);
+  checkPropagationChoice(o, /*lanthierAllowed=*/false);
   if (o.tensor.metric.faThreshold && o.tensor.metric.kind != imaging::TensorKind::Diffusion)
     usageError("--fa-threshold applies to --tensor-kind diffusion only");
   return o;
