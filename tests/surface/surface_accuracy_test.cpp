@@ -55,30 +55,8 @@ void expectWithin(const RelativeErrors& e, double meanTolerance, double maxToler
   EXPECT_LT(e.max(), maxTolerance);
 }
 
-/// The 2x2 tensor with eigenvalues 1 and gamma^2, the strong one at `angle`.
-std::array<double, 3> tensor2(double gamma, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle), g2 = gamma * gamma;
-  return {c * c + g2 * s * s, (1.0 - g2) * c * s, s * s + g2 * c * c};
-}
-double norm2(const std::array<double, 3>& g, double x, double y) {
-  return std::sqrt(g[0] * x * x + 2.0 * g[1] * x * y + g[2] * y * y);
-}
-
-// A plane tilted in space, columns alternating in width by 1 : 0.15,
-// jittered, random diagonals: many needles and obtuse triangles.
-GeneratedSurface badPlane(bool quads = false) {
-  const Vec3d a1 = normalized({1, 1, 0}), a2 = normalized({-0.5, 0.5, 1});
-  return planeMesh(40, 40, 10.0, 10.0, 0.15, 0.6, quads, 7, {3, -2, 1}, a1, a2);
-}
-
-VertexId nearest(const GeneratedSurface& s, double x, double y) {
-  VertexId best = 0;
-  for (VertexId v = 1; v < s.flat.size(); ++v)
-    if (std::hypot(s.flat[v][0] - x, s.flat[v][1] - y) <
-        std::hypot(s.flat[best][0] - x, s.flat[best][1] - y))
-      best = v;
-  return best;
-}
+GeneratedSurface badPlane(bool quads = false) { return badlyShapedTiltedPlane(quads); }
+VertexId nearest(const GeneratedSurface& s, double x, double y) { return nearestFlatVertex(s, x, y); }
 
 /// Constant metric (gamma = 6) given as world tensors on the tilted plane:
 /// the distance is ||x - s||_G in the plane's coordinates.
@@ -86,17 +64,8 @@ TEST(SurfaceAccuracy, BadlyShapedPlaneWithConstantAnisotropicMetricMatchesTheTen
   const GeneratedSurface s = badPlane();
   const SurfaceDomain surface(s.points, s.faces);
   const auto g = tensor2(6.0, 0.5);
-  const Vec3d a1 = normalized({1, 1, 0}), a2 = normalized({-0.5, 0.5, 1});
-  // G_world = sum g_ij a_i a_j^T: singular across the plane; the builder
-  // keeps its tangential part.
-  auto entry = [&](double u1, double u2, double w1, double w2) {
-    return static_cast<float>(g[0] * u1 * w1 + g[1] * (u1 * w2 + u2 * w1) + g[2] * u2 * w2);
-  };
-  const SymTensor3 world{entry(a1.x, a2.x, a1.x, a2.x), entry(a1.x, a2.x, a1.y, a2.y),
-                         entry(a1.x, a2.x, a1.z, a2.z), entry(a1.y, a2.y, a1.y, a2.y),
-                         entry(a1.y, a2.y, a1.z, a2.z), entry(a1.z, a2.z, a1.z, a2.z)};
   const RiemannianMetric metric = surfaceMetricFromWorldTensors(
-      surface, std::vector<SymTensor3>(surface.vertexCount(), world));
+      surface, std::vector<SymTensor3>(surface.vertexCount(), tiltedPlaneWorldTensor(g)));
   const VertexId source = nearest(s, 5.0, 5.0);
   auto exact = [&](VertexId v) {
     return norm2(g, s.flat[v][0] - s.flat[source][0], s.flat[v][1] - s.flat[source][1]);
@@ -117,9 +86,7 @@ TEST(SurfaceAccuracy, BadlyShapedPlaneWithConstantAnisotropicMetricMatchesTheTen
 /// sqrt(dx^2 + 16 dy^2): exact, with tensors that turn from vertex to vertex
 /// in the tangent frames.
 TEST(SurfaceAccuracy, HeightFieldWithAProjectedMetricMatchesThePlanarTensorNorm) {
-  GeneratedSurface s = planeMesh(48, 48, 2.0 * kPi, 2.0 * kPi, 0.15, 0.6, false, 21);
-  for (std::size_t v = 0; v < s.points.size(); ++v)
-    s.points[v].z = 0.5 * std::sin(s.flat[v][0]) * std::cos(s.flat[v][1]);
+  const GeneratedSurface s = sineHeightField();
   const SurfaceDomain surface(s.points, s.faces);
   const RiemannianMetric metric = surfaceMetricFromWorldTensors(
       surface, std::vector<SymTensor3>(surface.vertexCount(), SymTensor3{1, 0, 0, 16, 0, 0}));

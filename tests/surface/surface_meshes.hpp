@@ -4,6 +4,7 @@
 // its distances are those of the unrolled strip).
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -61,6 +62,58 @@ inline GeneratedSurface planeMesh(int nx, int ny, double width, double height, d
       }
     }
   return s;
+}
+
+// A plane tilted in space (through (3, -2, 1), spanned by the orthonormal
+// tiltedPlaneAxes), 40 x 40 cells over 10 x 10, columns alternating in
+// width by 1 : 0.15, jittered, random diagonals: many needles and obtuse
+// triangles. flat holds the plane coordinates.
+inline std::array<Vec3d, 2> tiltedPlaneAxes() {
+  return {normalized({1, 1, 0}), normalized({-0.5, 0.5, 1})};
+}
+inline GeneratedSurface badlyShapedTiltedPlane(bool quads = false) {
+  const auto a = tiltedPlaneAxes();
+  return planeMesh(40, 40, 10.0, 10.0, 0.15, 0.6, quads, 7, {3, -2, 1}, a[0], a[1]);
+}
+
+/// The plane's 2x2 tensor g = {g11, g12, g22} as a world tensor on the
+/// tilted plane: G_world = sum g_ij a_i a_j^T, singular across the plane
+/// (surface metric builders keep its tangential part).
+inline SymTensor3 tiltedPlaneWorldTensor(const std::array<double, 3>& g) {
+  const auto [a1, a2] = tiltedPlaneAxes();
+  auto entry = [&](double u1, double u2, double w1, double w2) {
+    return static_cast<float>(g[0] * u1 * w1 + g[1] * (u1 * w2 + u2 * w1) + g[2] * u2 * w2);
+  };
+  return {entry(a1.x, a2.x, a1.x, a2.x), entry(a1.x, a2.x, a1.y, a2.y), entry(a1.x, a2.x, a1.z, a2.z),
+          entry(a1.y, a2.y, a1.y, a2.y), entry(a1.y, a2.y, a1.z, a2.z), entry(a1.z, a2.z, a1.z, a2.z)};
+}
+
+/// The 2x2 tensor with eigenvalues 1 and gamma^2, the strong one at `angle`.
+inline std::array<double, 3> tensor2(double gamma, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle), g2 = gamma * gamma;
+  return {c * c + g2 * s * s, (1.0 - g2) * c * s, s * s + g2 * c * c};
+}
+inline double norm2(const std::array<double, 3>& g, double x, double y) {
+  return std::sqrt(g[0] * x * x + 2.0 * g[1] * x * y + g[2] * y * y);
+}
+
+/// The curved, non-developable height field z = 0.5 sin(x) cos(y) over a
+/// badly shaped 48 x 48 triangulation of [0, 2 pi]^2; flat = (x, y).
+inline GeneratedSurface sineHeightField() {
+  GeneratedSurface s = planeMesh(48, 48, 2.0 * kPi, 2.0 * kPi, 0.15, 0.6, false, 21);
+  for (std::size_t v = 0; v < s.points.size(); ++v)
+    s.points[v].z = 0.5 * std::sin(s.flat[v][0]) * std::cos(s.flat[v][1]);
+  return s;
+}
+
+/// The vertex whose flat coordinates are nearest to (x, y).
+inline VertexId nearestFlatVertex(const GeneratedSurface& s, double x, double y) {
+  VertexId best = 0;
+  for (VertexId v = 1; v < s.flat.size(); ++v)
+    if (std::hypot(s.flat[v][0] - x, s.flat[v][1] - y) <
+        std::hypot(s.flat[best][0] - x, s.flat[best][1] - y))
+      best = v;
+  return best;
 }
 
 /// A prism with n sides inscribed in the cylinder of radius r around the z
