@@ -172,7 +172,8 @@ class SteinerDijkstra {
         domainVertexCount_(domainVertexCount),
         distance_(cells.pointCount(), kUnreachable),
         queue_(cells.pointCount()),
-        length_(cells.maxCellPoints()) {}
+        length_(cells.maxCellPoints()),
+        corner_(cells.maxCellCorners()) {}
 
   SteinerPropagationResult run(const std::vector<VertexId>& sources) {
     for (const VertexId s : sources) {
@@ -246,7 +247,8 @@ class SteinerDijkstra {
 
  private:
   std::uint64_t stateBytes() const {
-    return distance_.capacity() * sizeof(double) + queue_.capacityBytes() + length_.capacity() * sizeof(float);
+    return distance_.capacity() * sizeof(double) + queue_.capacityBytes() + length_.capacity() * sizeof(float) +
+           corner_.capacity() * sizeof(corner_[0]);
   }
 
   // Every boundary point q of every cell around u gets du + ||x(q) - x(u)||
@@ -256,7 +258,9 @@ class SteinerDijkstra {
     const double du = distance_[u];
     float* length = length_.data();
     cells_.forEachCellAround(u, [&](const SteinerCellView& cell) {
-      const typename Norm::VertexParams* corner[8];
+      // A polygon face may have any number of corners: the scratch is sized
+      // for the largest cell once.
+      const typename Norm::VertexParams** corner = corner_.data();
       for (int c = 0; c < cell.cornerCount; ++c) corner[c] = &metric_[cell.corners[c]];
       const typename Norm::EdgeParams g = CellNormRule<Norm>::params(corner, cell.cornerCount);
       const Vec3f* x = cell.position;
@@ -283,6 +287,7 @@ class SteinerDijkstra {
   std::vector<double> distance_;
   FrontQueue queue_;
   std::vector<float> length_;
+  std::vector<const typename Norm::VertexParams*> corner_;
   std::uint64_t relaxed_ = 0;
   std::uint64_t peakBytes_ = 0;
 };
@@ -328,6 +333,15 @@ SteinerPropagationResult steinerPropagate(const TetrahedralCells& mesh, const Me
       .run(sources);
 }
 
+SteinerPropagationResult steinerPropagate(const SurfaceDomain& surface, const RiemannianMetric& metric,
+                                          const std::vector<VertexId>& sources, const SteinerOptions& options) {
+  detail::validate(surface, surface.vertexCount(), metric, sources, options);
+  detail::SurfaceSteinerCells cells(surface, options.steinerPoints);
+  return detail::SteinerDijkstra<detail::SurfaceSteinerCells, RiemannianNorm>(
+             cells, metric, surface.vertexCount(), surface.vertexCount(), options)
+      .run(sources);
+}
+
 Vec3d steinerPointPosition(const VoxelGridDomain& domain, int steinerPoints, SteinerPointId p) {
   const detail::GridSteinerCells cells(domain, steinerPoints, false);
   if (p >= cells.pointCount()) throw std::invalid_argument("Steiner point " + std::to_string(p) + " out of range");
@@ -336,6 +350,15 @@ Vec3d steinerPointPosition(const VoxelGridDomain& domain, int steinerPoints, Ste
 
 Vec3d steinerPointPosition(const TetrahedralCells& mesh, int steinerPoints, SteinerPointId p) {
   const detail::TetSteinerCells cells(mesh, steinerPoints);
+  if (p >= cells.pointCount()) throw std::invalid_argument("Steiner point " + std::to_string(p) + " out of range");
+  return cells.position(p);
+}
+
+Vec3d steinerPointPosition(const SurfaceDomain& surface, int steinerPoints, SteinerPointId p) {
+  if (steinerPoints < 1 || steinerPoints > kMaxSteinerPoints)
+    throw std::invalid_argument("number of Steiner points per edge M = " + std::to_string(steinerPoints) +
+                                " is outside 1.." + std::to_string(kMaxSteinerPoints));
+  const detail::SurfaceSteinerCells cells(surface, steinerPoints);
   if (p >= cells.pointCount()) throw std::invalid_argument("Steiner point " + std::to_string(p) + " out of range");
   return cells.position(p);
 }

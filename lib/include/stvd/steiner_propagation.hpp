@@ -5,7 +5,8 @@
 // grows. docs/steiner.md describes the construction.
 //
 // Cells are convex polytopes: the cubes between eight neighbouring voxel
-// centres of a grid, or the tetrahedra of a mesh. Their boundaries are
+// centres of a grid, the tetrahedra of a mesh, or the polygon faces of a
+// surface. Their boundaries are
 // sampled by Steiner points (M per cell edge and a lattice of the same
 // spacing inside every face, see below), and Dijkstra runs over the graph
 // that joins every two boundary points of a cell by the straight segment
@@ -22,6 +23,7 @@
 
 #include "stvd/metric_field.hpp"
 #include "stvd/propagation.hpp"
+#include "stvd/surface_domain.hpp"
 #include "stvd/tetrahedral_cells.hpp"
 #include "stvd/types.hpp"
 #include "stvd/voxel_grid_domain.hpp"
@@ -95,6 +97,25 @@ SteinerPropagationResult steinerPropagate(const TetrahedralCells& cells,
                                           const std::vector<VertexId>& sources,
                                           const SteinerOptions& options = {});
 
+/// Surface version: every polygon face is a cell (nothing is triangulated)
+/// with M points on each of its edges, shared with the face across the
+/// edge; no points inside faces (in 2D a straight line crosses the cells'
+/// edges, so edge points suffice for convergence). Every two boundary points
+/// of a face are joined by the straight 3D segment between them, measured
+/// with the face's norm: the mean of the world tensors at the face's
+/// corners. On a planar face the segment lies in the face's plane, where
+/// this is the mean tensor restricted to that plane, i.e. the corner tensors'
+/// tangential parts projected into the face, as the surface STVD measures an
+/// edge with its end points' mean. A non-planar polygon is measured by the
+/// 3D chords between its boundary points (slightly short of the surface);
+/// a non-convex one also joins points whose segment leaves the polygon
+/// (paths may cut across a reflex corner): triangulate such faces first.
+/// Only the Riemannian norm (world tensors per vertex, surface_metrics.hpp).
+/// Throws as the grid version (except for the grid size).
+SteinerPropagationResult steinerPropagate(const SurfaceDomain& surface, const RiemannianMetric& metric,
+                                          const std::vector<VertexId>& sources,
+                                          const SteinerOptions& options = {});
+
 /// Physical position of graph point p for M Steiner points per edge.
 ///
 /// Grid numbering: S = 1 + 3M + 3M^2 points per voxel v, p = v S + slot;
@@ -110,6 +131,10 @@ Vec3d steinerPointPosition(const VoxelGridDomain& domain, int steinerPoints, Ste
 /// barycentric weights (M + 1 - b - c, b, c) / (M + 1) on the face's
 /// vertices for b = 1..M-1, c = 1..M-b in that order).
 Vec3d steinerPointPosition(const TetrahedralCells& cells, int steinerPoints, SteinerPointId p);
+/// Surface numbering: vertices first (p = v), then M points per undirected
+/// edge, the edges sorted by (smaller vertex, larger vertex), the m-th point
+/// at m / (M + 1) from the smaller to the larger vertex.
+Vec3d steinerPointPosition(const SurfaceDomain& surface, int steinerPoints, SteinerPointId p);
 
 /// The norm a cell is measured with, from the parameters at its corners: the
 /// arithmetic mean of the corner parameters (tensors; for Randers, tensors
