@@ -13,6 +13,7 @@
 #include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/propagation.hpp"
+#include "stvd/steiner_propagation.hpp"
 #include "stvd/surface_domain.hpp"
 #include "stvd/surface_io/surface_mesh_io.hpp"
 #include "stvd/surface_metrics.hpp"
@@ -44,7 +45,11 @@ const char* kSurfaceDistanceHelp =
     "  --anisotropy G          G >= 1 for curvature and field metrics (required for them).\n"
     "\n"
     "Propagation:\n"
-    "  --method M              stvd (default) or dijkstra (lanthier is not implemented yet).\n"
+    "  --method M              stvd (default), dijkstra, or lanthier: Steiner points on the face\n"
+    "                          edges joined through each face, the slow accurate reference\n"
+    "                          (needs --steiner; docs/steiner.md).\n"
+    "  --steiner M             lanthier: Steiner points per face edge, 1..16; time grows like M^2\n"
+    "                          to M^3 on surfaces.\n"
     "  --k N                   STVD memory depth, 1..16 (default 8).\n"
     "  --chain-measure R       projection (default on surfaces: the paper's rule) or largest.\n"
     "\n"
@@ -62,8 +67,12 @@ struct SurfaceOptions {
   double anisotropy = 0.0;
   bool anisotropyGiven = false;
   Method method = Method::ShortTermVectorDijkstra;
+  bool lanthier = false;  // Steiner-point propagation instead of `method`
+  int steinerPoints = 0;  // 0: --steiner not given
   int k = 8;
+  bool kGiven = false;
   ChainMeasure chainMeasure = ChainMeasure::ProjectionWeighted;
+  bool chainMeasureGiven = false;
   bool quiet = false;
 };
 
@@ -107,11 +116,16 @@ SurfaceOptions parse(int argc, char** argv) {
         usageError("--anisotropy must be a number >= 1");
     } else if (a == "--method") {
       const std::string m = args.value(a);
+      o.lanthier = m == "lanthier";
       if (m == "stvd") o.method = Method::ShortTermVectorDijkstra;
       else if (m == "dijkstra") o.method = Method::Dijkstra;
-      else if (m == "lanthier") usageError("--method lanthier is not implemented yet; use stvd or dijkstra");
-      else usageError("--method: '" + m + "' is not one of stvd, dijkstra");
+      else if (!o.lanthier) usageError("--method: '" + m + "' is not one of stvd, dijkstra, lanthier");
+    } else if (a == "--steiner") {
+      o.steinerPoints = parseInteger(a, args.value(a));
+      if (o.steinerPoints < 1 || o.steinerPoints > kMaxSteinerPoints)
+        usageError("--steiner must be between 1 and " + std::to_string(kMaxSteinerPoints));
     } else if (a == "--k") {
+      o.kGiven = true;
       o.k = parseInteger(a, args.value(a));
       if (o.k < 1 || o.k > kMaxMemoryDepth)
         usageError("--k must be between 1 and " + std::to_string(kMaxMemoryDepth));
@@ -120,6 +134,7 @@ SurfaceOptions parse(int argc, char** argv) {
       if (m == "projection") o.chainMeasure = ChainMeasure::ProjectionWeighted;
       else if (m == "largest") o.chainMeasure = ChainMeasure::LargestEdgeNorm;
       else usageError("--chain-measure: '" + m + "' is not one of projection, largest");
+      o.chainMeasureGiven = true;
     } else if (a == "-q" || a == "--quiet") {
       args.noValue(a);
       o.quiet = true;
@@ -138,6 +153,12 @@ SurfaceOptions parse(int argc, char** argv) {
   if (needsGamma && !o.anisotropyGiven) usageError("--metric " + o.metric + " needs --anisotropy G");
   if (!needsGamma && o.anisotropyGiven)
     usageError("--anisotropy applies to the curvature and field metrics only");
+  const bool stvd = !o.lanthier && o.method == Method::ShortTermVectorDijkstra;
+  if (o.kGiven && !stvd) usageError("--k applies to --method stvd only");
+  if (o.chainMeasureGiven && !stvd) usageError("--chain-measure applies to --method stvd only");
+  if (o.lanthier && o.steinerPoints == 0)
+    usageError("--method lanthier needs --steiner M, the Steiner points per face edge (1..16; try 4)");
+  if (!o.lanthier && o.steinerPoints != 0) usageError("--steiner applies to --method lanthier only");
   return o;
 }
 
@@ -220,11 +241,22 @@ int runSurfaceDistance(int argc, char** argv) {
                                        std::to_string(surface->vertexCount()) + " vertices)");
     sources.push_back(static_cast<VertexId>(s));
   }
-  PropagationOptions options;
-  options.method = o.method;
-  options.k = o.method == Method::Dijkstra ? 1 : o.k;
-  options.chainMeasure = o.chainMeasure;
-  const PropagationResult result = propagate(*surface, *metric, sources, options);
+  PropagationResult result;
+  if (o.lanthier) {
+    SteinerOptions steiner;
+    steiner.steinerPoints = o.steinerPoints;
+    try {
+      result = steinerPropagate(*surface, *metric, sources, steiner);
+    } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
+      throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
+    }
+  } else {
+    PropagationOptions options;
+    options.method = o.method;
+    options.k = o.method == Method::Dijkstra ? 1 : o.k;
+    options.chainMeasure = o.chainMeasure;
+    result = propagate(*surface, *metric, sources, options);
+  }
 
   try {
     imaging::AtomicOutput out(o.output);
@@ -250,8 +282,9 @@ int runSurfaceDistance(int argc, char** argv) {
               << withThousands(surface->faceCount()) << " faces, "
               << surface->componentCount() << " component(s); metric " << o.metric
               << (o.anisotropyGiven ? " (anisotropy " + fixed(o.anisotropy, 2) + ")" : "") << "; "
-              << (o.method == Method::Dijkstra ? std::string("Dijkstra")
-                                               : "STVD k=" + std::to_string(o.k))
+              << (o.lanthier ? "Lanthier M=" + std::to_string(o.steinerPoints)
+                  : o.method == Method::Dijkstra ? std::string("Dijkstra")
+                                                 : "STVD k=" + std::to_string(o.k))
               << ". Farthest reached distance " << fixed(farthest, 4) << "; "
               << withThousands(unreached) << " vertices unreachable"
               << (unreached ? " (in " + std::to_string(otherComponents) +

@@ -95,6 +95,41 @@ TEST_F(ToolSurfaceDistance, BadlyShapedPlaneGivesEuclideanDistancesInCsv) {
   EXPECT_LT(worst, 0.032);  // measured max 0.0088-0.0214
 }
 
+/// --method lanthier --steiner M on the same plane: the Steiner distances
+/// are polylines in the plane, so never shorter than the straight line, and
+/// they come closer to it as M grows.
+TEST_F(ToolSurfaceDistance, LanthierOnTheBadlyShapedPlaneConvergesFromAbove) {
+  const GeneratedSurface s = test::planeMesh(30, 30, 10.0, 10.0, 0.15, 0.6, false, 11);
+  writeOff(path("plane.off"), s);
+  const VertexId seed = 15 * 31 + 15;
+  auto meanError = [&](const std::string& m, double& minSigned) {
+    const ToolRun run = runTool({"distance", path("plane.off"), "--seed-vertex", std::to_string(seed),
+                                 "--method", "lanthier", "--steiner", m, "-o", path("m" + m + ".csv")});
+    EXPECT_EQ(run.exitCode, 0) << run.err;
+    EXPECT_NE(run.out.find("metric isotropic; Lanthier M=" + m + "."), std::string::npos) << run.out;
+    const std::vector<double> d = readCsv(path("m" + m + ".csv"));
+    EXPECT_EQ(d.size(), s.points.size());
+    double sum = 0.0;
+    minSigned = 0.0;
+    for (VertexId v = 0; v < d.size(); ++v) {
+      if (v == seed) continue;
+      const double exact = std::hypot(s.flat[v][0] - s.flat[seed][0], s.flat[v][1] - s.flat[seed][1]);
+      sum += std::abs(d[v] - exact) / exact;
+      minSigned = std::min(minSigned, (d[v] - exact) / exact);
+    }
+    return sum / (d.size() - 1);
+  };
+  double minSigned1 = 0.0, minSigned4 = 0.0;
+  const double m1 = meanError("1", minSigned1), m4 = meanError("4", minSigned4);
+  std::printf("[ measured ] tool, bad plane, lanthier: M=1 mean %.5f, M=4 mean %.5f\n", m1, m4);
+  EXPECT_LT(m4, m1);
+  constexpr double kMeanToleranceM4 = 0.016;  // measured M=1 0.0442, M=4 0.0124
+  EXPECT_LT(m4, kMeanToleranceM4);
+  // Written in full precision (csv); segment lengths in float.
+  EXPECT_GT(minSigned1, -1e-6);
+  EXPECT_GT(minSigned4, -1e-6);
+}
+
 TEST_F(ToolSurfaceDistance, FieldMetricOnAPrismMatchesTheUnrolledMetricInVtk) {
   const int n = 48;
   const GeneratedSurface s = test::prismMesh(n, 30, 2.0, 0.4, false, 4);
@@ -246,6 +281,19 @@ TEST_F(ToolSurfaceBadInput, CommandLineMistakes) {
                 kUsage, "needs --anisotropy");
   expectFailure({path("ok.obj"), "--seed-vertex", "-2", "-o", path("out/d.csv")}, kUsage,
                 "--seed-vertex");
+  expectFailure({path("ok.obj"), "--seed-vertex", "0", "--method", "lanthier", "-o", path("out/d.csv")},
+                kUsage, "--method lanthier needs --steiner M");
+  expectFailure({path("ok.obj"), "--seed-vertex", "0", "--method", "lanthier", "--steiner", "0", "-o",
+                 path("out/d.csv")},
+                kUsage, "--steiner must be between 1 and 16");
+  expectFailure({path("ok.obj"), "--seed-vertex", "0", "--method", "lanthier", "--steiner", "17", "-o",
+                 path("out/d.csv")},
+                kUsage, "--steiner must be between 1 and 16");
+  expectFailure({path("ok.obj"), "--seed-vertex", "0", "--steiner", "2", "-o", path("out/d.csv")}, kUsage,
+                "--steiner applies to --method lanthier only");
+  expectFailure({path("ok.obj"), "--seed-vertex", "0", "--method", "lanthier", "--steiner", "2", "--k", "5",
+                 "-o", path("out/d.csv")},
+                kUsage, "--k applies to --method stvd only");
   // The mesh after the options is still a surface call.
   expectFailure({"-o", path("out/d.csv"), path("ok.obj")}, kUsage, "no seed given");
 }
