@@ -15,6 +15,7 @@
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/tensor_frames.hpp"
 #include "stvd/propagation.hpp"
+#include "stvd/steiner_propagation.hpp"
 #include "stvd/tetmesh/grid_resampling.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
@@ -67,8 +68,10 @@ const char* kTetDistanceHelp =
     "  --outside-image P       with an image, for vertices beyond the image's extent: error\n"
     "                          (default; exit 3) or mask (left out of the domain).\n"
     "\n"
-    "Propagation: --method stvd|dijkstra, --k N (default 8), --chain-measure largest|projection,\n"
-    "--max-distance D, as for grids.\n"
+    "Propagation: --method stvd|dijkstra|lanthier, --k N (default 8), --chain-measure\n"
+    "largest|projection, --max-distance D, as for grids. lanthier: Steiner points on the edges\n"
+    "and faces of the tetrahedra, joined through each tetrahedron (--steiner M points per edge,\n"
+    "1..16, required; docs/steiner.md).\n"
     "\n"
     "Output:\n"
     "  -o, --output FILE       .vtk (legacy VTK), .vtu (VTK XML) or .csv (vertex,distance with\n"
@@ -101,8 +104,12 @@ struct TetDistanceOptions {
   int tensorAttribute = 0;
   std::string outsideImage = "error";
   Method method = Method::ShortTermVectorDijkstra;
+  bool lanthier = false;  // Steiner-point propagation instead of `method`
+  int steinerPoints = 0;  // 0: --steiner not given
   int k = kToolMemoryDepth;
+  bool kGiven = false;
   ChainMeasure chainMeasure = kToolChainMeasure;
+  bool chainMeasureGiven = false;
   double maxDistance = std::numeric_limits<double>::infinity();
   TensorInputOptions tensor;
   double unreachableValue = -1.0;
@@ -154,10 +161,16 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
         usageError("--outside-image: '" + o.outsideImage + "' is not one of error, mask");
     } else if (a == "--method") {
       const std::string m = args.value(a);
+      o.lanthier = m == "lanthier";
       if (m == "stvd") o.method = Method::ShortTermVectorDijkstra;
       else if (m == "dijkstra") o.method = Method::Dijkstra;
-      else usageError("--method: '" + m + "' is not one of stvd, dijkstra");
+      else if (!o.lanthier) usageError("--method: '" + m + "' is not one of stvd, dijkstra, lanthier");
+    } else if (a == "--steiner") {
+      o.steinerPoints = parseInteger(a, args.value(a));
+      if (o.steinerPoints < 1 || o.steinerPoints > kMaxSteinerPoints)
+        usageError("--steiner must be between 1 and " + std::to_string(kMaxSteinerPoints));
     } else if (a == "--k") {
+      o.kGiven = true;
       o.k = parseInteger(a, args.value(a));
       if (o.k < 1 || o.k > kMaxMemoryDepth) usageError("--k must be in 1.." + std::to_string(kMaxMemoryDepth));
     } else if (a == "--chain-measure") {
@@ -165,6 +178,7 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
       if (m == "largest") o.chainMeasure = ChainMeasure::LargestEdgeNorm;
       else if (m == "projection") o.chainMeasure = ChainMeasure::ProjectionWeighted;
       else usageError("--chain-measure: '" + m + "' is not one of largest, projection");
+      o.chainMeasureGiven = true;
     } else if (a == "--max-distance") {
       o.maxDistance = parseNumber(a, args.value(a));
       if (!(o.maxDistance > 0.0)) usageError("--max-distance must be positive");
@@ -186,6 +200,12 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
   if (o.output.empty()) usageError("no output: -o FILE (.vtk, .vtu or .csv) is required");
   if (o.seedVertices.empty() && o.seedPoints.empty())
     usageError("no seed: give --seed-vertex or --seed-point");
+  const bool stvd = !o.lanthier && o.method == Method::ShortTermVectorDijkstra;
+  if (o.kGiven && !stvd) usageError("--k applies to --method stvd only");
+  if (o.chainMeasureGiven && !stvd) usageError("--chain-measure applies to --method stvd only");
+  if (o.lanthier && o.steinerPoints == 0)
+    usageError("--method lanthier needs --steiner M, the Steiner points per tetrahedron edge (1..16; try 2)");
+  if (!o.lanthier && o.steinerPoints != 0) usageError("--steiner applies to --method lanthier only");
   tetmesh::TetMeshOutputFormat format;
   if (imaging::hasImageExtension(o.output)) {
     if (o.reference.empty())
@@ -441,12 +461,27 @@ int runTetMeshDistance(int argc, char** argv) {
   const CellMeshDomain domain =
       CellMeshDomain::fromTetrahedra(tetmesh::permutedPoints(points, order), tetmesh::permutedTets(tets, order));
   const RiemannianMetric metric(std::move(orderedTensors), &orderedInDomain);
-  PropagationOptions options;
-  options.method = o.method;
-  options.k = o.method == Method::Dijkstra ? 1 : o.k;
-  options.chainMeasure = o.chainMeasure;
-  options.maxDistance = o.maxDistance;
-  PropagationResult result = propagate(domain, metric, orderedSources, options);
+  PropagationResult result;
+  if (o.lanthier) {
+    // The cells are the domain's tetrahedra (those with four usable
+    // corners), so vertices outside the domain are never reached.
+    const TetrahedralCells cells(tetmesh::permutedPoints(points, order), tetmesh::permutedTets(tets, order));
+    SteinerOptions steiner;
+    steiner.steinerPoints = o.steinerPoints;
+    steiner.maxDistance = o.maxDistance;
+    try {
+      result = steinerPropagate(cells, metric, orderedSources, steiner);
+    } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
+      throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
+    }
+  } else {
+    PropagationOptions options;
+    options.method = o.method;
+    options.k = o.method == Method::Dijkstra ? 1 : o.k;
+    options.chainMeasure = o.chainMeasure;
+    options.maxDistance = o.maxDistance;
+    result = propagate(domain, metric, orderedSources, options);
+  }
   const double propagationSeconds = secondsSince(propagationStart);
   {
     std::vector<double> inFileOrder(mesh.vertexCount());
@@ -492,7 +527,8 @@ int runTetMeshDistance(int argc, char** argv) {
       << withThousands(mesh.tets.size()) << " tetrahedra (" << withThousands(tets.size()) << " in the domain), "
       << withThousands(domain.edgeCount()) << " edges, numbered from " << mesh.firstIndex << ".\n"
       << "Metric: " << vt.description << ".\n"
-      << (o.method == Method::Dijkstra ? std::string("Dijkstra")
+      << (o.lanthier ? "Lanthier Steiner points, M = " + std::to_string(o.steinerPoints) + " per edge"
+          : o.method == Method::Dijkstra ? std::string("Dijkstra")
                                        : "STVD k = " + std::to_string(o.k) + " (" +
                                              (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? "largest edge norm"
                                                                                               : "projection-weighted") +

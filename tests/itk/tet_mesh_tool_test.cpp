@@ -320,6 +320,74 @@ TEST_F(TetMeshTool, HelpForAMeshListsTheMeshOptions) {
   EXPECT_NE(run.out.find("--outside-image"), std::string::npos);
 }
 
+/// --method lanthier --steiner M: Steiner points on the tetrahedra's edges
+/// and faces. Under a constant metric a segment along a mesh edge is
+/// measured exactly and no polyline is shorter than the straight line, so
+/// the edge neighbours get their exact edge norm, every vertex is at least
+/// its straight-line distance, and the error shrinks as M grows.
+TEST_F(TetMeshTool, LanthierGivesExactEdgeDistancesAndConvergesFromAbove) {
+  tetmesh::TetMesh m = kuhnCube({0, 0, 0}, 1);
+  m.pointAttributeCount = 6;
+  for (std::size_t v = 0; v < m.vertexCount(); ++v)
+    m.pointAttributes.insert(m.pointAttributes.end(),
+                             {kG[0][0], kG[0][1], kG[0][2], kG[1][1], kG[1][2], kG[2][2]});
+  tetmesh::writeTetGenMesh(in("cube"), m);
+  const long long seed = latticeId(2, 2, 2) + 1;
+  auto run = [&](std::vector<std::string> method) {
+    std::vector<std::string> args{in("cube.node"), "--seed-vertex", std::to_string(seed), "--tensors", "node",
+                                  "--tensor-kind", "metric"};
+    args.insert(args.end(), method.begin(), method.end());
+    return distances(args);
+  };
+  auto meanError = [&](const std::map<long long, double>& d, double& minSigned) {
+    double sum = 0.0;
+    minSigned = 0.0;
+    for (int k = 0; k <= 4; ++k)
+      for (int j = 0; j <= 4; ++j)
+        for (int i = 0; i <= 4; ++i) {
+          if (i == 2 && j == 2 && k == 2) continue;
+          const double exact = normUnder(kG, {i - 2.0, j - 2.0, k - 2.0});
+          const double relative = (d.at(latticeId(i, j, k) + 1) - exact) / exact;
+          sum += std::abs(relative);
+          minSigned = std::min(minSigned, relative);
+        }
+    return sum / 124.0;
+  };
+  const auto dijkstra = run({"--method", "dijkstra"});
+  const auto coarse = run({"--method", "lanthier", "--steiner", "1"});
+  const auto fine = run({"--method", "lanthier", "--steiner", "3"});
+  expectEdgeDistances(coarse, kG, 1);
+  expectEdgeDistances(fine, kG, 1);
+  double minDijkstra = 0.0, minCoarse = 0.0, minFine = 0.0;
+  const double eDijkstra = meanError(dijkstra, minDijkstra), eCoarse = meanError(coarse, minCoarse),
+               eFine = meanError(fine, minFine);
+  std::printf("[ measured ] tool, Kuhn cube, constant metric: Dijkstra %.5f, lanthier M=1 %.5f, M=3 %.5f\n",
+              eDijkstra, eCoarse, eFine);
+  // Measured: Dijkstra 0.277, M=1 0.0333, M=3 0.0110.
+  constexpr double kMeanToleranceM3 = 0.0143;
+  EXPECT_LT(eFine, eCoarse);
+  EXPECT_LT(eCoarse, eDijkstra);
+  EXPECT_LT(eFine, kMeanToleranceM3);
+  EXPECT_GT(minCoarse, -2e-6);
+  EXPECT_GT(minFine, -2e-6);
+}
+
+TEST_F(TetMeshTool, LanthierCommandLineRulesFailInOneLine) {
+  tetmesh::writeTetGenMesh(in("good"), kuhnCube({0, 0, 0}, 1));
+  const std::vector<std::string> base{"distance", in("good.node"), "--seed-vertex", "1", "-o", out("d.csv")};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = base;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  };
+  expectFailure(with({"--method", "lanthier"}), 2, "--method lanthier needs --steiner M");
+  expectFailure(with({"--method", "lanthier", "--steiner", "0"}), 2, "--steiner must be between 1 and 16");
+  expectFailure(with({"--method", "lanthier", "--steiner", "17"}), 2, "--steiner must be between 1 and 16");
+  expectFailure(with({"--method", "lanthier", "--steiner", "x"}), 2, "--steiner");
+  expectFailure(with({"--steiner", "2"}), 2, "--steiner applies to --method lanthier only");
+  expectFailure(with({"--method", "lanthier", "--steiner", "2", "--k", "4"}), 2, "--k applies to --method stvd");
+}
+
 TEST_F(TetMeshTool, BadMeshesSeedsAndOutputsFailInOneLine) {
   tetmesh::TetMesh m = kuhnCube({0, 0, 0}, 1);
   tetmesh::writeTetGenMesh(in("good"), m);
