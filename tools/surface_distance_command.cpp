@@ -153,9 +153,9 @@ SurfaceOptions parse(int argc, char** argv) {
   if (needsGamma && !o.anisotropyGiven) usageError("--metric " + o.metric + " needs --anisotropy G");
   if (!needsGamma && o.anisotropyGiven)
     usageError("--anisotropy applies to the curvature and field metrics only");
-  const bool stvd = !o.lanthier && o.method == Method::ShortTermVectorDijkstra;
-  if (o.kGiven && !stvd) usageError("--k applies to --method stvd only");
-  if (o.chainMeasureGiven && !stvd) usageError("--chain-measure applies to --method stvd only");
+  // (With dijkstra, --k and --chain-measure have always been accepted and ignored here.)
+  if (o.kGiven && o.lanthier) usageError("--k applies to --method stvd only");
+  if (o.chainMeasureGiven && o.lanthier) usageError("--chain-measure applies to --method stvd only");
   if (o.lanthier && o.steinerPoints == 0)
     usageError("--method lanthier needs --steiner M, the Steiner points per face edge (1..16; try 4)");
   if (!o.lanthier && o.steinerPoints != 0) usageError("--steiner applies to --method lanthier only");

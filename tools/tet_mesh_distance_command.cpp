@@ -200,9 +200,9 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
   if (o.output.empty()) usageError("no output: -o FILE (.vtk, .vtu or .csv) is required");
   if (o.seedVertices.empty() && o.seedPoints.empty())
     usageError("no seed: give --seed-vertex or --seed-point");
-  const bool stvd = !o.lanthier && o.method == Method::ShortTermVectorDijkstra;
-  if (o.kGiven && !stvd) usageError("--k applies to --method stvd only");
-  if (o.chainMeasureGiven && !stvd) usageError("--chain-measure applies to --method stvd only");
+  // (With dijkstra, --k and --chain-measure have always been accepted and ignored here.)
+  if (o.kGiven && o.lanthier) usageError("--k applies to --method stvd only");
+  if (o.chainMeasureGiven && o.lanthier) usageError("--chain-measure applies to --method stvd only");
   if (o.lanthier && o.steinerPoints == 0)
     usageError("--method lanthier needs --steiner M, the Steiner points per tetrahedron edge (1..16; try 2)");
   if (!o.lanthier && o.steinerPoints != 0) usageError("--steiner applies to --method lanthier only");
