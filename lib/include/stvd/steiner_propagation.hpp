@@ -37,10 +37,11 @@ using SteinerPointId = std::uint32_t;
 inline constexpr int kMaxSteinerPoints = 16;
 
 struct SteinerOptions {
-  /// M: Steiner points per cell edge, 1..kMaxSteinerPoints. Every face also
-  /// gets the interior points of the same lattice (M x M on a square face,
-  /// M (M - 1) / 2 on a triangle), so a path can cross a face anywhere to
-  /// within 1 / (M + 1) of the edge length.
+  /// M: Steiner points per cell edge, 1..kMaxSteinerPoints. In 3D every
+  /// face also gets the interior points of the same lattice (M x M on a
+  /// square face, M (M - 1) / 2 on a triangle), so a path can cross a face
+  /// anywhere to within 1 / (M + 1) of the edge length. On surfaces the
+  /// cells are the faces and a path crosses their edges: edge points only.
   int steinerPoints = 4;
   /// Stop once the next point to finalise is farther than this.
   double maxDistance = std::numeric_limits<double>::infinity();
