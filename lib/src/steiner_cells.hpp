@@ -30,18 +30,24 @@ struct SteinerCellView {
 };
 
 /// Cubes between voxel centres; see steinerPointPosition for the numbering.
+/// Only voxels of the domain carry points (every cell corner is one), so a
+/// brain in a large image pays for its mask, not for the background.
 class GridSteinerCells {
  public:
   /// Without `findCells` only the numbering and positions are set up (no
-  /// propagation possible), which costs nothing per voxel.
+  /// propagation possible).
   GridSteinerCells(const VoxelGridDomain& domain, int steinerPoints, bool findCells = true);
 
   std::uint64_t pointCount() const { return pointCount_; }
-  SteinerPointId pointOfVertex(VertexId v) const { return v * slots_; }
+  /// The centre point of voxel v; kNoVertex when v is outside the domain.
+  SteinerPointId pointOfVertex(VertexId v) const {
+    const std::uint32_t n = numberOf(v);
+    return n == kNoVertex ? kNoVertex : n * slots_;
+  }
   /// The voxel of point p, when p is a voxel centre; kNoVertex otherwise.
   VertexId vertexOfPoint(SteinerPointId p) const {
-    const std::uint32_t v = slotDivisor_.divide(p);
-    return p == v * slots_ ? v : kNoVertex;
+    const std::uint32_t n = slotDivisor_.divide(p);
+    return p == n * slots_ ? voxelOf(n) : kNoVertex;
   }
   Vec3d position(SteinerPointId p) const;
   /// Points on the boundary of the largest cell.
@@ -50,16 +56,22 @@ class GridSteinerCells {
 
   template <class F>
   void forEachCellAround(SteinerPointId u, F&& f) {
-    const std::uint32_t v = slotDivisor_.divide(u);
-    const std::uint32_t slot = u - v * slots_;
-    const VoxelIndex c = domain_.indexOf(v);
+    const std::uint32_t n = slotDivisor_.divide(u);
+    const std::uint32_t slot = u - n * slots_;
+    const VoxelIndex c = domain_.indexOf(voxelOf(n));
+    const int points = static_cast<int>(position_.size());
     for (const Incidence& in : around_[slot]) {
       if (c.i < in.d[0] || c.j < in.d[1] || c.k < in.d[2]) continue;
       const VertexId base = domain_.vertexAt(c.i - in.d[0], c.j - in.d[1], c.k - in.d[2]);
       if (!isCell_[base]) continue;
-      for (int corner = 0; corner < 8; ++corner) corners_[corner] = base + cornerOffset_[corner];
-      f(SteinerCellView{corners_.data(), 8, static_cast<int>(position_.size()), base * slots_,
-                        idOffset_.data(), position_.data(), position_[in.local]});
+      // The cube's points are numbered with its eight corner voxels.
+      std::uint32_t first[8];
+      for (int corner = 0; corner < 8; ++corner) {
+        corners_[corner] = base + cornerOffset_[corner];
+        first[corner] = numberOf(corners_[corner]) * slots_;
+      }
+      for (int l = 0; l < points; ++l) id_[l] = first[pointCorner_[l]] + pointSlot_[l];
+      f(SteinerCellView{corners_.data(), 8, points, 0, id_.data(), position_.data(), position_[in.local]});
     }
   }
 
@@ -68,13 +80,22 @@ class GridSteinerCells {
     std::array<int, 3> d;  // index offset from the cube's base corner to the point's voxel
     int local;             // the point's index among the cube's boundary points
   };
+  /// Number of voxel v among the domain's voxels (index order), kNoVertex outside.
+  std::uint32_t numberOf(VertexId v) const { return numberOfVoxel_.empty() ? v : numberOfVoxel_[v]; }
+  VertexId voxelOf(std::uint32_t n) const { return voxelOfNumber_.empty() ? n : voxelOfNumber_[n]; }
+
   const VoxelGridDomain& domain_;
   int m_;
   std::uint32_t slots_;
   std::uint64_t pointCount_;
   detail::FixedDivisor slotDivisor_;
-  std::vector<Vec3f> position_;           // per boundary point of a cube, from its base corner
-  std::vector<SteinerPointId> idOffset_;  // per boundary point of a cube
+  std::vector<Vec3f> position_;            // per boundary point of a cube, from its base corner
+  std::vector<std::uint8_t> pointCorner_;  // per boundary point of a cube: the corner voxel numbering it
+  std::vector<std::uint32_t> pointSlot_;   // per boundary point of a cube: its slot at that voxel
+  std::vector<SteinerPointId> id_;         // per boundary point: its id in the cube at hand
+  // Empty when every voxel is in the domain (the numbering is the identity).
+  std::vector<std::uint32_t> numberOfVoxel_;
+  std::vector<VertexId> voxelOfNumber_;
   std::vector<Vec3d> slotIndexOffset_;    // per slot: continuous index offset from its voxel
   std::vector<std::vector<Incidence>> around_;  // per slot: the cubes around such a point
   std::array<VertexId, 8> cornerOffset_{};

@@ -23,7 +23,16 @@ GridSteinerCells::GridSteinerCells(const VoxelGridDomain& domain, int steinerPoi
       throw std::invalid_argument("Steiner propagation needs at least 2 voxels along every grid axis (axis " +
                                   std::to_string(a) + " has " + std::to_string(g.size[a]) + ")");
   const std::uint64_t slots = 1 + 3 * std::uint64_t(m_) + 3 * std::uint64_t(m_) * m_;
-  pointCount_ = slots * domain.vertexCount();
+  if (domain.domainVertexCount() < domain.vertexCount()) {
+    numberOfVoxel_.assign(domain.vertexCount(), kNoVertex);
+    voxelOfNumber_.reserve(domain.domainVertexCount());
+    for (VertexId v = 0; v < domain.vertexCount(); ++v)
+      if (domain.contains(v)) {
+        numberOfVoxel_[v] = static_cast<std::uint32_t>(voxelOfNumber_.size());
+        voxelOfNumber_.push_back(v);
+      }
+  }
+  pointCount_ = slots * domain.domainVertexCount();
   if (pointCount_ >= FrontQueue::kFinal)
     throw std::invalid_argument("Steiner graph of " + std::to_string(pointCount_) +
                                 " points is too large for 32-bit indices; use fewer Steiner points or a smaller grid");
@@ -40,7 +49,8 @@ GridSteinerCells::GridSteinerCells(const VoxelGridDomain& domain, int steinerPoi
   auto add = [&](std::array<int, 3> d, std::uint32_t slot, Vec3d inCube) {
     const int local = static_cast<int>(position_.size());
     position_.push_back(toFloat(g.indexToPhysicalOffset(inCube.x, inCube.y, inCube.z)));
-    idOffset_.push_back((d[0] + nx * (d[1] + ny * d[2])) * slots_ + slot);
+    pointCorner_.push_back(static_cast<std::uint8_t>(d[0] + 2 * d[1] + 4 * d[2]));
+    pointSlot_.push_back(slot);
     slotIndexOffset_[slot] = inCube - Vec3d{double(d[0]), double(d[1]), double(d[2])};
     around_[slot].push_back({d, local});
   };
@@ -76,6 +86,8 @@ GridSteinerCells::GridSteinerCells(const VoxelGridDomain& domain, int steinerPoi
         }
   }
 
+  id_.resize(position_.size());
+
   if (!findCells) return;
   isCell_.assign(domain.vertexCount(), 0);
   for (std::size_t k = 0; k + 1 < g.size[2]; ++k)
@@ -89,9 +101,9 @@ GridSteinerCells::GridSteinerCells(const VoxelGridDomain& domain, int steinerPoi
 }
 
 Vec3d GridSteinerCells::position(SteinerPointId p) const {
-  const std::uint32_t v = slotDivisor_.divide(p);
-  const VoxelIndex c = domain_.indexOf(v);
-  const Vec3d o = slotIndexOffset_[p - v * slots_];
+  const std::uint32_t n = slotDivisor_.divide(p);
+  const VoxelIndex c = domain_.indexOf(voxelOf(n));
+  const Vec3d o = slotIndexOffset_[p - n * slots_];
   return domain_.geometry().indexToPhysicalPoint(c.i + o.x, c.j + o.y, c.k + o.z);
 }
 
@@ -233,8 +245,8 @@ class SteinerDijkstra {
     result.distance.assign(vertexCount_, kUnreachable);
     result.predecessor.assign(vertexCount_, kNoVertex);
     for (VertexId w = 0; w < vertexCount_; ++w) {
-      const SteinerPointId p = cells_.pointOfVertex(w);
-      if (queue_.isFinal(p)) result.distance[w] = distance_[p];
+      const SteinerPointId p = cells_.pointOfVertex(w);  // kNoVertex: a voxel outside the domain
+      if (p != kNoVertex && queue_.isFinal(p)) result.distance[w] = distance_[p];
     }
     if (options_.keepPointDistances) {
       // Only final points carry a distance.

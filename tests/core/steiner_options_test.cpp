@@ -58,6 +58,37 @@ TEST(SteinerInput, RefusesWhatCannotBeComputed) {
   EXPECT_THROW(steinerPropagate(masked, s.metric, {v}), std::invalid_argument);
 }
 
+/// Masked voxels carry no Steiner points: masking the last slice of a grid
+/// gives exactly the graph and the distances of the grid without that slice
+/// (the domain's voxels are numbered in index order, as the smaller grid's).
+TEST(SteinerInput, MaskedVoxelsCarryNoPoints) {
+  const SmallGrid s;
+  std::vector<std::uint8_t> mask(s.domain.vertexCount(), 1);
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 9; ++i) mask[s.domain.vertexAt(i, j, 6)] = 0;
+  const VoxelGridDomain masked(s.domain.geometry(), Stencil::full26(), mask);
+  GridGeometry shorter = s.domain.geometry();
+  shorter.size[2] = 6;
+  const VoxelGridDomain cut(shorter, Stencil::full26());
+  const RiemannianMetric cutMetric(std::vector<SymTensor3>(s.metric.params().begin(),
+                                                           s.metric.params().begin() + cut.vertexCount()));
+  const VertexId source = s.domain.vertexAt(2, 3, 3);
+  ASSERT_EQ(cut.vertexAt(2, 3, 3), source);
+  SteinerOptions o = withSteinerPoints(2);
+  o.keepPointDistances = true;
+  const SteinerPropagationResult a = steinerPropagate(masked, s.metric, {source}, o);
+  const SteinerPropagationResult b = steinerPropagate(cut, cutMetric, {source}, o);
+  EXPECT_EQ(a.graphPoints, 19u * cut.vertexCount());
+  EXPECT_EQ(a.graphPoints, b.graphPoints);
+  EXPECT_EQ(a.pointDistance, b.pointDistance);
+  EXPECT_EQ(a.relaxedEdges, b.relaxedEdges);
+  for (VertexId v = 0; v < cut.vertexCount(); ++v) ASSERT_EQ(a.distance[v], b.distance[v]) << "voxel " << v;
+  for (VertexId v = cut.vertexCount(); v < masked.vertexCount(); ++v) EXPECT_EQ(a.distance[v], kUnreachable);
+  for (SteinerPointId p = 0; p < a.graphPoints; p += 7)
+    EXPECT_LT(norm(steinerPointPosition(masked, 2, p) - steinerPointPosition(cut, 2, p)), 1e-9) << "point " << p;
+  EXPECT_EQ(a.peakStateBytes, b.peakStateBytes);
+}
+
 TEST(SteinerInput, VoxelInNoCubeIsReachedOnlyAsASource) {
   // Voxel (4, 4, 3) is in the mask, but its six neighbours are not, so each
   // of the eight cubes around it has a masked corner.

@@ -119,7 +119,9 @@ SteinerPropagationResult steinerPropagate(const SurfaceDomain& surface, const Ri
 
 /// Physical position of graph point p for M Steiner points per edge.
 ///
-/// Grid numbering: S = 1 + 3M + 3M^2 points per voxel v, p = v S + slot;
+/// Grid numbering: S = 1 + 3M + 3M^2 points per voxel of the domain, p = n S
+/// + slot, where n numbers the domain's voxels in index order (n = v, the
+/// voxel index, without a mask; voxels outside the mask carry no points);
 /// slot 0 is the voxel centre, slots 1 + a M + (m - 1) are the points
 /// m / (M + 1) of the way along the grid edge from v to v + e_a (a = 0, 1, 2
 /// the index axes i, j, k; m = 1..M), and slots 1 + 3M + a M^2 + (m_b - 1) M
