@@ -269,9 +269,11 @@ void writeStats(const std::string& path, const DistanceOptions& o, const TensorI
   if (o.lanthier) j << "    \"steiner_points\": " << o.steinerPoints << ",\n";
   j << "    \"k\": " << (o.lanthier ? std::string("null") : std::to_string(o.method == Method::Dijkstra ? 1 : o.k))
     << ",\n";
-  j << "    \"chain_measure\": \""
-    << (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? "largest" : "projection") << "\",\n";
-  j << "    \"stencil\": " << jsonString(o.stencil) << ",\n";
+  if (!o.lanthier) {  // lanthier measures cells, not stencil edges or chains
+    j << "    \"chain_measure\": \""
+      << (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? "largest" : "projection") << "\",\n";
+    j << "    \"stencil\": " << jsonString(o.stencil) << ",\n";
+  }
   j << "    \"max_distance_mm\": " << jsonNumber(o.maxDistance) << ",\n";
   j << "    \"tensor_kind\": " << jsonString(imaging::tensorKindName(o.tensor.metric.kind)) << ",\n";
   j << "    \"diffusion_metric\": " << jsonString(imaging::diffusionMetricName(o.tensor.metric.diffusionMetric))

@@ -98,6 +98,9 @@ TEST_F(ToolLanthier, StatsAndSummaryNameTheMethodAndItsSteinerPoints) {
   EXPECT_NE(json.str().find("\"method\": \"lanthier\""), std::string::npos) << json.str();
   EXPECT_NE(json.str().find("\"steiner_points\": 2"), std::string::npos) << json.str();
   EXPECT_NE(json.str().find("\"k\": null"), std::string::npos) << json.str();
+  // Cells, not stencil edges or chains: those parameters do not apply.
+  EXPECT_EQ(json.str().find("\"chain_measure\""), std::string::npos) << json.str();
+  EXPECT_EQ(json.str().find("\"stencil\""), std::string::npos) << json.str();
 }
 
 TEST_F(ToolLanthier, CommandLineRulesAreExplained) {
