@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "command_line.hpp"
@@ -465,12 +466,17 @@ int runTetMeshDistance(int argc, char** argv) {
   if (o.lanthier) {
     // The cells are the domain's tetrahedra (those with four usable
     // corners), so vertices outside the domain are never reached.
-    const TetrahedralCells cells(tetmesh::permutedPoints(points, order), tetmesh::permutedTets(tets, order));
+    std::optional<TetrahedralCells> cells;
+    try {
+      cells.emplace(tetmesh::permutedPoints(points, order), tetmesh::permutedTets(tets, order));
+    } catch (const std::invalid_argument& e) {  // e.g. a face shared by more than two tetrahedra
+      throw ToolError(kExitInput, o.input + ": " + e.what());
+    }
     SteinerOptions steiner;
     steiner.steinerPoints = o.steinerPoints;
     steiner.maxDistance = o.maxDistance;
     try {
-      result = steinerPropagate(cells, metric, orderedSources, steiner);
+      result = steinerPropagate(*cells, metric, orderedSources, steiner);
     } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
       throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
     }
@@ -535,7 +541,8 @@ int runTetMeshDistance(int argc, char** argv) {
                                              ")")
       << " from " << sources.size() << " seed vertex" << (sources.size() == 1 ? "" : "es") << ": reached "
       << withThousands(reached) << " of " << withThousands(mesh.vertexCount()) << " vertices, farthest "
-      << fixed(farthest, 2) << "; " << withThousands(result.relaxedEdges) << " edges relaxed in "
+      << fixed(farthest, 2) << "; " << withThousands(result.relaxedEdges)
+      << (o.lanthier ? " segments measured in " : " edges relaxed in ")
       << fixed(propagationSeconds, 3) << " s (setup " << fixed(setupSeconds, 3) << " s).\n"
       << "Wrote " << o.output << (o.reference.empty() ? "" : " on the grid of " + o.reference) << ".";
     std::cout << s.str() << std::endl;
