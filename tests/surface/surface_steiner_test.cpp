@@ -27,12 +27,13 @@ namespace {
 
 using ExactDistance = std::function<double(VertexId)>;
 
+/// Errors at the vertices whose exact distance exceeds `beyond`.
 RelativeErrors errorsOf(const std::vector<double>& distance, const SurfaceDomain& surface,
-                        const ExactDistance& exact) {
+                        const ExactDistance& exact, double beyond = 1e-9) {
   RelativeErrors e;
   for (VertexId v = 0; v < surface.vertexCount(); ++v) {
     const double x = exact(v);
-    if (x > 1e-9) e.add(distance[v], x);
+    if (x > beyond) e.add(distance[v], x);
   }
   return e;
 }
@@ -110,10 +111,11 @@ TEST(SurfaceSteiner, OnAPlaneWithAConstantAnisotropicMetricTheErrorShrinksWithMA
 /// The curved height field z = 0.5 sin(x) cos(y) under the pull-back of the
 /// plane's diag(1, 16) (exact distance sqrt(dx^2 + 16 dy^2)): the faces'
 /// mean tensors differ from face to face. STVD is very accurate on this
-/// surface: M = 8 beats STVD k = 8 with the largest-norm chain measure (the
-/// tool's default on images), and M = 16 also beats the projection rule at
-/// k = 5 (the library's default) and k = 8 (the tool's default on surfaces),
-/// which M = 8 does not.
+/// surface: over all vertices M = 8 beats STVD k = 8 with the largest-norm
+/// chain measure (the tool's default on images), and M = 16 also beats the
+/// projection rule at k = 5 (the library's default) and k = 8 (the tool's
+/// default on surfaces), which M = 8 does not; away from the seed M = 8
+/// beats them all.
 TEST(SurfaceSteiner, OnACurvedHeightFieldTheErrorShrinksWithMAndOvertakesStvd) {
   const GeneratedSurface s = sineHeightField();
   const SurfaceDomain surface(s.points, s.faces);
@@ -142,6 +144,31 @@ TEST(SurfaceSteiner, OnACurvedHeightFieldTheErrorShrinksWithMAndOvertakesStvd) {
   EXPECT_LT(m16.mean(), k5.mean());
   EXPECT_LT(m16.mean(), k8.mean());
   EXPECT_EQ(m16.unreached(), 0u);
+
+  // The mean is dominated by the vertices within a few faces of the seed,
+  // where one snap to a Steiner point is a large part of a short distance
+  // (M=8: mean 0.0207 below distance 2, against STVD k=5's 0.0107). Away
+  // from the seed, beyond distance 6 (1334 of the 2400 vertices, 12 and
+  // more rings of the y edges), M = 8 is two to three times as accurate as
+  // STVD: measured mean (max) M=8 0.00106 (0.0067), STVD k=5 0.00198
+  // (0.0130), k=8 0.00326 (0.0097).
+  constexpr double kFarField = 6.0;
+  SteinerOptions o;
+  o.steinerPoints = 8;
+  const RelativeErrors farSteiner =
+      errorsOf(steinerPropagate(surface, metric, {source}, o).distance, surface, exact, kFarField);
+  PropagationOptions p;
+  p.k = 5;
+  const RelativeErrors farK5 = errorsOf(propagate(surface, metric, {source}, p).distance, surface, exact, kFarField);
+  p.k = 8;
+  const RelativeErrors farK8 = errorsOf(propagate(surface, metric, {source}, p).distance, surface, exact, kFarField);
+  reportMeasurement(label + ", beyond 6, Steiner M=8", farSteiner);
+  reportMeasurement(label + ", beyond 6, STVD k=5 projection", farK5);
+  reportMeasurement(label + ", beyond 6, STVD k=8 projection", farK8);
+  constexpr double kFarMeanToleranceM8 = 0.0014;
+  EXPECT_LT(farSteiner.mean(), kFarMeanToleranceM8);
+  EXPECT_LT(farSteiner.mean(), farK5.mean());
+  EXPECT_LT(farSteiner.mean(), farK8.mean());
   constexpr double kMeanToleranceM8 = 0.0081;
   constexpr double kMeanToleranceM16 = 0.0034;
   EXPECT_LT(e[3].mean(), kMeanToleranceM8);
