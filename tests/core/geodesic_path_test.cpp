@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <array>
+#include <chrono>
 #include <cstdio>
 #include <vector>
 
@@ -203,9 +204,13 @@ struct PullbackPathStatistics {
   int within1Voxel = 0;
   double worst = 0.0;
   double meanOfMeans = 0.0;
+  double secondsPerPath = 0.0;
+  double meanIterations = 0.0;
+  std::size_t maxIterations = 0;
 };
 
-PullbackPathStatistics pullbackPaths(const PullbackScene& scene, const PropagationResult& result, VertexId source) {
+PullbackPathStatistics pullbackPaths(const PullbackScene& scene, const PropagationResult& result, VertexId source,
+                                     const PathTracingOptions& options = {}) {
   const VoxelGridDomain& domain = scene.domain;
   PullbackPathStatistics stats;
   for (int i = 1; i < 48; i += 6)
@@ -215,7 +220,11 @@ PullbackPathStatistics pullbackPaths(const PullbackScene& scene, const Propagati
         const Vec3d s = domain.physicalPoint(source), t = domain.physicalPoint(target);
         const std::vector<Vec3d> exact = scene.exactGeodesic(s, t);
         if (exact.empty()) continue;
-        const TracedPath path = traceGeodesicPath(domain, scene.metric, result, target);
+        const auto started = std::chrono::steady_clock::now();
+        const TracedPath path = traceGeodesicPath(domain, scene.metric, result, target, options);
+        stats.secondsPerPath += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        stats.meanIterations += path.refinement.iterations;
+        stats.maxIterations = std::max(stats.maxIterations, path.refinement.iterations);
         EXPECT_FALSE(path.points.empty());
         if (path.points.empty()) continue;
         EXPECT_EQ(norm(path.points.front() - s), 0.0);
@@ -226,6 +235,8 @@ PullbackPathStatistics pullbackPaths(const PullbackScene& scene, const Propagati
         ++stats.paths;
       }
   stats.meanOfMeans /= std::max(1, stats.paths);
+  stats.secondsPerPath /= std::max(1, stats.paths);
+  stats.meanIterations /= std::max(1, stats.paths);
   return stats;
 }
 
@@ -248,8 +259,16 @@ TEST(GeodesicPathPullbackMetric, TracedOnTheExactDistanceIsThePreImageOfTheStrai
   const Vec3d image = scene.map(domain.physicalPoint(source));
   for (VertexId v = 0; v < domain.vertexCount(); ++v) result.distance[v] = norm(scene.map(domain.physicalPoint(v)) - image);
   const PullbackPathStatistics stats = pullbackPaths(scene, result, source);
-  std::printf("[ measured ] pull-back gamma 20, exact field: deviation max %.3f voxel, mean %.3f voxel, "
-              "%d of %d paths within 1 voxel\n", stats.worst, stats.meanOfMeans, stats.within1Voxel, stats.paths);
+  PathTracingOptions unrefined;
+  unrefined.refine = false;
+  const PullbackPathStatistics before = pullbackPaths(scene, result, source, unrefined);
+  std::printf("[ measured ] pull-back gamma 20, exact field, traced only: deviation max %.3f voxel, mean %.3f voxel, "
+              "%d of %d paths within 1 voxel, %.3f ms per path\n", before.worst, before.meanOfMeans,
+              before.within1Voxel, before.paths, 1e3 * before.secondsPerPath);
+  std::printf("[ measured ] pull-back gamma 20, exact field, refined: deviation max %.3f voxel, mean %.3f voxel, "
+              "%d of %d paths within 1 voxel, %.3f ms per path, iterations mean %.1f max %zu\n", stats.worst,
+              stats.meanOfMeans, stats.within1Voxel, stats.paths, 1e3 * stats.secondsPerPath, stats.meanIterations,
+              stats.maxIterations);
   EXPECT_GE(stats.paths, 100);
   EXPECT_LE(stats.worst, kPullbackExactFieldMaxVoxels);
   EXPECT_LE(stats.meanOfMeans, kPullbackExactFieldMeanVoxels);
@@ -274,8 +293,16 @@ TEST(GeodesicPathPullbackMetric, TracedOnTheStvdDistanceStaysNearThePreImageAtGa
   const VertexId source = domain.vertexAt(22, 21, 15);
   const PropagationResult result = propagate(domain, scene.metric, {source}, toolDefaults());
   const PullbackPathStatistics stats = pullbackPaths(scene, result, source);
-  std::printf("[ measured ] pull-back gamma 20, STVD field: deviation max %.3f voxel, mean %.3f voxel, "
-              "%d of %d paths within 1 voxel\n", stats.worst, stats.meanOfMeans, stats.within1Voxel, stats.paths);
+  PathTracingOptions unrefined;
+  unrefined.refine = false;
+  const PullbackPathStatistics before = pullbackPaths(scene, result, source, unrefined);
+  std::printf("[ measured ] pull-back gamma 20, STVD field, traced only: deviation max %.3f voxel, mean %.3f voxel, "
+              "%d of %d paths within 1 voxel, %.3f ms per path\n", before.worst, before.meanOfMeans,
+              before.within1Voxel, before.paths, 1e3 * before.secondsPerPath);
+  std::printf("[ measured ] pull-back gamma 20, STVD field, refined: deviation max %.3f voxel, mean %.3f voxel, "
+              "%d of %d paths within 1 voxel, %.3f ms per path, iterations mean %.1f max %zu\n", stats.worst,
+              stats.meanOfMeans, stats.within1Voxel, stats.paths, 1e3 * stats.secondsPerPath, stats.meanIterations,
+              stats.maxIterations);
   EXPECT_GE(stats.paths, 100);
   EXPECT_LE(stats.worst, kPullbackStvdMaxVoxels);
   EXPECT_LE(stats.meanOfMeans, kPullbackStvdMeanVoxels);
