@@ -339,7 +339,7 @@ TracedPath traceGeodesicPath(const VoxelGridDomain& domain, const RiemannianMetr
     throw std::invalid_argument("path tracing options out of range");
   if (options.refine && !(options.refinement.spacingFraction > 0.0 && options.refinement.spacingFraction <= 0.5 &&
                           options.refinement.maxIterations >= 0 && options.refinement.maxHalvings >= 0 &&
-                          options.refinement.tolerance > 0.0))
+                          options.refinement.tolerance > 0.0 && options.refinement.energyTolerance >= 0.0))
     throw std::invalid_argument("path refinement options out of range");
   return PathTracer(domain, metric, result, options).trace(target);
 }

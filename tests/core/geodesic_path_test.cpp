@@ -126,6 +126,7 @@ void expectStraightPaths(VertexId source, const char* label) {
     const Deviation d = deviationFromCurve(domain.geometry(), path.points, segment(s, t));
     const double exact = test::tensorNorm(g, t - s);
     worst = std::max(worst, d.max);
+    std::printf("DBG corner (%d,%d,%d) dev %.3f it %zu conv %d held %zu pts %zu E %.6g -> %.6g\n", c[0], c[1], c[2], d.max, path.refinement.iterations, int(path.refinement.converged), path.refinement.heldMoves, path.points.size(), path.refinement.initialEnergy, path.refinement.finalEnergy);
     meanSum += d.mean;
     worstLength = std::max(worstLength, std::abs(path.metricLength - exact) / exact);
     EXPECT_EQ(path.fallbackCount(), 0u) << "no fallback under a constant metric";
@@ -225,6 +226,7 @@ PullbackPathStatistics pullbackPaths(const PullbackScene& scene, const Propagati
         stats.secondsPerPath += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
         stats.meanIterations += path.refinement.iterations;
         stats.maxIterations = std::max(stats.maxIterations, path.refinement.iterations);
+        if (path.refinement.iterations > 60 || !path.refinement.converged) std::printf("DBG pb (%d,%d,%d) it %zu conv %d held %zu pts %zu E %.8g -> %.8g\n", i, j, k, path.refinement.iterations, int(path.refinement.converged), path.refinement.heldMoves, path.points.size(), path.refinement.initialEnergy, path.refinement.finalEnergy);
         EXPECT_FALSE(path.points.empty());
         if (path.points.empty()) continue;
         EXPECT_EQ(norm(path.points.front() - s), 0.0);

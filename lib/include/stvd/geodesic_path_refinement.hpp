@@ -39,7 +39,9 @@ namespace stvd {
 /// (the traced path it starts from does not either).
 ///
 /// Stops when the largest point move of an accepted step is below
-/// `tolerance` voxel, when no step decreases E, or after `maxIterations`.
+/// `tolerance` voxel, when the step decreased E by less than
+/// `energyTolerance` times E, when no step decreases E, or after
+/// `maxIterations`.
 struct PathRefinementOptions {
   /// Largest extent of a segment along any index axis after resampling
   /// (voxels); at most 0.5.
@@ -49,6 +51,13 @@ struct PathRefinementOptions {
   /// Largest point move (voxels, index infinity-norm) below which the
   /// iteration has converged.
   double tolerance = 1e-3;
+  /// Relative decrease of E in an accepted step below which the iteration
+  /// has converged: a path displaced sideways by delta over a metric length
+  /// L has a relative excess energy of about (delta / L)^2, so 1e-10 stands
+  /// for about 1e-5 L; without it, steps across the kinks of the
+  /// trilinear metric (cell faces) can keep moving points by hundredths of
+  /// a voxel at no gain.
+  double energyTolerance = 1e-10;
 };
 
 struct PathRefinementReport {
