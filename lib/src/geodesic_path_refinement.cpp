@@ -4,8 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-#include <cstdio>
-#include <cstdlib>
 
 #include "grid_cell_sample.hpp"
 
@@ -66,6 +64,9 @@ double maxAbs(Vec3d v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs
 /// index conversion a rounding error inside or outside.
 constexpr double kOnBoxVoxels = 1e-6;
 
+/// Rounds of fixing held points and solving again within one step.
+constexpr int kMaxFixingRounds = 64;
+
 /// A segment crossing more cell boundaries than this is refused (the
 /// refinement's segments span well under a voxel).
 constexpr int kMaxSegmentCrossings = 24;
@@ -107,13 +108,23 @@ class PathRefiner {
     if (!evaluate(x_, true, energy)) return report;
     report.initialEnergy = report.finalEnergy = energy;
     for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
+      setActiveBounds();
       if (!solve()) break;
-      bool accepted = false;
+      bool accepted = false, descends = true;
       double alpha = 1.0, trial = 0.0;
       std::size_t held = 0;
-      for (int halving = 0; halving <= options_.maxHalvings && !accepted; ++halving, alpha *= 0.5) {
+      for (int halving = 0; halving <= options_.maxHalvings && descends && !accepted; ++halving, alpha *= 0.5) {
         held = propose(alpha);
-        accepted = evaluate(y_, false, trial) && trial < energy;
+        // Dropping the held points' moves from the step need not leave a
+        // descent direction: fix them and solve again for the others.
+        for (int round = 0; held > 0 && round < kMaxFixingRounds && fixHeldPoints(); ++round) {
+          if (!solve()) {
+            descends = false;
+            break;
+          }
+          held = propose(alpha);
+        }
+        accepted = descends && evaluate(y_, false, trial) && trial < energy;
       }
       if (!accepted) {
         report.converged = true;
@@ -126,7 +137,6 @@ class PathRefiner {
       energy = trial;
       ++report.iterations;
       report.heldMoves += held;
-      if (std::getenv("STVD_DBG")) std::fprintf(stderr, "  it %d alpha %g E %.10g move %.3g held %zu\n", iteration, 2 * alpha, energy, largestMove, held);
       if (largestMove < options_.tolerance || decrease <= options_.energyTolerance * energy) {
         report.converged = true;
         break;
@@ -314,8 +324,6 @@ class PathRefiner {
     const std::size_t count = x_.size();
     std::fill(delta_.begin(), delta_.end(), Vec3d{});
     if (count < 3) return false;
-    for (std::size_t n = 1; n + 1 < count; ++n) mask_[n] = activeBounds(n);
-    mask_.front() = mask_.back() = 7;
     const std::vector<SegmentHessian>& h = blocks_;
     Block previousForward;  // M_{i-1}^-1 H_{i-1,i}
     Vec3d previousRhs;
@@ -352,6 +360,23 @@ class PathRefiner {
     return slope < 0.0 && std::isfinite(slope);
   }
 
+  void setActiveBounds() {
+    for (std::size_t n = 1; n + 1 < x_.size(); ++n) mask_[n] = activeBounds(n);
+    mask_.front() = mask_.back() = 7;
+  }
+
+  /// Fixes every point whose move the last proposal took back; false when
+  /// there was none left to fix.
+  bool fixHeldPoints() {
+    bool fixed = false;
+    for (std::size_t n = 1; n + 1 < x_.size(); ++n)
+      if (!moved_[n] && mask_[n] != 7) {
+        mask_[n] = 7;
+        fixed = true;
+      }
+    return fixed;
+  }
+
   /// y = x + alpha delta, clamped to the box, with the moves that break the
   /// domain constraint taken back. Returns the number taken back.
   std::size_t propose(double alpha) {
@@ -363,6 +388,12 @@ class PathRefiner {
     valid_.front() = valid(x_.front());
     valid_.back() = valid(x_.back());
     for (std::size_t n = 1; n + 1 < count; ++n) {
+      if (mask_[n] == 7) {  // fixed for this step
+        y_[n] = x_[n];
+        moved_[n] = 0;
+        valid_[n] = valid(x_[n]);
+        continue;
+      }
       y_[n] = clamp(x_[n] + alpha * delta_[n]);
       moved_[n] = 1;
       valid_[n] = valid(y_[n]);
