@@ -107,11 +107,16 @@ class PathRefiner {
     double energy = 0.0;
     if (!evaluate(x_, true, energy)) return report;
     report.initialEnergy = report.finalEnergy = energy;
+    // The line search starts at twice the last accepted step (at most the
+    // full step): on a noisy metric the full Gauss-Newton step is often too
+    // long, and halving down from it anew in every iteration cost about 5
+    // energy evaluations per iteration on the sample brain.
+    double startStep = 1.0;
     for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
       setActiveBounds();
       if (!solve()) break;
       bool accepted = false, descends = true;
-      double alpha = 1.0, trial = 0.0;
+      double alpha = startStep, trial = 0.0;
       std::size_t held = 0;
       for (int halving = 0; halving <= options_.maxHalvings && descends && !accepted; ++halving, alpha *= 0.5) {
         held = propose(alpha);
@@ -126,12 +131,19 @@ class PathRefiner {
         }
         accepted = descends && evaluate(y_, false, trial) && trial < energy;
       }
+      if (!accepted && startStep < 1.0) {
+        // Nothing from the shortened start: the full range once more.
+        startStep = 1.0;
+        --iteration;
+        continue;
+      }
       if (!accepted) {
         report.converged = true;
         break;
       }
       double largestMove = 0.0;
       for (std::size_t n = 0; n < count; ++n) largestMove = std::max(largestMove, maxAbs(y_[n] - x_[n]));
+      startStep = std::min(1.0, 4.0 * alpha);  // alpha was halved once more after the accepted trial
       x_.swap(y_);
       const double decrease = energy - trial;
       energy = trial;
@@ -168,12 +180,31 @@ class PathRefiner {
     return true;
   }
 
+  /// b lies in the closed cell of `cell` (its lower corner is corner 0).
+  bool sameCell(const CellSample& cell, Vec3d b) const {
+    const VoxelIndex lo = domain_.indexOf(cell.corner[0]);
+    const double lower[3] = {double(lo.i), double(lo.j), double(lo.k)};
+    const double c[3] = {b.x, b.y, b.z};
+    for (int a = 0; a < 3; ++a)
+      if (!(c[a] >= lower[a] && c[a] <= lower[a] + (last_[a] == 0.0 ? 0.0 : 1.0))) return false;
+    return true;
+  }
+
   /// Every point of the segment a -> b is valid. Between two consecutive
   /// crossings of integer planes the segment runs inside one cell (or one
   /// face of it), where the set of corners with a non-zero weight is
   /// constant, so testing the middle of each piece and the end points is
   /// exact.
   bool segmentValid(Vec3d a, Vec3d b) const {
+    // Most segments lie in one cell: when all its corners are valid, so is
+    // every point of it.
+    CellSample cell;
+    if (locate(domain_, a, cell) && sameCell(cell, b)) {
+      bool all = true;
+      for (int n = 0; n < 8 && all; ++n)
+        all = domain_.contains(cell.corner[n]) && std::isfinite(distance_[cell.corner[n]]);
+      if (all) return true;
+    }
     double t[2 + 3 * kMaxSegmentCrossings];
     int count = 0;
     t[count++] = 0.0;

@@ -26,17 +26,20 @@ namespace stvd {
 /// H delta = -grad E with the block-tridiagonal matrix H (3 x 3 blocks
 /// 2(G(m_{i-1}) + G(m_i)) on the diagonal, -2 G(m_i) beside it: the Hessian
 /// of E for a constant metric, a Gauss-Newton / Sobolev preconditioner) in
-/// O(N), then backtracks from the full step (halving, at most
-/// `maxHalvings` times) until E decreases.
+/// O(N), then backtracks (halving, at most `maxHalvings` times) from twice
+/// the previous iteration's step, at most the full step, until E decreases.
 ///
-/// Constraints: points are kept in the box of voxel centres (clamped), and
-/// a point may move only to where every cell corner with a non-zero
-/// trilinear weight is in the domain and reached (finite distance), with
-/// each of its segments spanning at most half a voxel along every axis;
-/// otherwise it keeps its old position for that step. A segment of at most
-/// half a voxel between two such points cannot cross the inside of a voxel
-/// outside the domain, so the refined path never cuts through masked voxels
-/// (the traced path it starts from does not either).
+/// Constraints: a coordinate on the image box (the box of voxel centres)
+/// whose descent points out of it is fixed for the step, other points are
+/// clamped into the box. A point may move only where every cell corner
+/// with a non-zero trilinear weight is in the domain and reached (finite
+/// distance), and only if every point of its segments is such a point
+/// (tested exactly, cell piece by cell piece); otherwise it keeps its
+/// position, is fixed, and the step is solved again for the others. So the
+/// refined path never enters a voxel outside the domain. Points of the
+/// starting path that already sit next to such voxels (the predecessor
+/// chain's diagonal steps past a masked voxel's corner) stay where they
+/// are, and so do, in effect, their neighbours.
 ///
 /// Stops when the largest point move of an accepted step is below
 /// `tolerance` voxel, when the step decreased E by less than
@@ -44,20 +47,20 @@ namespace stvd {
 /// `maxIterations`.
 struct PathRefinementOptions {
   /// Largest extent of a segment along any index axis after resampling
-  /// (voxels); at most 0.5.
+  /// (voxels), in (0, 0.5].
   double spacingFraction = 0.4;
   int maxIterations = 200;
   int maxHalvings = 30;
   /// Largest point move (voxels, index infinity-norm) below which the
   /// iteration has converged.
-  double tolerance = 1e-3;
+  double tolerance = 1e-2;
   /// Relative decrease of E in an accepted step below which the iteration
   /// has converged: a path displaced sideways by delta over a metric length
-  /// L has a relative excess energy of about (delta / L)^2, so 1e-10 stands
-  /// for about 1e-5 L; without it, steps across the kinks of the
-  /// trilinear metric (cell faces) can keep moving points by hundredths of
-  /// a voxel at no gain.
-  double energyTolerance = 1e-10;
+  /// L has a relative excess energy of about (delta / L)^2, so 1e-8 stands
+  /// for about 1e-4 L. Without it, steps across the kinks of the
+  /// trilinear metric (cell faces) kept moving points by hundredths of a
+  /// voxel at no gain, up to maxIterations.
+  double energyTolerance = 1e-8;
 };
 
 struct PathRefinementReport {
