@@ -64,6 +64,10 @@ double maxAbs(Vec3d v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs
 /// index conversion a rounding error inside or outside.
 constexpr double kOnBoxVoxels = 1e-6;
 
+/// Bisection steps when a point slides up to cells outside the domain
+/// (2^-10 of its step).
+constexpr int kSlideBisections = 10;
+
 /// Rounds of fixing held points and solving again within one step.
 constexpr int kMaxFixingRounds = 64;
 
@@ -112,6 +116,7 @@ class PathRefiner {
     // long, and halving down from it anew in every iteration cost about 5
     // energy evaluations per iteration on the sample brain.
     double startStep = 1.0;
+    bool fixedAny = false;
     for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
       setActiveBounds();
       if (!solve()) break;
@@ -119,10 +124,18 @@ class PathRefiner {
       double alpha = startStep, trial = 0.0;
       std::size_t held = 0;
       for (int halving = 0; halving <= options_.maxHalvings && descends && !accepted; ++halving, alpha *= 0.5) {
+        if (halving > 0 && fixedAny) {
+          // Points fixed for a longer step may be free to move on a
+          // shorter one.
+          setActiveBounds();
+          if (!solve()) break;
+        }
+        fixedAny = false;
         held = propose(alpha);
         // Dropping the held points' moves from the step need not leave a
         // descent direction: fix them and solve again for the others.
         for (int round = 0; held > 0 && round < kMaxFixingRounds && fixHeldPoints(); ++round) {
+          fixedAny = true;
           if (!solve()) {
             descends = false;
             break;
@@ -408,6 +421,43 @@ class PathRefiner {
     return fixed;
   }
 
+  /// Moves `to` to the valid point reached from the valid point `from` by
+  /// moving one axis at a time towards `to`, each as far as it stays valid
+  /// (bisection): the region to avoid is a union of open axis-aligned cells,
+  /// so this slides a point along its faces instead of stopping it short.
+  /// False when the point would not move.
+  bool slideTowards(Vec3d from, Vec3d& to) const {
+    Vec3d at = from;
+    const double target[3] = {to.x, to.y, to.z};
+    bool movedAny = false;
+    for (int a = 0; a < 3; ++a) {
+      auto with = [&](double t) {
+        Vec3d p = at;
+        double& c = a == 0 ? p.x : a == 1 ? p.y : p.z;
+        const double start = a == 0 ? at.x : a == 1 ? at.y : at.z;
+        c = start + t * (target[a] - start);
+        return p;
+      };
+      if ((a == 0 ? at.x : a == 1 ? at.y : at.z) == target[a]) continue;
+      if (valid(with(1.0))) {
+        at = with(1.0);
+        movedAny = true;
+        continue;
+      }
+      double good = 0.0, bad = 1.0;
+      for (int b = 0; b < kSlideBisections; ++b) {
+        const double mid = 0.5 * (good + bad);
+        (valid(with(mid)) ? good : bad) = mid;
+      }
+      if (good > 0.0) {
+        at = with(good);
+        movedAny = true;
+      }
+    }
+    to = at;
+    return movedAny;
+  }
+
   /// y = x + alpha delta, clamped to the box, with the moves that break the
   /// domain constraint taken back. Returns the number taken back.
   std::size_t propose(double alpha) {
@@ -429,10 +479,14 @@ class PathRefiner {
       moved_[n] = 1;
       valid_[n] = valid(y_[n]);
       if (!valid_[n]) {
-        y_[n] = x_[n];
-        moved_[n] = 0;
-        valid_[n] = valid(x_[n]);
         ++held;
+        if (valid(x_[n]) && slideTowards(x_[n], y_[n])) {
+          valid_[n] = 1;
+        } else {
+          y_[n] = x_[n];
+          moved_[n] = 0;
+          valid_[n] = valid(x_[n]);
+        }
       }
     }
     // A held point can invalidate its neighbours' segments: repeat until

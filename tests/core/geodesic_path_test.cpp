@@ -23,6 +23,7 @@
 #include "method_cases.hpp"
 #include "scenes.hpp"
 #include "stvd/geodesic_path.hpp"
+#include "stvd/geodesic_path_refinement.hpp"
 #include "stvd/propagation.hpp"
 
 namespace stvd {
@@ -106,13 +107,13 @@ constexpr double kConstantTracedMaxDeviationVoxels = 0.5;
 // Traced curve measured with the metric, relative to the exact distance
 // sqrt(d^T G d): measured at most 0.0014.
 constexpr double kConstantTracedMetricLengthError = 0.002;
-// The refined path (the default): under a constant metric the discrete
-// geodesic is the straight segment itself, so what is left is the
-// iteration's stopping tolerance. Measured max 0.0003 voxel (interior and
-// corner sources, with or without smoothing), metric length error below
-// 1e-6.
-constexpr double kConstantMaxDeviationVoxels = 0.005;
-constexpr double kConstantMetricLengthError = 1e-5;
+// The refined path (the default): under a constant metric the Gauss-Newton
+// matrix is the exact Hessian of the energy, whose minimiser with fixed
+// end points is the straight segment, so one step lands on it. Measured
+// max 3e-14 voxel (interior source), 1.2e-6 (corner source, paths along
+// the border), metric length error at most 1e-7.
+constexpr double kConstantMaxDeviationVoxels = 1e-4;
+constexpr double kConstantMetricLengthError = 1e-6;
 
 struct StraightPathFigures {
   double worst = 0.0, mean = 0.0, worstLength = 0.0;
@@ -154,7 +155,7 @@ void expectStraightPaths(VertexId source, const char* label) {
   tracedOnly.refine = false;
   const StraightPathFigures before = straightPaths(source, tracedOnly);
   const StraightPathFigures after = straightPaths(source, {});
-  std::printf("[ measured ] constant metric, %s source: deviation max %.4f mean %.4f voxel, metric length error "
+  std::printf("[ measured ] constant metric, %s source: deviation max %.1e mean %.1e voxel, metric length error "
               "max %.2g; traced only: max %.3f mean %.3f, metric length error %.4f\n",
               label, after.worst, after.mean, after.worstLength, before.worst, before.mean, before.worstLength);
   EXPECT_LE(after.worst, kConstantMaxDeviationVoxels);
@@ -284,7 +285,7 @@ void printPullbackFigures(const char* field, const PullbackPathStatistics& befor
 constexpr double kPullbackExactFieldTracedMaxVoxels = 4.6;
 constexpr double kPullbackExactFieldTracedMeanVoxels = 0.36;
 constexpr double kPullbackExactFieldTracedMinFractionWithin1Voxel = 0.85;
-// Refined (the default): measured max 0.453 voxel, mean 0.027, all 335
+// Refined (the default): measured max 0.448 voxel, mean 0.028, all 335
 // paths within 1 voxel (the requirement). What is left is the
 // discrete geodesic of the trilinearly interpolated metric against the
 // smooth one.
@@ -328,8 +329,9 @@ constexpr double kPullbackStvdTracedMeanVoxels = 1.25;
 constexpr double kPullbackStvdTracedMinFractionWithin1Voxel = 0.35;
 // Refined (the default): the refinement minimises the path's own metric
 // energy, so the distance field only chooses where it starts. Measured max
-// 0.415 voxel, mean 0.023, all 335 paths within 1 voxel (the issue's
-// requirement), about as close as from the exact field's paths.
+// 0.397 voxel, mean 0.023, all 335 paths within 1 voxel (the issue's
+// requirement), as close as the paths from the exact field. The bound
+// kPullbackMaxVoxels serves both.
 constexpr double kPullbackStvdMeanVoxels = 0.03;
 
 TEST(GeodesicPathPullbackMetric, TracedOnTheStvdDistanceIsThePreImageOfTheStraightSegmentAtGamma20) {
@@ -441,10 +443,10 @@ TEST(GeodesicPathFailureModes, AnExhaustedStepBudgetEndsOnThePredecessorChain) {
 // propagation's (a border voxel has fewer neighbours to take its distance
 // from). Bound about 1.3 times the measured figure.
 constexpr double kBorderFaceTracedMaxDeviationVoxels = 1.1;
-// Refined (the default), the same paths are straight to the iteration's
-// tolerance: measured max 0.0003 voxel. The refinement keeps points on the
-// image box and lets them slide along it.
-constexpr double kBorderFaceMaxDeviationVoxels = 0.005;
+// Refined (the default), the same paths are straight: measured max 1.5e-6
+// voxel. The refinement fixes the coordinates on the image box that the
+// descent pushes out and lets the points slide along it.
+constexpr double kBorderFaceMaxDeviationVoxels = 1e-4;
 
 TEST(GeodesicPathFailureModes, DirectionCosinesFromSinglePrecisionHeadersKeepBorderPathsInTheImage) {
   // NIfTI headers store the direction cosines in single precision: they are
@@ -481,10 +483,54 @@ TEST(GeodesicPathFailureModes, DirectionCosinesFromSinglePrecisionHeadersKeepBor
       }
     }
   }
-  std::printf("[ measured ] constant metric, paths along the border face: deviation max %.4f voxel "
+  std::printf("[ measured ] constant metric, paths along the border face: deviation max %.1e voxel "
               "(traced only: %.3f)\n", worst, worstTraced);
   EXPECT_LE(worst, kBorderFaceMaxDeviationVoxels);
   EXPECT_LE(worstTraced, kBorderFaceTracedMaxDeviationVoxels);
+}
+
+// Measured: 31.605 mm after 27 iterations, 1.28 mm (4 %) above the
+// shortest admissible curve, from 54 mm. The iteration stops short where
+// points press against the masked cells: a point whose move or segment
+// would enter them slides along their faces or stays, and the steps of the
+// others shrink until the energy no longer decreases (docs/paths.md).
+constexpr double kDetourExcessMm = 1.5;
+
+TEST(GeodesicPathRefinement, PullsADetourTightAroundMaskedVoxelsWithoutEnteringThem) {
+  // A block of masked voxels (i 12..17, j 0..14) between source and target
+  // and a wide detour around it. A point may not lie in a cell with a
+  // masked corner, so the shortest admissible curve runs from (5, 5) to the
+  // cell corner (11, 15), along j = 15 to (18, 15) and down to (25, 5):
+  // 2 sqrt(6^2 + 10^2) + 7 = 30.324 mm.
+  GridGeometry g;
+  g.size = {30, 30, 5};
+  std::vector<std::uint8_t> mask(g.voxelCount(), 1);
+  for (int k = 0; k < 5; ++k)
+    for (int j = 0; j <= 14; ++j)
+      for (int i = 12; i <= 17; ++i) mask[i + 30 * (j + 30 * k)] = 0;
+  const VoxelGridDomain domain(g, Stencil::full26(), mask);
+  const RiemannianMetric metric = RiemannianMetric::constant(domain.vertexCount(), {1, 0, 0, 1, 0, 1});
+  const std::vector<double> reached(domain.vertexCount(), 1.0);
+  const Vec3d source = g.indexToPhysicalPoint(5, 5, 2), target = g.indexToPhysicalPoint(25, 5, 2);
+  std::vector<Vec3d> points = {source, g.indexToPhysicalPoint(5, 22, 2), g.indexToPhysicalPoint(25, 22, 2), target};
+  const PathRefinementReport report = refineGeodesicPath(domain, metric, reached, points);
+  ASSERT_GE(points.size(), 3u);
+  EXPECT_EQ(norm(points.front() - source), 0.0);
+  EXPECT_EQ(norm(points.back() - target), 0.0);
+  double length = 0.0;
+  std::size_t masked = 0;
+  for (std::size_t n = 1; n < points.size(); ++n) {
+    length += norm(points[n] - points[n - 1]);
+    for (int s = 0; s <= 20; ++s)
+      masked += insideMaskedVoxel(domain, points[n - 1] + (s / 20.0) * (points[n] - points[n - 1])) ? 1 : 0;
+  }
+  const double shortest = 2.0 * std::sqrt(36.0 + 100.0) + 7.0;
+  std::printf("[ measured ] detour around a masked block: length %.4f mm (shortest admissible %.4f), "
+              "%zu iterations, %zu moves held\n", length, shortest, report.iterations, report.heldMoves);
+  EXPECT_EQ(masked, 0u) << "samples of the path inside masked voxels";
+  EXPECT_GE(length, shortest - 1e-9);
+  EXPECT_LE(length, shortest + kDetourExcessMm);
+  EXPECT_GT(report.iterations, 0u);
 }
 
 TEST(GeodesicPathOptions, SmoothingKeepsTheEndPointsAndStaysNearTheCurve) {
