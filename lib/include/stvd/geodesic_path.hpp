@@ -1,7 +1,7 @@
 // Geodesic paths from a propagation's result back to its sources: the
 // discrete predecessor chain, and a continuous curve that descends the
-// distance field along the characteristic direction -G^-1 grad u
-// (docs/paths.md).
+// distance field along the characteristic direction -G^-1 grad u and is then
+// refined into a discrete geodesic of the metric (docs/paths.md).
 #pragma once
 
 #include <cstddef>
