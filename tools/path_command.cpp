@@ -34,8 +34,11 @@ const char* kPathHelp =
     "as `stvd distance` does (same seeds, tensor and method options and defaults), and each path\n"
     "descends that distance field from its target along the characteristic direction -G^-1 grad u\n"
     "(Heun's method, fixed step), falling back to the propagation's predecessor chain where the\n"
-    "gradient vanishes, points out of the image or reaches a voxel outside the domain. Each path\n"
-    "runs from its seed end (first point) to its target (last point). See docs/paths.md.\n"
+    "gradient vanishes, points out of the image or reaches a voxel outside the domain. The traced\n"
+    "curve is then refined into a discrete geodesic of the metric itself (its end points fixed,\n"
+    "never through voxels outside the domain), which removes the distance field's errors from\n"
+    "its position. Each path runs from its seed end (first point) to its target (last point).\n"
+    "See docs/paths.md.\n"
     "\n"
     "Seeds (at least one; all seeds are sources at distance 0):\n"
     "  --seed-voxel I,J,K      0-based voxel index (repeatable).\n"
@@ -61,8 +64,9 @@ const char* kPathHelp =
     "                          (0, 1] (default 0.25).\n"
     "  --smooth N              N passes of a [1/4 1/2 1/4] moving average over the interior\n"
     "                          points (default 0: none).\n"
+    "  --no-refine             write the traced curves without the refinement.\n"
     "  --discrete              write the discrete paths (the voxel centres of the predecessor\n"
-    "                          chain) instead of the refined continuous ones.\n"
+    "                          chain) instead of the continuous ones.\n"
     "\n"
     "Output:\n"
     "  -o, --output FILE       the paths (required), by extension: .tck (MRtrix), .trk (TrackVis)\n"
@@ -124,6 +128,9 @@ PathOptions parsePathOptions(int argc, char** argv) {
       o.tracing.smoothingPasses = parseInteger(a, args.value(a));
       if (o.tracing.smoothingPasses < 0 || o.tracing.smoothingPasses > 1000)
         usageError("--smooth must be between 0 and 1000");
+    } else if (a == "--no-refine") {
+      args.noValue(a);
+      o.tracing.refine = false;
     } else if (a == "--discrete") {
       args.noValue(a);
       o.discrete = true;
@@ -289,11 +296,13 @@ int runPath(int argc, char** argv) {
   std::ostringstream tsv;
   tsv << "path\ttarget\ttarget_i\ttarget_j\ttarget_k\ttarget_x_ras_mm\ttarget_y_ras_mm\ttarget_z_ras_mm\tseed_i\tseed_j"
          "\tseed_k\tgeodesic_mm\teuclidean_mm\tstraight_mm\tmetric_length_mm\tmean_fa\tpoints\tgradient_steps"
-         "\tdiscrete_points\tfallbacks\n";
+         "\tdiscrete_points\tfallbacks\trefine_iterations\n";
   std::ostringstream summary;
   for (std::size_t n = 0; n < targets.size(); ++n) {
     const Target& t = targets[n];
-    TracedPath path = traceGeodesicPath(domain, metric, result, t.vertex, o.tracing);
+    PathTracingOptions tracing = o.tracing;
+    if (o.discrete) tracing.refine = false;  // only the predecessor chain is written
+    TracedPath path = traceGeodesicPath(domain, metric, result, t.vertex, tracing);
     if (o.discrete) {
       TracedPath d;
       d.discrete = path.discrete;
@@ -329,7 +338,7 @@ int runPath(int argc, char** argv) {
         << fixed(path.geodesicLength, 4) << "\t" << fixed(path.euclideanLength, 4) << "\t" << fixed(straight, 4) << "\t"
         << tsvNumber(path.metricLength, 4) << "\t" << tsvNumber(meanFa, 4) << "\t" << path.points.size() << "\t"
         << path.gradientSteps << "\t" << path.discretePoints << "\t" << (fallbacks.empty() ? "none" : fallbacks)
-        << "\n";
+        << "\t" << path.refinement.iterations << "\n";
     summary << "Path " << n + 1 << " from " << t.name << " to seed voxel " << voxelText(si) << ": geodesic "
             << fixed(path.geodesicLength, 1) << " mm, length " << fixed(path.euclideanLength, 1) << " mm (straight "
             << fixed(straight, 1) << " mm)";

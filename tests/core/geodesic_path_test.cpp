@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <array>
+#include <chrono>
 #include <cstdio>
 #include <vector>
 
@@ -22,6 +23,7 @@
 #include "method_cases.hpp"
 #include "scenes.hpp"
 #include "stvd/geodesic_path.hpp"
+#include "stvd/geodesic_path_refinement.hpp"
 #include "stvd/propagation.hpp"
 
 namespace stvd {
@@ -95,47 +97,71 @@ TEST(PredecessorPath, IsEmptyForATargetThatWasNotReached) {
 // ---------------------------------------------------------------------------
 // Constant metric: straight segments.
 
-// Measured (Release, x86-64) over the paths to the 8 image corners:
+// The traced curve alone (refinement off), measured (Release, x86-64) over
+// the paths to the 8 image corners:
 //   interior source: max 0.198 voxel, mean 0.081
 //   corner source:   max 0.419 voxel, mean 0.099 (paths along the border)
 //   5 smoothing passes, one path: max 0.392
-// The bound is the issue's requirement, 0.5 voxel (1.2 times the worst).
-constexpr double kConstantMaxDeviationVoxels = 0.5;
+// Bound: the issue's requirement, 0.5 voxel (1.2 times the worst).
+constexpr double kConstantTracedMaxDeviationVoxels = 0.5;
 // Traced curve measured with the metric, relative to the exact distance
 // sqrt(d^T G d): measured at most 0.0014.
-constexpr double kConstantMetricLengthError = 0.002;
+constexpr double kConstantTracedMetricLengthError = 0.002;
+// The refined path (the default): under a constant metric the Gauss-Newton
+// matrix is the exact Hessian of the energy, whose minimiser with fixed
+// end points is the straight segment, so one step lands on it. Measured
+// max 3e-14 voxel (interior source), 1.2e-6 (corner source, paths along
+// the border), metric length error at most 1e-7.
+constexpr double kConstantMaxDeviationVoxels = 1e-4;
+constexpr double kConstantMetricLengthError = 1e-6;
 
-void expectStraightPaths(VertexId source, const char* label) {
+struct StraightPathFigures {
+  double worst = 0.0, mean = 0.0, worstLength = 0.0;
+};
+
+StraightPathFigures straightPaths(VertexId source, const PathTracingOptions& options) {
   const VoxelGridDomain domain(test::obliqueGrid({40, 32, 24}), Stencil::full26());
   const test::Mat3 g = test::uniaxialTensor(5.0, {1.0, -0.6, 0.4});
   const RiemannianMetric metric = RiemannianMetric::constant(domain.vertexCount(), test::toSymTensor(g));
   const PropagationResult result = propagate(domain, metric, {source}, toolDefaults());
   const int corners[8][3] = {{0, 0, 0},  {39, 0, 0},  {0, 31, 0},  {39, 31, 0},
                              {0, 0, 23}, {39, 0, 23}, {0, 31, 23}, {39, 31, 23}};
-  double worst = 0.0, meanSum = 0.0, worstLength = 0.0;
+  StraightPathFigures f;
   int traced = 0;
   for (const auto& c : corners) {
     const VertexId target = domain.vertexAt(c[0], c[1], c[2]);
     if (target == source) continue;
-    const TracedPath path = traceGeodesicPath(domain, metric, result, target);
-    ASSERT_FALSE(path.points.empty());
+    const TracedPath path = traceGeodesicPath(domain, metric, result, target, options);
+    EXPECT_FALSE(path.points.empty());
+    if (path.points.empty()) continue;
     const Vec3d s = domain.physicalPoint(source), t = domain.physicalPoint(target);
     EXPECT_EQ(norm(path.points.front() - s), 0.0) << "the path ends exactly at the source";
     EXPECT_EQ(norm(path.points.back() - t), 0.0) << "the path starts exactly at the target";
     const Deviation d = deviationFromCurve(domain.geometry(), path.points, segment(s, t));
     const double exact = test::tensorNorm(g, t - s);
-    worst = std::max(worst, d.max);
-    meanSum += d.mean;
-    worstLength = std::max(worstLength, std::abs(path.metricLength - exact) / exact);
+    f.worst = std::max(f.worst, d.max);
+    f.mean += d.mean;
+    f.worstLength = std::max(f.worstLength, std::abs(path.metricLength - exact) / exact);
     EXPECT_EQ(path.fallbackCount(), 0u) << "no fallback under a constant metric";
     EXPECT_DOUBLE_EQ(path.geodesicLength, result.distance[target]);
     ++traced;
   }
-  std::printf("[ measured ] constant metric, %s source: deviation max %.3f mean %.3f voxel, "
-              "metric length error max %.4f (%d paths)\n",
-              label, worst, meanSum / traced, worstLength, traced);
-  EXPECT_LE(worst, kConstantMaxDeviationVoxels);
-  EXPECT_LE(worstLength, kConstantMetricLengthError);
+  f.mean /= std::max(1, traced);
+  return f;
+}
+
+void expectStraightPaths(VertexId source, const char* label) {
+  PathTracingOptions tracedOnly;
+  tracedOnly.refine = false;
+  const StraightPathFigures before = straightPaths(source, tracedOnly);
+  const StraightPathFigures after = straightPaths(source, {});
+  std::printf("[ measured ] constant metric, %s source: deviation max %.1e mean %.1e voxel, metric length error "
+              "max %.2g; traced only: max %.3f mean %.3f, metric length error %.4f\n",
+              label, after.worst, after.mean, after.worstLength, before.worst, before.mean, before.worstLength);
+  EXPECT_LE(after.worst, kConstantMaxDeviationVoxels);
+  EXPECT_LE(after.worstLength, kConstantMetricLengthError);
+  EXPECT_LE(before.worst, kConstantTracedMaxDeviationVoxels);
+  EXPECT_LE(before.worstLength, kConstantTracedMetricLengthError);
 }
 
 TEST(GeodesicPathConstantMetric, IsTheStraightSegmentFromAnInteriorSource) {
@@ -203,9 +229,13 @@ struct PullbackPathStatistics {
   int within1Voxel = 0;
   double worst = 0.0;
   double meanOfMeans = 0.0;
+  double secondsPerPath = 0.0;
+  double meanIterations = 0.0;
+  std::size_t maxIterations = 0;
 };
 
-PullbackPathStatistics pullbackPaths(const PullbackScene& scene, const PropagationResult& result, VertexId source) {
+PullbackPathStatistics pullbackPaths(const PullbackScene& scene, const PropagationResult& result, VertexId source,
+                                     const PathTracingOptions& options = {}) {
   const VoxelGridDomain& domain = scene.domain;
   PullbackPathStatistics stats;
   for (int i = 1; i < 48; i += 6)
@@ -215,7 +245,11 @@ PullbackPathStatistics pullbackPaths(const PullbackScene& scene, const Propagati
         const Vec3d s = domain.physicalPoint(source), t = domain.physicalPoint(target);
         const std::vector<Vec3d> exact = scene.exactGeodesic(s, t);
         if (exact.empty()) continue;
-        const TracedPath path = traceGeodesicPath(domain, scene.metric, result, target);
+        const auto started = std::chrono::steady_clock::now();
+        const TracedPath path = traceGeodesicPath(domain, scene.metric, result, target, options);
+        stats.secondsPerPath += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        stats.meanIterations += path.refinement.iterations;
+        stats.maxIterations = std::max(stats.maxIterations, path.refinement.iterations);
         EXPECT_FALSE(path.points.empty());
         if (path.points.empty()) continue;
         EXPECT_EQ(norm(path.points.front() - s), 0.0);
@@ -226,19 +260,37 @@ PullbackPathStatistics pullbackPaths(const PullbackScene& scene, const Propagati
         ++stats.paths;
       }
   stats.meanOfMeans /= std::max(1, stats.paths);
+  stats.secondsPerPath /= std::max(1, stats.paths);
+  stats.meanIterations /= std::max(1, stats.paths);
   return stats;
 }
 
-// The tracer itself, on the closed-form distance |phi(x) - phi(s)| sampled
-// at the voxels (with the STVD predecessors for fallbacks). Measured
-// (Release, x86-64) over 335 paths: 310 (92.5 %) within 1 voxel, max 3.58
-// voxel, mean 0.28. The issue asks for 1 voxel; the worst paths run along
-// G's expensive axis (gamma = 20), where the grid resolves the squared
+void printPullbackFigures(const char* field, const PullbackPathStatistics& before, const PullbackPathStatistics& after) {
+  std::printf("[ measured ] pull-back gamma 20, %s, traced only: deviation max %.3f voxel, mean %.3f voxel, "
+              "%d of %d paths within 1 voxel, %.3f ms per path\n", field, before.worst, before.meanOfMeans,
+              before.within1Voxel, before.paths, 1e3 * before.secondsPerPath);
+  std::printf("[ measured ] pull-back gamma 20, %s, refined: deviation max %.3f voxel, mean %.3f voxel, "
+              "%d of %d paths within 1 voxel, %.3f ms per path (tracing included), refinement iterations mean %.1f "
+              "max %zu\n", field, after.worst, after.meanOfMeans, after.within1Voxel, after.paths,
+              1e3 * after.secondsPerPath, after.meanIterations, after.maxIterations);
+}
+
+// The traced curve alone (refinement off) on the closed-form distance
+// |phi(x) - phi(s)| sampled at the voxels (with the STVD predecessors for
+// fallbacks). Measured (Release, x86-64) over 335 paths: 310 (92.5 %)
+// within 1 voxel, max 3.58 voxel, mean 0.28; the worst paths run along G's
+// expensive axis (gamma = 20), where the grid resolves the squared
 // distance's variation poorly (docs/paths.md). Bounds about 1.3 times the
 // measured figures.
-constexpr double kPullbackExactFieldMaxVoxels = 4.6;
-constexpr double kPullbackExactFieldMeanVoxels = 0.36;
-constexpr double kPullbackExactFieldMinFractionWithin1Voxel = 0.85;
+constexpr double kPullbackExactFieldTracedMaxVoxels = 4.6;
+constexpr double kPullbackExactFieldTracedMeanVoxels = 0.36;
+constexpr double kPullbackExactFieldTracedMinFractionWithin1Voxel = 0.85;
+// Refined (the default): measured max 0.448 voxel, mean 0.028, all 335
+// paths within 1 voxel (the issue's requirement). What is left is the
+// discrete geodesic of the trilinearly interpolated metric against the
+// smooth one.
+constexpr double kPullbackMaxVoxels = 0.55;
+constexpr double kPullbackExactFieldMeanVoxels = 0.035;
 
 TEST(GeodesicPathPullbackMetric, TracedOnTheExactDistanceIsThePreImageOfTheStraightSegmentAtGamma20) {
   const PullbackScene scene;
@@ -247,39 +299,58 @@ TEST(GeodesicPathPullbackMetric, TracedOnTheExactDistanceIsThePreImageOfTheStrai
   PropagationResult result = propagate(domain, scene.metric, {source}, toolDefaults());
   const Vec3d image = scene.map(domain.physicalPoint(source));
   for (VertexId v = 0; v < domain.vertexCount(); ++v) result.distance[v] = norm(scene.map(domain.physicalPoint(v)) - image);
+  PathTracingOptions tracedOnly;
+  tracedOnly.refine = false;
+  const PullbackPathStatistics before = pullbackPaths(scene, result, source, tracedOnly);
   const PullbackPathStatistics stats = pullbackPaths(scene, result, source);
-  std::printf("[ measured ] pull-back gamma 20, exact field: deviation max %.3f voxel, mean %.3f voxel, "
-              "%d of %d paths within 1 voxel\n", stats.worst, stats.meanOfMeans, stats.within1Voxel, stats.paths);
-  EXPECT_GE(stats.paths, 100);
-  EXPECT_LE(stats.worst, kPullbackExactFieldMaxVoxels);
+  printPullbackFigures("exact field", before, stats);
+  EXPECT_GE(stats.paths, 300);
+  EXPECT_LE(stats.worst, kPullbackMaxVoxels);
   EXPECT_LE(stats.meanOfMeans, kPullbackExactFieldMeanVoxels);
-  EXPECT_GE(double(stats.within1Voxel) / stats.paths, kPullbackExactFieldMinFractionWithin1Voxel);
+  EXPECT_EQ(stats.within1Voxel, stats.paths);
+  EXPECT_LE(before.worst, kPullbackExactFieldTracedMaxVoxels);
+  EXPECT_LE(before.meanOfMeans, kPullbackExactFieldTracedMeanVoxels);
+  EXPECT_GE(double(before.within1Voxel) / before.paths, kPullbackExactFieldTracedMinFractionWithin1Voxel);
 }
 
-// The same paths on the distance field STVD computes (the tool's defaults).
-// STVD's distance errors (mean 3 %, max 19 % on this scene) tilt the
-// gradient; a geodesic's position is ill-conditioned with respect to its
-// length (a lateral offset delta over a length L changes the length only by
-// about delta^2 / 2L), so these errors move paths by voxels, most along the
-// expensive direction of G (docs/paths.md). Measured (Release, x86-64) over
-// 335 paths: 150 (45 %) within 1 voxel, max 12.4 voxel, mean 0.94: short
-// of the issue's 1 voxel. Bounds about 1.3 times the measured figures.
-constexpr double kPullbackStvdMaxVoxels = 16.0;
-constexpr double kPullbackStvdMeanVoxels = 1.25;
-constexpr double kPullbackStvdMinFractionWithin1Voxel = 0.35;
+// The same paths on the distance field STVD computes (the tool's defaults),
+// which is what `stvd path` does.
+//
+// The traced curve alone: STVD's distance errors (mean 3 %, max 19 % on
+// this scene) tilt the gradient; a geodesic's position is ill-conditioned
+// with respect to its length (a lateral offset delta over a length L
+// changes the length only by about delta^2 / 2L), so these errors move
+// paths by voxels, most along the expensive direction of G
+// (docs/paths.md). Measured (Release, x86-64) over 335 paths: 150 (45 %)
+// within 1 voxel, max 12.4 voxel, mean 0.94. Bounds about 1.3 times the
+// measured figures.
+constexpr double kPullbackStvdTracedMaxVoxels = 16.0;
+constexpr double kPullbackStvdTracedMeanVoxels = 1.25;
+constexpr double kPullbackStvdTracedMinFractionWithin1Voxel = 0.35;
+// Refined (the default): the refinement minimises the path's own metric
+// energy, so the distance field only chooses where it starts. Measured max
+// 0.397 voxel, mean 0.023, all 335 paths within 1 voxel (the issue's
+// requirement), as close as the paths from the exact field. The bound
+// kPullbackMaxVoxels serves both.
+constexpr double kPullbackStvdMeanVoxels = 0.03;
 
-TEST(GeodesicPathPullbackMetric, TracedOnTheStvdDistanceStaysNearThePreImageAtGamma20) {
+TEST(GeodesicPathPullbackMetric, TracedOnTheStvdDistanceIsThePreImageOfTheStraightSegmentAtGamma20) {
   const PullbackScene scene;
   const VoxelGridDomain& domain = scene.domain;
   const VertexId source = domain.vertexAt(22, 21, 15);
   const PropagationResult result = propagate(domain, scene.metric, {source}, toolDefaults());
+  PathTracingOptions tracedOnly;
+  tracedOnly.refine = false;
+  const PullbackPathStatistics before = pullbackPaths(scene, result, source, tracedOnly);
   const PullbackPathStatistics stats = pullbackPaths(scene, result, source);
-  std::printf("[ measured ] pull-back gamma 20, STVD field: deviation max %.3f voxel, mean %.3f voxel, "
-              "%d of %d paths within 1 voxel\n", stats.worst, stats.meanOfMeans, stats.within1Voxel, stats.paths);
-  EXPECT_GE(stats.paths, 100);
-  EXPECT_LE(stats.worst, kPullbackStvdMaxVoxels);
+  printPullbackFigures("STVD field", before, stats);
+  EXPECT_GE(stats.paths, 300);
+  EXPECT_LE(stats.worst, kPullbackMaxVoxels);
   EXPECT_LE(stats.meanOfMeans, kPullbackStvdMeanVoxels);
-  EXPECT_GE(double(stats.within1Voxel) / stats.paths, kPullbackStvdMinFractionWithin1Voxel);
+  EXPECT_EQ(stats.within1Voxel, stats.paths);
+  EXPECT_LE(before.worst, kPullbackStvdTracedMaxVoxels);
+  EXPECT_LE(before.meanOfMeans, kPullbackStvdTracedMeanVoxels);
+  EXPECT_GE(double(before.within1Voxel) / before.paths, kPullbackStvdTracedMinFractionWithin1Voxel);
 }
 
 // ---------------------------------------------------------------------------
@@ -325,6 +396,8 @@ TEST(GeodesicPathFailureModes, NeverCutsThroughMaskedVoxels) {
   // Around the wall, not through it: longer than the straight 22 mm.
   EXPECT_GT(path.euclideanLength, 30.0);
   EXPECT_LE(path.euclideanLength, 1.2 * result.distance[target]);
+  std::printf("[ measured ] around the wall: length %.4f mm, %zu refinement iterations, %zu moves held\n",
+              path.euclideanLength, path.refinement.iterations, path.refinement.heldMoves);
 }
 
 TEST(GeodesicPathFailureModes, FallsBackToThePredecessorChainWhereTheGradientVanishes) {
@@ -363,13 +436,17 @@ TEST(GeodesicPathFailureModes, AnExhaustedStepBudgetEndsOnThePredecessorChain) {
   EXPECT_GT(path.discretePoints, 0u);
 }
 
-// Paths that run inside a face of the image box, traced on STVD's distance:
-// measured max 0.84 voxel over the 14 paths below, more than the 0.5 voxel
-// of paths through the interior; on the exact distance field the same paths
-// stay within 0.5 voxel, so the difference is the propagation's (a border
-// voxel has fewer neighbours to take its distance from). Bound about 1.3
-// times the measured figure.
-constexpr double kBorderFaceMaxDeviationVoxels = 1.1;
+// Paths that run inside a face of the image box, traced on STVD's distance
+// (refinement off): measured max 0.84 voxel over the 14 paths below, more
+// than the 0.5 voxel of paths through the interior; on the exact distance
+// field the same paths stay within 0.5 voxel, so the difference is the
+// propagation's (a border voxel has fewer neighbours to take its distance
+// from). Bound about 1.3 times the measured figure.
+constexpr double kBorderFaceTracedMaxDeviationVoxels = 1.1;
+// Refined (the default), the same paths are straight: measured max 1.5e-6
+// voxel. The refinement fixes the coordinates on the image box that the
+// descent pushes out and lets the points slide along it.
+constexpr double kBorderFaceMaxDeviationVoxels = 1e-4;
 
 TEST(GeodesicPathFailureModes, DirectionCosinesFromSinglePrecisionHeadersKeepBorderPathsInTheImage) {
   // NIfTI headers store the direction cosines in single precision: they are
@@ -384,18 +461,76 @@ TEST(GeodesicPathFailureModes, DirectionCosinesFromSinglePrecisionHeadersKeepBor
       domain.vertexCount(), test::toSymTensor(test::uniaxialTensor(5.0, {1.0, -0.6, 0.4})));
   const VertexId source = domain.vertexAt(39, 31, 0);
   const PropagationResult result = propagate(domain, metric, {source}, toolDefaults());
-  double worst = 0.0;
+  PathTracingOptions tracedOnly;
+  tracedOnly.refine = false;
+  double worst = 0.0, worstTraced = 0.0;
   for (int i = 0; i < 40; i += 3) {
     const VertexId target = domain.vertexAt(i, 0, 0);
-    const TracedPath path = traceGeodesicPath(domain, metric, result, target);
-    ASSERT_FALSE(path.points.empty());
-    EXPECT_EQ(norm(path.points.front() - domain.physicalPoint(source)), 0.0);
-    const Deviation d = deviationFromCurve(g, path.points, segment(domain.physicalPoint(source), domain.physicalPoint(target)));
-    EXPECT_EQ(path.fallbackCount(), 0u) << "target (" << i << ", 0, 0)";
-    worst = std::max(worst, d.max);
+    const Vec3d s = domain.physicalPoint(source), t = domain.physicalPoint(target);
+    for (const bool refine : {false, true}) {
+      const TracedPath path = traceGeodesicPath(domain, metric, result, target, refine ? PathTracingOptions{} : tracedOnly);
+      ASSERT_FALSE(path.points.empty());
+      EXPECT_EQ(norm(path.points.front() - s), 0.0);
+      EXPECT_EQ(norm(path.points.back() - t), 0.0);
+      const Deviation d = deviationFromCurve(g, path.points, segment(s, t));
+      EXPECT_EQ(path.fallbackCount(), 0u) << "target (" << i << ", 0, 0)";
+      (refine ? worst : worstTraced) = std::max(refine ? worst : worstTraced, d.max);
+      // Every point stays in the image (the box of voxel centres).
+      for (const Vec3d& p : path.points) {
+        const Vec3d c = g.physicalPointToIndex(p);
+        EXPECT_TRUE(c.x >= -1e-3 && c.x <= 39 + 1e-3 && c.y >= -1e-3 && c.y <= 31 + 1e-3 && c.z >= -1e-3 &&
+                    c.z <= 23 + 1e-3);
+      }
+    }
   }
-  std::printf("[ measured ] constant metric, paths along the border face: deviation max %.3f voxel\n", worst);
+  std::printf("[ measured ] constant metric, paths along the border face: deviation max %.1e voxel "
+              "(traced only: %.3f)\n", worst, worstTraced);
   EXPECT_LE(worst, kBorderFaceMaxDeviationVoxels);
+  EXPECT_LE(worstTraced, kBorderFaceTracedMaxDeviationVoxels);
+}
+
+// Measured: 31.605 mm after 27 iterations, 1.28 mm (4 %) above the
+// shortest admissible curve, from 54 mm. The iteration stops short where
+// points press against the masked cells: a point whose move or segment
+// would enter them slides along their faces or stays, and the steps of the
+// others shrink until the energy no longer decreases (docs/paths.md).
+constexpr double kDetourExcessMm = 1.5;
+
+TEST(GeodesicPathRefinement, PullsADetourTightAroundMaskedVoxelsWithoutEnteringThem) {
+  // A block of masked voxels (i 12..17, j 0..14) between source and target
+  // and a wide detour around it. A point may not lie in a cell with a
+  // masked corner, so the shortest admissible curve runs from (5, 5) to the
+  // cell corner (11, 15), along j = 15 to (18, 15) and down to (25, 5):
+  // 2 sqrt(6^2 + 10^2) + 7 = 30.324 mm.
+  GridGeometry g;
+  g.size = {30, 30, 5};
+  std::vector<std::uint8_t> mask(g.voxelCount(), 1);
+  for (int k = 0; k < 5; ++k)
+    for (int j = 0; j <= 14; ++j)
+      for (int i = 12; i <= 17; ++i) mask[i + 30 * (j + 30 * k)] = 0;
+  const VoxelGridDomain domain(g, Stencil::full26(), mask);
+  const RiemannianMetric metric = RiemannianMetric::constant(domain.vertexCount(), {1, 0, 0, 1, 0, 1});
+  const std::vector<double> reached(domain.vertexCount(), 1.0);
+  const Vec3d source = g.indexToPhysicalPoint(5, 5, 2), target = g.indexToPhysicalPoint(25, 5, 2);
+  std::vector<Vec3d> points = {source, g.indexToPhysicalPoint(5, 22, 2), g.indexToPhysicalPoint(25, 22, 2), target};
+  const PathRefinementReport report = refineGeodesicPath(domain, metric, reached, points);
+  ASSERT_GE(points.size(), 3u);
+  EXPECT_EQ(norm(points.front() - source), 0.0);
+  EXPECT_EQ(norm(points.back() - target), 0.0);
+  double length = 0.0;
+  std::size_t masked = 0;
+  for (std::size_t n = 1; n < points.size(); ++n) {
+    length += norm(points[n] - points[n - 1]);
+    for (int s = 0; s <= 20; ++s)
+      masked += insideMaskedVoxel(domain, points[n - 1] + (s / 20.0) * (points[n] - points[n - 1])) ? 1 : 0;
+  }
+  const double shortest = 2.0 * std::sqrt(36.0 + 100.0) + 7.0;
+  std::printf("[ measured ] detour around a masked block: length %.4f mm (shortest admissible %.4f), "
+              "%zu iterations, %zu moves held\n", length, shortest, report.iterations, report.heldMoves);
+  EXPECT_EQ(masked, 0u) << "samples of the path inside masked voxels";
+  EXPECT_GE(length, shortest - 1e-9);
+  EXPECT_LE(length, shortest + kDetourExcessMm);
+  EXPECT_GT(report.iterations, 0u);
 }
 
 TEST(GeodesicPathOptions, SmoothingKeepsTheEndPointsAndStaysNearTheCurve) {
@@ -406,13 +541,16 @@ TEST(GeodesicPathOptions, SmoothingKeepsTheEndPointsAndStaysNearTheCurve) {
   const PropagationResult result = propagate(domain, metric, {source}, toolDefaults());
   PathTracingOptions options;
   options.smoothingPasses = 5;
-  const TracedPath path = traceGeodesicPath(domain, metric, result, target, options);
-  ASSERT_FALSE(path.points.empty());
-  EXPECT_EQ(norm(path.points.front() - domain.physicalPoint(source)), 0.0);
-  EXPECT_EQ(norm(path.points.back() - domain.physicalPoint(target)), 0.0);
-  const Deviation d = deviationFromCurve(domain.geometry(), path.points,
-                                         segment(domain.physicalPoint(source), domain.physicalPoint(target)));
-  EXPECT_LE(d.max, kConstantMaxDeviationVoxels);
+  for (const bool refine : {false, true}) {
+    options.refine = refine;
+    const TracedPath path = traceGeodesicPath(domain, metric, result, target, options);
+    ASSERT_FALSE(path.points.empty());
+    EXPECT_EQ(norm(path.points.front() - domain.physicalPoint(source)), 0.0);
+    EXPECT_EQ(norm(path.points.back() - domain.physicalPoint(target)), 0.0);
+    const Deviation d = deviationFromCurve(domain.geometry(), path.points,
+                                           segment(domain.physicalPoint(source), domain.physicalPoint(target)));
+    EXPECT_LE(d.max, refine ? kConstantMaxDeviationVoxels : kConstantTracedMaxDeviationVoxels);
+  }
 }
 
 TEST(GeodesicPathOptions, RejectsOptionsOutOfRange) {

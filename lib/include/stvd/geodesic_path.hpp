@@ -1,13 +1,14 @@
 // Geodesic paths from a propagation's result back to its sources: the
 // discrete predecessor chain, and a continuous curve that descends the
-// distance field along the characteristic direction -G^-1 grad u
-// (docs/paths.md).
+// distance field along the characteristic direction -G^-1 grad u and is then
+// refined into a discrete geodesic of the metric (docs/paths.md).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "stvd/geodesic_path_refinement.hpp"
 #include "stvd/metric_field.hpp"
 #include "stvd/propagation.hpp"
 #include "stvd/types.hpp"
@@ -67,6 +68,11 @@ struct PathTracingOptions {
   /// Passes of a [1/4, 1/2, 1/4] moving average over the interior points
   /// (end points fixed) after tracing; 0 = none.
   int smoothingPasses = 0;
+  /// Refine the traced (and smoothed) curve into a discrete geodesic of the
+  /// metric (refineGeodesicPath), so that its position no longer depends
+  /// on the distance field's errors.
+  bool refine = true;
+  PathRefinementOptions refinement;
 };
 
 struct TracedPath {
@@ -85,6 +91,8 @@ struct TracedPath {
   std::size_t gradientSteps = 0;
   /// Points that came from the predecessor chain (after fallbacks).
   std::size_t discretePoints = 0;
+  /// The refinement's iterations and energies (all zero without it).
+  PathRefinementReport refinement;
   /// Fallbacks by kind, indexed by PathFallback.
   std::size_t fallbacks[kPathFallbackKinds] = {0, 0, 0, 0, 0};
   std::size_t fallbackCount() const {
