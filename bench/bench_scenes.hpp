@@ -11,6 +11,7 @@
 
 #include "exact_metrics.hpp"
 #include "relative_error.hpp"
+#include "stvd/large_array.hpp"
 #include "stvd/propagation.hpp"
 
 namespace stvd::bench {
@@ -70,7 +71,7 @@ inline Scene pullbackScene(int n, double gamma, const Stencil& stencil, int stri
   map.a1 = slope / map.w1;
   map.w3 = 2.0 * test::kPi / n;
   map.a3 = 0.92 * slope / map.w3;
-  std::vector<SymTensor3> tensors(domain.vertexCount());
+  std::vector<SymTensor3> tensors = makeLargeArray(domain.vertexCount(), SymTensor3{});
   double maxAnisotropy = 1.0;
   for (VertexId v = 0; v < domain.vertexCount(); ++v) {
     const test::Mat3 g = map.metric(domain.physicalPoint(v));

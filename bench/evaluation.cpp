@@ -5,7 +5,9 @@
 //   sweep       error versus run time on the constant and the curved
 //               (pull-back) exact metric at each anisotropy: Dijkstra on
 //               every stencil, STVD for k = 1..16 on the 26-neighbourhood
-//               (paper's chain measure and largest-norm measure).
+//               (paper's chain measure and largest-norm measure), and with
+//               --steiner-max M Lanthier's Steiner points for M = 1, 2, 4,
+//               ... up to M (one run each: they take seconds to minutes).
 //   refinement  the 3D version of the paper's section 6.1 experiment: the
 //               grid is refined by 2 per level while k grows by less than 2.
 //   scale       one default STVD run on an n^3 grid with a full tensor
@@ -13,8 +15,14 @@
 //               (input included). Run once per size, each in a new process.
 //   mask        default STVD on a 128^3 grid restricted to centred balls
 //               holding a decreasing fraction of the voxels.
+//   parallel    many source sets (8 balls of seeds, as the regions of a
+//               connectivity run) propagated with propagateEachSourceSet on
+//               1 and on 2 threads; checks that both give bit-identical
+//               distances (exit status 3 otherwise) and reports each wall
+//               time (parameter = threads).
 //
 //   stvd_evaluation EXPERIMENT [--size N] [--gammas G1,G2,...] [--repeats R]
+//                   [--steiner-max M] [--no-header]
 //
 // Times are wall seconds of the propagation alone (scene construction
 // excluded), the median of R runs.
@@ -31,6 +39,8 @@
 #include <vector>
 
 #include "bench_scenes.hpp"
+#include "stvd/source_set_propagation.hpp"
+#include "stvd/steiner_propagation.hpp"
 
 namespace {
 
@@ -110,7 +120,17 @@ bench::Scene makeScene(const std::string& kind, int n, double gamma, const Stenc
   return bench::pullbackScene(n, gamma, stencil, 1, kCurvedSlope);
 }
 
-void sweep(int n, const std::vector<double>& gammas, int repeats) {
+Measured measureSteiner(const bench::Scene& s, int steinerPoints) {
+  SteinerOptions o;
+  o.steinerPoints = steinerPoints;
+  Measured m;
+  const auto start = std::chrono::steady_clock::now();
+  m.result = steinerPropagate(s.domain, s.metric, {s.source}, o);
+  m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return m;
+}
+
+void sweep(int n, const std::vector<double>& gammas, int repeats, int steinerMax) {
   for (const char* kind : {"constant", "curved"}) {
     for (double gamma : gammas) {
       for (const char* stencilName : {"6", "18", "26", "98", "290"}) {
@@ -125,6 +145,11 @@ void sweep(int n, const std::vector<double>& gammas, int repeats) {
             const test::RelativeErrors ek = s.errorsOf(mk.result);
             row("sweep", kind, gamma, s.domain, measureName(cm), k, &ek, mk);
           }
+        }
+        for (int m = 1; m <= steinerMax; m *= 2) {
+          const Measured ms = measureSteiner(s, m);
+          const test::RelativeErrors em = s.errorsOf(ms.result);
+          row("sweep", kind, gamma, s.domain, "Lanthier", m, &em, ms);
         }
       }
     }
@@ -179,6 +204,57 @@ void mask(int n, int repeats) {
   }
 }
 
+/// Returns false when the runs on 1 and 2 threads differ in any bit.
+bool parallel(int n, int repeats) {
+  const bench::Scene s = bench::pullbackScene(n, 20.0, Stencil::full26(), n, kCurvedSlope);
+  // Eight balls of radius 2 voxels spread over the box, like the regions of
+  // a label image.
+  std::vector<std::vector<VertexId>> sets;
+  for (int b = 0; b < 8; ++b) {
+    const int ci = n / 4 + (b & 1) * n / 2, cj = n / 4 + ((b >> 1) & 1) * n / 2,
+              ck = n / 4 + ((b >> 2) & 1) * n / 2;
+    std::vector<VertexId> set;
+    for (int k = -2; k <= 2; ++k)
+      for (int j = -2; j <= 2; ++j)
+        for (int i = -2; i <= 2; ++i)
+          if (i * i + j * j + k * k <= 4) set.push_back(s.domain.vertexAt(ci + i, cj + j, ck + k));
+    sets.push_back(std::move(set));
+  }
+  const PropagationOptions options = stvdOptions(kDefaultMemoryDepth);
+  std::vector<std::vector<double>> reference;
+  for (unsigned threads : {1u, 2u}) {
+    std::vector<std::vector<double>> distances(sets.size());
+    std::vector<std::uint64_t> edges(sets.size());
+    std::vector<double> seconds;
+    for (int r = 0; r < repeats; ++r) {
+      const auto start = std::chrono::steady_clock::now();
+      propagateEachSourceSet(s.domain, s.metric, sets, options, threads,
+                             [&](std::size_t set, PropagationResult&& result) {
+                               edges[set] = result.relaxedEdges;
+                               distances[set] = std::move(result.distance);
+                             });
+      seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+    std::sort(seconds.begin(), seconds.end());
+    Measured m;
+    m.seconds = seconds[seconds.size() / 2];
+    for (std::uint64_t e : edges) m.result.relaxedEdges += e;
+    row("parallel", "curved", 20.0, s.domain, "STVD", static_cast<int>(threads), nullptr, m);
+    if (reference.empty()) {
+      reference = std::move(distances);
+    } else {
+      for (std::size_t set = 0; set < sets.size(); ++set)
+        if (std::memcmp(reference[set].data(), distances[set].data(),
+                        reference[set].size() * sizeof(double)) != 0) {
+          std::fprintf(stderr, "stvd_evaluation: source set %zu differs between 1 and %u threads\n",
+                       set, threads);
+          return false;
+        }
+    }
+  }
+  return true;
+}
+
 std::vector<double> parseList(const char* text) {
   std::vector<double> values;
   std::stringstream in(text);
@@ -189,8 +265,8 @@ std::vector<double> parseList(const char* text) {
 
 int usage() {
   std::fprintf(stderr,
-               "usage: stvd_evaluation sweep|refinement|scale|mask [--size N] "
-               "[--gammas G1,G2,...] [--repeats R] [--no-header]\n");
+               "usage: stvd_evaluation sweep|refinement|scale|mask|parallel [--size N] "
+               "[--gammas G1,G2,...] [--repeats R] [--steiner-max M] [--no-header]\n");
   return 2;
 }
 
@@ -199,7 +275,7 @@ int usage() {
 int main(int argc, char** argv) {
   if (argc < 2) return usage();
   const std::string experiment = argv[1];
-  int n = 64, repeats = 3;
+  int n = 64, repeats = 3, steinerMax = 0;
   bool withHeader = true;
   std::vector<double> gammas = {1, 5, 10, 20, 50};
   for (int a = 2; a < argc; ++a) {
@@ -207,15 +283,17 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[a], "--size") && hasValue) n = std::atoi(argv[++a]);
     else if (!std::strcmp(argv[a], "--repeats") && hasValue) repeats = std::max(1, std::atoi(argv[++a]));
     else if (!std::strcmp(argv[a], "--gammas") && hasValue) gammas = parseList(argv[++a]);
+    else if (!std::strcmp(argv[a], "--steiner-max") && hasValue) steinerMax = std::atoi(argv[++a]);
     else if (!std::strcmp(argv[a], "--no-header")) withHeader = false;
     else return usage();
   }
-  if (n < 8 || gammas.empty()) return usage();
+  if (n < 8 || gammas.empty() || steinerMax < 0 || steinerMax > kMaxSteinerPoints) return usage();
   if (withHeader) header();
-  if (experiment == "sweep") sweep(n, gammas, repeats);
+  if (experiment == "sweep") sweep(n, gammas, repeats, steinerMax);
   else if (experiment == "refinement") refinement(repeats);
   else if (experiment == "scale") scale(n);
   else if (experiment == "mask") mask(n, repeats);
+  else if (experiment == "parallel") return parallel(n, repeats) ? 0 : 3;
   else return usage();
   return 0;
 }

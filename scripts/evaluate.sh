@@ -2,7 +2,7 @@
 # The evaluation: installs what is missing (gnuplot included), builds stvd
 # (Release) with its benchmarks, runs every experiment of docs/benchmarks.md
 # and rewrites that document and its plots (docs/benchmarks/*.png) from the
-# figures of this run. Takes about half an hour on two cores.
+# figures of this run. Takes about 45 minutes on two cores.
 #
 # STVD_BUILD_DIR overrides the build directory (default: build).
 # STVD_EVALUATION_QUICK=1 runs small sizes only (a few minutes; for checking
@@ -17,7 +17,13 @@ quick=${STVD_EVALUATION_QUICK:-0}
 bash scripts/setup.sh gnuplot-nox
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSTVD_BUILD_BENCHMARKS=ON
 cmake --build "$build_dir" -j"$(nproc)" \
-  --target stvd_evaluation stvd_accuracy_table stvd_propagation_speed stvd_tool
+  --target stvd_evaluation stvd_accuracy_table stvd_propagation_speed stvd_path_tracing \
+  stvd_surface_speed stvd_tool
+# The tetrahedral-mesh benchmark exists only when the optional TetGen module
+# is built (STVD_WITH_TETGEN); build it when it is there.
+if cmake --build "$build_dir" --target help | grep -q stvd_tet_mesh_speed; then
+  cmake --build "$build_dir" -j"$(nproc)" --target stvd_tet_mesh_speed
+fi
 
 rm -rf "$run_dir"
 mkdir -p "$run_dir"
@@ -30,16 +36,22 @@ bench="$build_dir/bench"
   echo "cores=$(nproc)"
   echo "memory=$(free -g | awk '/^Mem:/ {print $2 " GiB"}')"
   echo "compiler=$(c++ --version | head -1)"
+  echo "load_start=$(cut -d' ' -f1-3 /proc/loadavg)"
 } >"$run_dir/machine.txt"
 
 if [[ $quick == 1 ]]; then
   sweep_size=24 accuracy_size=32 speed_size=64 scale_sizes="32 48 64" repeats=1
+  steiner_size=12 steiner_max=4 parallel_size=32
 else
   sweep_size=64 accuracy_size=128 speed_size=128 scale_sizes="64 96 128 192 256" repeats=3
+  steiner_size=32 steiner_max=8 parallel_size=96
 fi
 
 echo "evaluate.sh: error versus time (${sweep_size}^3)"
 "$bench/stvd_evaluation" sweep --size "$sweep_size" --repeats "$repeats" >"$run_dir/sweep.tsv"
+echo "evaluate.sh: Lanthier's Steiner points next to Dijkstra and STVD (${steiner_size}^3)"
+"$bench/stvd_evaluation" sweep --size "$steiner_size" --repeats "$repeats" --steiner-max "$steiner_max" \
+  >"$run_dir/steiner_sweep.tsv"
 echo "evaluate.sh: refinement"
 "$bench/stvd_evaluation" refinement --repeats "$repeats" >"$run_dir/refinement.tsv"
 echo "evaluate.sh: scale ($scale_sizes)"
@@ -51,15 +63,33 @@ for n in $scale_sizes; do
 done
 echo "evaluate.sh: masked volumes"
 "$bench/stvd_evaluation" mask --size "$accuracy_size" --repeats "$repeats" >"$run_dir/mask.tsv"
+echo "evaluate.sh: many source sets on 1 and 2 threads (${parallel_size}^3)"
+"$bench/stvd_evaluation" parallel --size "$parallel_size" --repeats "$repeats" >"$run_dir/parallel.tsv"
 echo "evaluate.sh: time per relaxed edge"
 "$bench/stvd_propagation_speed" --benchmark_filter="n:$speed_size/k:(0|5|8)/" \
   --benchmark_repetitions="$((repeats + 2))" --benchmark_report_aggregates_only=true \
   --benchmark_format=json >"$run_dir/propagation_speed.json"
 echo "evaluate.sh: accuracy versus k (${accuracy_size}^3)"
 "$bench/stvd_accuracy_table" --size "$accuracy_size" --repeats "$repeats" >"$run_dir/accuracy_table.md"
+gbench_options=(--benchmark_repetitions="$((repeats + 2))" --benchmark_report_aggregates_only=true
+  --benchmark_format=json)
+if [[ $quick == 1 ]]; then gbench_options=(--benchmark_format=json --benchmark_min_time=0.01); fi
+echo "evaluate.sh: path tracing"
+"$bench/stvd_path_tracing" "${gbench_options[@]}" >"$run_dir/path_tracing.json"
+echo "evaluate.sh: surfaces"
+"$bench/stvd_surface_speed" "${gbench_options[@]}" >"$run_dir/surface_speed.json"
+if [[ -x $bench/stvd_tet_mesh_speed ]]; then
+  echo "evaluate.sh: tetrahedral meshes"
+  tet_filter=.
+  # Quick mode: the small mesh only (TetGen takes a while for the large one).
+  if [[ $quick == 1 ]]; then tet_filter='grid|vol_milli:200/'; fi
+  "$bench/stvd_tet_mesh_speed" "${gbench_options[@]}" --benchmark_filter="$tet_filter" \
+    >"$run_dir/tet_mesh_speed.json"
+fi
 echo "evaluate.sh: real brain"
 "$build_dir/tools/stvd" distance sample_data/dti_philips_biobank/dti_tensor_dipy5d.nii.gz \
   --seed-voxel 55,54,15 -o "$run_dir/cc_body_distance.nii.gz" --stats "$run_dir/brain_stats.json"
 
+echo "load_end=$(cut -d' ' -f1-3 /proc/loadavg)" >>"$run_dir/machine.txt"
 python3 scripts/evaluation_report.py "$run_dir" docs
 echo "evaluate.sh: wrote docs/benchmarks.md and docs/benchmarks/*.png from $run_dir"

@@ -158,6 +158,11 @@ def machine_section(run_dir):
         "run; absolute times on a shared machine vary by about ±20 % from run to run, ratios "
         "measured in one run much less.",
         "",
+        f"Load average (1, 5, 15 min) when the run started: {facts.get('load_start', '?')}; "
+        f"when it ended: {facts.get('load_end', '?')} (on {facts.get('cores', '?')} cores: a "
+        "load near or above the core count means other work shared the machine and the times "
+        "are inflated).",
+        "",
     ]
 
 
@@ -270,6 +275,135 @@ def gbench_table(path):
     return out + [""]
 
 
+def gbench_medians(path):
+    """The runs of a Google Benchmark JSON file in file order: the median
+    aggregates when it ran repetitions, else the single runs."""
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        runs = json.load(f)["benchmarks"]
+    if any("aggregate_name" in b for b in runs):
+        return [b for b in runs if b.get("aggregate_name") == "median"]
+    return runs
+
+
+def gbench_counter_table(path, counters):
+    """One row per benchmark: its label, wall time and the named counters.
+    counters: (key, heading, scale, digits); time counters are seconds."""
+    rows = gbench_medians(path)
+    if not rows:
+        return []
+    out = ["| benchmark | label | wall time | " + " | ".join(h for _, h, _, _ in counters) + " |",
+           "|---|---|---|" + "---|" * len(counters)]
+    for b in rows:
+        cells = []
+        for key, _, scale, digits in counters:
+            value = b.get(key)
+            cells.append("n/a" if value is None else f"{scale * value:,.{digits}f}")
+        name = b["run_name"] if "run_name" in b else b["name"]
+        out.append(f"| {name} | {b.get('label', '')} | {b['real_time']:.1f} {b['time_unit']} | "
+                   + " | ".join(cells) + " |")
+    return out + [""]
+
+
+def parallel_table(rows):
+    if not rows:
+        return []
+    one = next((r for r in rows if r["parameter"] == 1), None)
+    out = ["| threads | seconds (median) | speed-up over 1 thread | relaxed edges (all sets) |",
+           "|---|---|---|---|"]
+    for r in sorted(rows, key=lambda r: r["parameter"]):
+        speedup = one["seconds"] / r["seconds"] if one else float("nan")
+        out.append(f"| {r['parameter']} | {r['seconds']:.3f} | {speedup:.2f} | "
+                   f"{r['relaxed_edges']:,} |")
+    return out + ["", "The distances of every source set were bit-identical on 1 and 2 threads "
+                  "(the experiment exits with an error otherwise, and the run stops).", ""]
+
+
+def lanthier_table(rows):
+    out = []
+    for kind in ("constant", "curved"):
+        sel = [r for r in rows if r["scene"] == kind and r["method"] in ("Lanthier", "Dijkstra", "STVD-largest", "STVD")]
+        if not sel:
+            continue
+        out += [f"#### {kind}, {sel[0]['n']}³ grid", "",
+                "| γ | method | mean rel. error | max rel. error | seconds | relaxed edges | "
+                "propagation state |", "|---|---|---|---|---|---|---|"]
+        for gamma in sorted({r["gamma"] for r in sel}):
+            chosen = [r for r in sel if r["gamma"] == gamma and (
+                (r["method"] == "Dijkstra" and r["stencil"] == 26)
+                or (r["method"] == "STVD" and r["parameter"] == 5)
+                or (r["method"] == "STVD-largest" and r["parameter"] == 8)
+                or r["method"] == "Lanthier")]
+            for r in chosen:
+                out.append(f"| {gamma:g} | {method_label(r)} | {pct(r['mean_rel_error'], 3)} | "
+                           f"{pct(r['max_rel_error'], 1)} | {r['seconds']:.3f} | "
+                           f"{r['relaxed_edges']:,} | {r['state_bytes'] / 2**20:.1f} MiB |")
+        out.append("")
+    return out
+
+
+def targets_section(run_dir, sweep, refinement, scale, mask, parallel):
+    """The speed and scale targets of the evaluation, each with the figure
+    of this run and whether it is met."""
+    out = ["| target | this run | met |", "|---|---|---|"]
+
+    def verdict(ok):
+        return "yes" if ok else "**no**"
+
+    medians = {b["run_name"]: b for b in gbench_medians(os.path.join(run_dir, "propagation_speed.json"))}
+    largest_n = max((int(name.split("n:")[1].split("/")[0]) for name in medians), default=None)
+    if largest_n is not None:
+        def per_edge(k):
+            b = next((b for name, b in medians.items() if f"n:{largest_n}/k:{k}/" in name), None)
+            return None if b is None else 1e9 * b["time_per_edge"]
+        d, s5 = per_edge(0), per_edge(5)
+        if d is not None:
+            out.append(f"| Dijkstra ≤ 30 ns per relaxed edge, {largest_n}³, 26-neighbourhood, one core "
+                       f"| {d:.1f} ns | {verdict(d <= 30)} |")
+        if d is not None and s5 is not None:
+            out.append(f"| default STVD (k = 5) ≤ 2.5 × Dijkstra on the same grid | {s5 / d:.2f} × "
+                       f"({s5:.1f} ns) | {verdict(s5 / d <= 2.5)} |")
+    if scale:
+        rows = sorted(scale, key=lambda r: r["n"])
+        big = rows[-1]
+        out.append(f"| {big['n']}³ with a full tensor field: peak memory ≤ 2 GiB, input included "
+                   f"| {big['peak_rss_bytes'] / 2**30:.2f} GiB, {big['seconds']:.1f} s | "
+                   f"{verdict(big['peak_rss_bytes'] <= 2 * 2**30)} |")
+        base = rows[0]
+        growth = [(r["seconds"] / (r["domain_voxels"] * math.log(r["domain_voxels"])))
+                  / (base["seconds"] / (base["domain_voxels"] * math.log(base["domain_voxels"])))
+                  for r in rows]
+        out.append(f"| time grows no faster than N log N from {base['n']}³ to {big['n']}³ "
+                   f"| time / (N log N) relative to {base['n']}³: "
+                   + ", ".join(f"{g:.2f}" for g in growth)
+                   + f" | {verdict(max(growth) <= 1.1)} (at most 1.1 counted as met) |")
+    if mask:
+        full = max(mask, key=lambda r: r["domain_voxels"])
+        smallest = min(mask, key=lambda r: r["domain_voxels"])
+        fraction = smallest["domain_voxels"] / full["domain_voxels"]
+        time_fraction = smallest["seconds"] / full["seconds"]
+        out.append(f"| masked volume costs in proportion to the voxels inside "
+                   f"| {fraction:.3f} of the voxels take {time_fraction:.3f} of the time "
+                   f"| {verdict(time_fraction <= 1.25 * fraction)} (within 1.25 × the fraction) |")
+    if parallel:
+        one = next((r for r in parallel if r["parameter"] == 1), None)
+        two = next((r for r in parallel if r["parameter"] == 2), None)
+        if one and two:
+            speedup = one["seconds"] / two["seconds"]
+            out.append(f"| many source sets: ≥ 1.7 × speed-up on 2 cores, identical results "
+                       f"| {speedup:.2f} ×, bit-identical | {verdict(speedup >= 1.7)} |")
+    if refinement:
+        for kind in ("constant", "curved"):
+            series = sorted((r for r in refinement if r["scene"] == kind and r["method"] == "STVD"),
+                            key=lambda r: r["n"])
+            if len(series) > 1:
+                falls = all(b["mean_rel_error"] < a["mean_rel_error"] for a, b in zip(series, series[1:]))
+                out.append(f"| refinement, {kind}: the error falls level by level "
+                           f"| {' → '.join(pct(r['mean_rel_error']) for r in series)} | {verdict(falls)} |")
+    return out + [""] if len(out) > 2 else []
+
+
 def brain_section(run_dir):
     path = os.path.join(run_dir, "brain_stats.json")
     if not os.path.exists(path):
@@ -297,6 +431,8 @@ def main():
     refinement = read_rows(os.path.join(run_dir, "refinement.tsv"))
     scale = read_rows(os.path.join(run_dir, "scale.tsv"))
     mask = read_rows(os.path.join(run_dir, "mask.tsv"))
+    steiner_sweep = read_rows(os.path.join(run_dir, "steiner_sweep.tsv"))
+    parallel = read_rows(os.path.join(run_dir, "parallel.tsv"))
 
     doc = ["# Benchmarks", "",
            "<!-- Written by scripts/evaluate.sh; edit scripts/evaluation_report.py instead. -->",
@@ -314,6 +450,12 @@ def main():
             "Grids have unit spacing (spacing and direction cosines are covered by the tests). "
             "Times are wall seconds of the propagation alone, one core.", ""]
 
+    targets = targets_section(run_dir, sweep, refinement, scale, mask, parallel)
+    if targets:
+        doc += ["## Targets", "", "The speed and scale targets, read from the sections below."
+                " Times on a busy machine (see the load average above) come out longer than on "
+                "a quiet one.", ""] + targets
+
     doc += ["## Error versus run time", "",
             "`stvd_evaluation sweep`: Dijkstra on each stencil (6, 18, 26, 98, 290), STVD with "
             "k = 2..16 on the 26-neighbourhood with the paper's chain measure and with the "
@@ -323,6 +465,19 @@ def main():
         if plot_error_vs_time(sweep, kind, data_dir, os.path.join(plot_dir, f"error_vs_time_{kind}.png")):
             doc += [f"![{kind} metric](benchmarks/error_vs_time_{kind}.png)", ""]
     doc += ["### Tables", ""] + sweep_tables(sweep)
+
+    if steiner_sweep:
+        doc += ["## Lanthier's Steiner points next to Dijkstra and STVD", "",
+                f"`stvd_evaluation sweep --size {steiner_sweep[0]['n']} --steiner-max 8`: the same "
+                "sweep on a smaller grid, with Lanthier's Steiner-point method for M = 1, 2, 4 "
+                "and 8 points per cell edge (docs/steiner.md; one run per M, its time grows about "
+                "like M⁴). Propagation state is the method's own memory (distances, queue, "
+                "points), without the metric.", ""]
+        for kind in ("constant", "curved"):
+            if plot_error_vs_time(steiner_sweep, kind, data_dir,
+                                  os.path.join(plot_dir, f"lanthier_vs_time_{kind}.png")):
+                doc += [f"![{kind} metric with Lanthier](benchmarks/lanthier_vs_time_{kind}.png)", ""]
+        doc += lanthier_table(steiner_sweep)
 
     doc += ["## Refinement (section 6.1 of the paper, in 3D)", "",
             "`stvd_evaluation refinement`: the grid resolution doubles per level (16³ → 128³) "
@@ -346,6 +501,14 @@ def main():
             "holding a decreasing fraction of the voxels.", ""]
     doc += mask_table(mask)
 
+    if parallel:
+        doc += ["## Many source sets on both cores", "",
+                f"`stvd_evaluation parallel --size {parallel[0]['n']}`: eight balls of seeds "
+                "(radius 2 voxels), each propagated on its own with default STVD "
+                "(`stvd::propagateEachSourceSet`, what `stvd connectivity` does per region), "
+                "on one thread and on two.", ""]
+        doc += parallel_table(parallel)
+
     doc += ["## Time per relaxed edge (Google Benchmark)", "",
             "`stvd_propagation_speed`, 26-neighbourhood, curved metric (γ = 20), median of the "
             "repetitions; the targets are at most 30 ns per relaxed edge for Dijkstra and at "
@@ -356,6 +519,35 @@ def main():
             "`stvd_accuracy_table --size 128`: each method alternates with Dijkstra; the ratio "
             "is the median of the per-pair ratios.", ""]
     doc += include(os.path.join(run_dir, "accuracy_table.md"))
+
+    tet = gbench_counter_table(os.path.join(run_dir, "tet_mesh_speed.json"), [
+        ("time_per_edge", "CPU ns / relaxed edge", 1e9, 1), ("relaxed_edges", "relaxed edges", 1, 0),
+        ("vertices", "vertices", 1, 0), ("mean_error", "mean rel. error (%)", 100, 3),
+        ("max_error", "max rel. error (%)", 100, 1)])
+    if tet:
+        doc += ["## Tetrahedral meshes", "",
+                "`stvd_tet_mesh_speed` (built with the optional TetGen module): TetGen quality "
+                "meshes of the box [−20, 20] × [−16, 16] × [−12, 12] mm at two sizes (arguments: "
+                "`vol_milli` the maximum tet volume in thousandths of a mm³, `curved` 0 for the "
+                "constant metric γ = 12 and 1 for the curved pull-back γ = 12, `k` with 0 for "
+                "Dijkstra, `morton` 0 for TetGen's vertex numbering and 1 for the Morton order "
+                "that `stvd distance MESH.node` uses), next to the 128³ grid of `stvd_propagation_speed` in the "
+                "same program. Time per edge is CPU time.", ""] + tet
+    paths = gbench_counter_table(os.path.join(run_dir, "path_tracing.json"), [
+        ("time_per_path", "ms / path", 1e3, 3), ("time_per_step", "µs / step", 1e6, 2),
+        ("steps_per_path", "steps / path", 1, 0)])
+    if paths:
+        doc += ["## Path tracing", "",
+                "`stvd_path_tracing`: tracing the continuous geodesic path (docs/paths.md) from 8 "
+                "targets halfway to the grid's corners back to the source, after the propagation, "
+                "on the n³ pull-back scene (γ = 20) with the tool's defaults; "
+                "`propagationForComparison` is the propagation itself.", ""] + paths
+    surfaces = gbench_counter_table(os.path.join(run_dir, "surface_speed.json"), [
+        ("time_per_edge", "ns / relaxed edge", 1e9, 1), ("relaxed_edges", "relaxed edges", 1, 0)])
+    if surfaces:
+        doc += ["## Surfaces: time per relaxed edge", "",
+                "`stvd_surface_speed`: Dijkstra and STVD (k = 5, 8) on polygon surfaces "
+                "(docs/surfaces.md; arguments: scene, k with 0 = Dijkstra).", ""] + surfaces
 
     extra = sorted(f for f in os.listdir(run_dir) if f.startswith("section_") and f.endswith(".md"))
     for name in extra:

@@ -9,9 +9,7 @@
 #include <iostream>
 #include <limits>
 #include <map>
-#include <mutex>
 #include <sstream>
-#include <thread>
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
@@ -19,6 +17,7 @@
 #include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
+#include "stvd/parallel_tasks.hpp"
 #include "stvd/stencil.hpp"
 #include "subcommands.hpp"
 
@@ -92,7 +91,6 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
   if (o.labels.empty()) usageError("no regions: add --labels LABELS");
   if (o.output.empty()) usageError("no output file: add -o TABLE.tsv");
   checkPropagationChoice(o, /*lanthierAllowed=*/false);
-  if (o.threads == 0) o.threads = std::max(1u, std::thread::hardware_concurrency());
   return o;
 }
 
@@ -179,21 +177,8 @@ int runConnectivity(int argc, char** argv) {
       r.straight = norm(path.points.back() - path.points.front());
     }
   };
-  const unsigned threadCount = static_cast<unsigned>(std::min<std::size_t>(o.threads, n));
-  std::exception_ptr failure;
-  std::mutex failureMutex;
-  std::vector<std::thread> threads;
-  for (unsigned t = 0; t < threadCount; ++t)
-    threads.emplace_back([&, t] {
-      try {
-        for (std::size_t a = t; a < n; a += threadCount) work(a);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(failureMutex);
-        if (!failure) failure = std::current_exception();
-      }
-    });
-  for (std::thread& t : threads) t.join();
-  if (failure) std::rethrow_exception(failure);
+  const unsigned threadCount = threadCountFor(o.threads, n);
+  forEachTaskInParallel(n, threadCount, work);
 
   std::ostringstream tsv;
   tsv << "region_a\tregion_b\tgeodesic_mm\tpath_mm\tstraight_mm\tconnectivity\tvoxels_a\tvoxels_b\n";

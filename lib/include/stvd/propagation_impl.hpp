@@ -12,6 +12,7 @@
 
 #include "stvd/chain_unfolding.hpp"
 #include "stvd/detail/front_queue.hpp"
+#include "stvd/large_array.hpp"
 #include "stvd/propagation.hpp"
 
 namespace stvd {
@@ -103,8 +104,8 @@ class Propagation {
       : domain_(domain),
         metric_(metric),
         options_(options),
-        distance_(domain.vertexCount(), kUnreachable),
-        predecessor_(domain.vertexCount(), kNoVertex),
+        distance_(makeLargeArray<double>(domain.vertexCount(), kUnreachable)),
+        predecessor_(makeLargeArray<VertexId>(domain.vertexCount(), kNoVertex)),
         queue_(domain.vertexCount()) {}
 
   PropagationResult run(const std::vector<VertexId>& sources) {

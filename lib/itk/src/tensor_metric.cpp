@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "stvd/itk/symmetric_eigen.hpp"
+#include "stvd/large_array.hpp"
 
 namespace stvd::imaging {
 
@@ -63,7 +64,9 @@ MetricFromTensors buildMetric(const std::vector<SymTensor3>& tensors, const std:
                                 std::to_string(tensors.size()));
   MetricFromTensors out;
   const std::size_t n = tensors.size();
-  out.metric.assign(n, SymTensor3{1.f, 0.f, 0.f, 1.f, 0.f, 1.f});
+  // Read per neighbour in the propagation's inner loop: huge pages
+  // (stvd/large_array.hpp).
+  out.metric = makeLargeArray(n, SymTensor3{1.f, 0.f, 0.f, 1.f, 0.f, 1.f});
   out.inDomain.assign(n, 0);
   MetricVoxelCounts& c = out.counts;
   c.total = n;

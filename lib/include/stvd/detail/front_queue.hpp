@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "stvd/large_array.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd::detail {
@@ -16,7 +17,7 @@ class FrontQueue {
   static constexpr std::uint32_t kUnseen = 0xffffffffu;
   static constexpr std::uint32_t kFinal = 0xfffffffeu;
 
-  explicit FrontQueue(std::size_t vertexCount) : slot_(vertexCount, kUnseen) {}
+  explicit FrontQueue(std::size_t vertexCount) : slot_(makeLargeArray<std::uint32_t>(vertexCount, kUnseen)) {}
 
   bool empty() const { return heap_.empty(); }
   bool isFinal(VertexId v) const { return slot_[v] == kFinal; }
