@@ -18,7 +18,7 @@ bash scripts/setup.sh gnuplot-nox
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSTVD_BUILD_BENCHMARKS=ON
 cmake --build "$build_dir" -j"$(nproc)" \
   --target stvd_evaluation stvd_accuracy_table stvd_propagation_speed stvd_path_tracing \
-  stvd_surface_speed stvd_tool
+  stvd_surface_speed stvd_surface_steiner_table stvd_tool
 # The tetrahedral-mesh benchmark exists only when the optional TetGen module
 # is built (STVD_WITH_TETGEN); build it when it is there.
 if cmake --build "$build_dir" --target help | grep -q stvd_tet_mesh_speed; then
@@ -41,10 +41,10 @@ bench="$build_dir/bench"
 
 if [[ $quick == 1 ]]; then
   sweep_size=24 accuracy_size=32 speed_size=64 scale_sizes="32 48 64" repeats=1
-  steiner_size=12 steiner_max=4 parallel_size=32
+  steiner_size=12 steiner_max=4 parallel_size=32 surface_size=32 surface_steiner_max=4
 else
   sweep_size=64 accuracy_size=128 speed_size=128 scale_sizes="64 96 128 192 256" repeats=3
-  steiner_size=32 steiner_max=8 parallel_size=96
+  steiner_size=32 steiner_max=8 parallel_size=96 surface_size=96 surface_steiner_max=16
 fi
 
 echo "evaluate.sh: error versus time (${sweep_size}^3)"
@@ -78,6 +78,9 @@ echo "evaluate.sh: path tracing"
 "$bench/stvd_path_tracing" "${gbench_options[@]}" >"$run_dir/path_tracing.json"
 echo "evaluate.sh: surfaces"
 "$bench/stvd_surface_speed" "${gbench_options[@]}" >"$run_dir/surface_speed.json"
+echo "evaluate.sh: Lanthier on surfaces (${surface_size}^2)"
+"$bench/stvd_surface_steiner_table" --size "$surface_size" --max-steiner "$surface_steiner_max" \
+  >"$run_dir/section_surface_steiner.md"
 if [[ -x $bench/stvd_tet_mesh_speed ]]; then
   echo "evaluate.sh: tetrahedral meshes"
   tet_filter=.

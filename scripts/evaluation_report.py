@@ -413,13 +413,17 @@ def brain_section(run_dir):
     return ["```json", json.dumps(s, indent=2), "```", ""]
 
 
-def include(path):
+def include(path, top_level=None):
+    """The lines of a tool's Markdown output. Its headings are demoted below
+    this document's: by two levels, or (top_level) so that its highest
+    heading gets that level."""
     if not os.path.exists(path):
         return []
     with open(path) as f:
-        text = f.read().rstrip("\n")
-    # Demote the headings of the included tool output below this document's.
-    return [("##" + line) if line.startswith("#") else line for line in text.split("\n")] + [""]
+        lines = f.read().rstrip("\n").split("\n")
+    levels = [len(line) - len(line.lstrip("#")) for line in lines if line.startswith("#")]
+    shift = 2 if top_level is None or not levels else max(0, top_level - min(levels))
+    return [("#" * shift + line) if line.startswith("#") else line for line in lines] + [""]
 
 
 def main():
@@ -467,7 +471,7 @@ def main():
     doc += ["### Tables", ""] + sweep_tables(sweep)
 
     if steiner_sweep:
-        doc += ["## Lanthier's Steiner points next to Dijkstra and STVD", "",
+        doc += ["## Lanthier's Steiner points against Dijkstra and STVD", "",
                 f"`stvd_evaluation sweep --size {steiner_sweep[0]['n']} --steiner-max 8`: the same "
                 "sweep on a smaller grid, with Lanthier's Steiner-point method for M = 1, 2, 4 "
                 "and 8 points per cell edge (docs/steiner.md; one run per M, its time grows about "
@@ -551,7 +555,7 @@ def main():
 
     extra = sorted(f for f in os.listdir(run_dir) if f.startswith("section_") and f.endswith(".md"))
     for name in extra:
-        doc += include(os.path.join(run_dir, name))
+        doc += include(os.path.join(run_dir, name), top_level=2)
 
     brain = brain_section(run_dir)
     if brain:
