@@ -422,8 +422,13 @@ def include(path, top_level=None):
     with open(path) as f:
         lines = f.read().rstrip("\n").split("\n")
     levels = [len(line) - len(line.lstrip("#")) for line in lines if line.startswith("#")]
-    shift = 2 if top_level is None or not levels else max(0, top_level - min(levels))
-    return [("#" * shift + line) if line.startswith("#") else line for line in lines] + [""]
+    shift = 2 if top_level is None or not levels else top_level - min(levels)
+
+    def moved(line):
+        level = len(line) - len(line.lstrip("#"))
+        return "#" * (level + shift) + line[level:]
+
+    return [moved(line) if line.startswith("#") else line for line in lines] + [""]
 
 
 def main():
