@@ -68,16 +68,33 @@ bool parsePropagationOption(const std::string& a, ArgumentReader& args, Propagat
   return true;
 }
 
+namespace {
+
+/// The rules every command shares: STVD's options are refused where no
+/// STVD runs (`stvdOnly`: every method but stvd; otherwise lanthier only),
+/// and --steiner goes with lanthier and lanthier needs it.
+void checkCommonChoice(const PropagationChoice& o, bool stvdOnly, const std::string& cellEdge,
+                       int suggestedSteinerPoints) {
+  const bool refuseStvdOptions = stvdOnly ? (o.lanthier || o.method != Method::ShortTermVectorDijkstra) : o.lanthier;
+  if (o.kGiven && refuseStvdOptions) usageError("--k applies to --method stvd only");
+  if (o.chainMeasureGiven && refuseStvdOptions) usageError("--chain-measure applies to --method stvd only");
+  if (o.lanthier && o.steinerPoints == 0)
+    usageError("--method lanthier needs --steiner M, the Steiner points per " + cellEdge + " (1.." +
+               std::to_string(kMaxSteinerPoints) + "; try " + std::to_string(suggestedSteinerPoints) + ")");
+  if (!o.lanthier && o.steinerPoints != 0) usageError("--steiner applies to --method lanthier only");
+}
+
+}  // namespace
+
 void checkPropagationChoice(const PropagationChoice& o, bool lanthierAllowed) {
   if (o.lanthier && !lanthierAllowed)
     usageError("--method lanthier gives distances but no predecessors, which paths need; use stvd or dijkstra");
-  const bool stvd = !o.lanthier && o.method == Method::ShortTermVectorDijkstra;
-  if (o.kGiven && !stvd) usageError("--k applies to --method stvd only");
-  if (o.chainMeasureGiven && !stvd) usageError("--chain-measure applies to --method stvd only");
-  if (o.lanthier && o.steinerPoints == 0)
-    usageError("--method lanthier needs --steiner M, the Steiner points per cube edge (1..16; try 2)");
-  if (!o.lanthier && o.steinerPoints != 0) usageError("--steiner applies to --method lanthier only");
+  checkCommonChoice(o, /*stvdOnly=*/true, "cube edge", 2);
   if (o.lanthier && o.stencilGiven) usageError("--stencil does not apply to --method lanthier (it uses cubes)");
+}
+
+void checkMeshPropagationChoice(const PropagationChoice& o, const std::string& cellEdge, int suggestedSteinerPoints) {
+  checkCommonChoice(o, /*stvdOnly=*/false, cellEdge, suggestedSteinerPoints);
 }
 
 PropagationOptions propagationOptions(const PropagationChoice& o) {

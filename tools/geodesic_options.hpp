@@ -54,6 +54,13 @@ bool parsePropagationOption(const std::string& option, ArgumentReader& args, Pro
 /// Usage errors for combinations that make no sense (--k with Dijkstra, ...).
 /// Commands that need predecessors (paths) refuse lanthier, which has none.
 void checkPropagationChoice(const PropagationChoice& choice, bool lanthierAllowed);
+/// The same rules for the tetrahedral-mesh and surface commands, which have
+/// no stencil (parse them with parsePropagationOption but not --stencil)
+/// and, as they always have, accept and ignore --k and --chain-measure with
+/// dijkstra. `cellEdge` names the edges that carry the Steiner points in
+/// messages ("tetrahedron edge", "face edge").
+void checkMeshPropagationChoice(const PropagationChoice& choice, const std::string& cellEdge,
+                                int suggestedSteinerPoints);
 /// The propagation options of the choice (k = 1 for Dijkstra; not lanthier).
 PropagationOptions propagationOptions(const PropagationChoice& choice);
 /// "STVD with k = 8 (largest-norm chain measure)", "Dijkstra" or the

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "command_line.hpp"
+#include "geodesic_options.hpp"
 #include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/propagation.hpp"
@@ -61,23 +62,21 @@ const char* kSurfaceDistanceHelp =
     "  -q, --quiet             no summary on stdout.\n"
     "  -h, --help              this text.\n";
 
-struct SurfaceOptions {
+/// --method, --steiner, --k and --chain-measure as in geodesic_options (no
+/// --stencil), with the surfaces' own default chain measure.
+struct SurfaceOptions : PropagationChoice {
   std::string input, output, metric = "isotropic";
   std::vector<long long> seeds;
   double anisotropy = 0.0;
   bool anisotropyGiven = false;
-  Method method = Method::ShortTermVectorDijkstra;
-  bool lanthier = false;  // Steiner-point propagation instead of `method`
-  int steinerPoints = 0;  // 0: --steiner not given
-  int k = 8;
-  bool kGiven = false;
-  ChainMeasure chainMeasure = ChainMeasure::ProjectionWeighted;
-  bool chainMeasureGiven = false;
   bool quiet = false;
 };
 
 SurfaceOptions parse(int argc, char** argv) {
   SurfaceOptions o;
+  // Surfaces keep the paper's chain measure as their default, as the help
+  // text and docs/surfaces.md state (images and tet meshes use largest).
+  o.chainMeasure = ChainMeasure::ProjectionWeighted;
   ArgumentReader args(argc, argv, 2);
   while (!args.done()) {
     const std::string a = args.take();
@@ -114,27 +113,8 @@ SurfaceOptions parse(int argc, char** argv) {
       o.anisotropyGiven = true;
       if (!(o.anisotropy >= 1.0) || !std::isfinite(o.anisotropy))
         usageError("--anisotropy must be a number >= 1");
-    } else if (a == "--method") {
-      const std::string m = args.value(a);
-      o.lanthier = m == "lanthier";
-      if (m == "stvd") o.method = Method::ShortTermVectorDijkstra;
-      else if (m == "dijkstra") o.method = Method::Dijkstra;
-      else if (!o.lanthier) usageError("--method: '" + m + "' is not one of stvd, dijkstra, lanthier");
-    } else if (a == "--steiner") {
-      o.steinerPoints = parseInteger(a, args.value(a));
-      if (o.steinerPoints < 1 || o.steinerPoints > kMaxSteinerPoints)
-        usageError("--steiner must be between 1 and " + std::to_string(kMaxSteinerPoints));
-    } else if (a == "--k") {
-      o.kGiven = true;
-      o.k = parseInteger(a, args.value(a));
-      if (o.k < 1 || o.k > kMaxMemoryDepth)
-        usageError("--k must be between 1 and " + std::to_string(kMaxMemoryDepth));
-    } else if (a == "--chain-measure") {
-      const std::string m = args.value(a);
-      if (m == "projection") o.chainMeasure = ChainMeasure::ProjectionWeighted;
-      else if (m == "largest") o.chainMeasure = ChainMeasure::LargestEdgeNorm;
-      else usageError("--chain-measure: '" + m + "' is not one of projection, largest");
-      o.chainMeasureGiven = true;
+    } else if (a != "--stencil" && parsePropagationOption(a, args, o)) {
+      // read into o's PropagationChoice
     } else if (a == "-q" || a == "--quiet") {
       args.noValue(a);
       o.quiet = true;
@@ -153,12 +133,7 @@ SurfaceOptions parse(int argc, char** argv) {
   if (needsGamma && !o.anisotropyGiven) usageError("--metric " + o.metric + " needs --anisotropy G");
   if (!needsGamma && o.anisotropyGiven)
     usageError("--anisotropy applies to the curvature and field metrics only");
-  // (With dijkstra, --k and --chain-measure have always been accepted and ignored here.)
-  if (o.kGiven && o.lanthier) usageError("--k applies to --method stvd only");
-  if (o.chainMeasureGiven && o.lanthier) usageError("--chain-measure applies to --method stvd only");
-  if (o.lanthier && o.steinerPoints == 0)
-    usageError("--method lanthier needs --steiner M, the Steiner points per face edge (1..16; try 4)");
-  if (!o.lanthier && o.steinerPoints != 0) usageError("--steiner applies to --method lanthier only");
+  checkMeshPropagationChoice(o, "face edge", 4);
   return o;
 }
 
@@ -251,11 +226,7 @@ int runSurfaceDistance(int argc, char** argv) {
       throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
     }
   } else {
-    PropagationOptions options;
-    options.method = o.method;
-    options.k = o.method == Method::Dijkstra ? 1 : o.k;
-    options.chainMeasure = o.chainMeasure;
-    result = propagate(*surface, *metric, sources, options);
+    result = propagate(*surface, *metric, sources, propagationOptions(o));
   }
 
   try {

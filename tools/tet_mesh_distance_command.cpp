@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "command_line.hpp"
+#include "geodesic_options.hpp"
 #include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/metric_sampling.hpp"
@@ -91,10 +92,9 @@ const char* kTetDistanceHelp =
     "4 nothing to compute (seed out of range, outside the mesh or the domain); 5 output cannot\n"
     "be written.\n";
 
-constexpr ChainMeasure kToolChainMeasure = ChainMeasure::LargestEdgeNorm;
-constexpr int kToolMemoryDepth = 8;
-
-struct TetDistanceOptions {
+/// --method, --steiner, --k and --chain-measure as in geodesic_options, with
+/// the tool's defaults (no --stencil).
+struct TetDistanceOptions : PropagationChoice {
   std::string input;
   std::string output;
   std::vector<long long> seedVertices;
@@ -104,13 +104,6 @@ struct TetDistanceOptions {
   std::string tensors;  // "", "node", "ele" or an image path
   int tensorAttribute = 0;
   std::string outsideImage = "error";
-  Method method = Method::ShortTermVectorDijkstra;
-  bool lanthier = false;  // Steiner-point propagation instead of `method`
-  int steinerPoints = 0;  // 0: --steiner not given
-  int k = kToolMemoryDepth;
-  bool kGiven = false;
-  ChainMeasure chainMeasure = kToolChainMeasure;
-  bool chainMeasureGiven = false;
   double maxDistance = std::numeric_limits<double>::infinity();
   TensorInputOptions tensor;
   double unreachableValue = -1.0;
@@ -160,26 +153,8 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
       o.outsideImage = args.value(a);
       if (o.outsideImage != "error" && o.outsideImage != "mask")
         usageError("--outside-image: '" + o.outsideImage + "' is not one of error, mask");
-    } else if (a == "--method") {
-      const std::string m = args.value(a);
-      o.lanthier = m == "lanthier";
-      if (m == "stvd") o.method = Method::ShortTermVectorDijkstra;
-      else if (m == "dijkstra") o.method = Method::Dijkstra;
-      else if (!o.lanthier) usageError("--method: '" + m + "' is not one of stvd, dijkstra, lanthier");
-    } else if (a == "--steiner") {
-      o.steinerPoints = parseInteger(a, args.value(a));
-      if (o.steinerPoints < 1 || o.steinerPoints > kMaxSteinerPoints)
-        usageError("--steiner must be between 1 and " + std::to_string(kMaxSteinerPoints));
-    } else if (a == "--k") {
-      o.kGiven = true;
-      o.k = parseInteger(a, args.value(a));
-      if (o.k < 1 || o.k > kMaxMemoryDepth) usageError("--k must be in 1.." + std::to_string(kMaxMemoryDepth));
-    } else if (a == "--chain-measure") {
-      const std::string m = args.value(a);
-      if (m == "largest") o.chainMeasure = ChainMeasure::LargestEdgeNorm;
-      else if (m == "projection") o.chainMeasure = ChainMeasure::ProjectionWeighted;
-      else usageError("--chain-measure: '" + m + "' is not one of largest, projection");
-      o.chainMeasureGiven = true;
+    } else if (a != "--stencil" && parsePropagationOption(a, args, o)) {
+      // read into o's PropagationChoice
     } else if (a == "--max-distance") {
       o.maxDistance = parseNumber(a, args.value(a));
       if (!(o.maxDistance > 0.0)) usageError("--max-distance must be positive");
@@ -201,12 +176,7 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
   if (o.output.empty()) usageError("no output: -o FILE (.vtk, .vtu or .csv) is required");
   if (o.seedVertices.empty() && o.seedPoints.empty())
     usageError("no seed: give --seed-vertex or --seed-point");
-  // (With dijkstra, --k and --chain-measure have always been accepted and ignored here.)
-  if (o.kGiven && o.lanthier) usageError("--k applies to --method stvd only");
-  if (o.chainMeasureGiven && o.lanthier) usageError("--chain-measure applies to --method stvd only");
-  if (o.lanthier && o.steinerPoints == 0)
-    usageError("--method lanthier needs --steiner M, the Steiner points per tetrahedron edge (1..16; try 2)");
-  if (!o.lanthier && o.steinerPoints != 0) usageError("--steiner applies to --method lanthier only");
+  checkMeshPropagationChoice(o, "tetrahedron edge", 2);
   tetmesh::TetMeshOutputFormat format;
   if (imaging::hasImageExtension(o.output)) {
     if (o.reference.empty())
@@ -481,10 +451,7 @@ int runTetMeshDistance(int argc, char** argv) {
       throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
     }
   } else {
-    PropagationOptions options;
-    options.method = o.method;
-    options.k = o.method == Method::Dijkstra ? 1 : o.k;
-    options.chainMeasure = o.chainMeasure;
+    PropagationOptions options = propagationOptions(o);
     options.maxDistance = o.maxDistance;
     result = propagate(domain, metric, orderedSources, options);
   }
