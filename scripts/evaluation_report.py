@@ -252,14 +252,7 @@ def mask_table(rows):
 
 
 def gbench_table(path):
-    if not os.path.exists(path):
-        return []
-    with open(path) as f:
-        runs = json.load(f)["benchmarks"]
-    medians = {}
-    for b in runs:
-        if b.get("aggregate_name") == "median":
-            medians[b["run_name"]] = b
+    medians = {b["run_name"]: b for b in gbench_medians(path)}
     if not medians:
         return []
     dijkstra = {}
