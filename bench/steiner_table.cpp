@@ -13,6 +13,7 @@
 #include <string>
 
 #include "bench_scenes.hpp"
+#include "steiner_table_format.hpp"
 #include "stvd/steiner_propagation.hpp"
 
 namespace {
@@ -21,18 +22,7 @@ using namespace stvd;
 
 void row(const bench::Scene& scene, const std::string& label, const PropagationResult& r,
          std::uint64_t points, double seconds) {
-  const test::RelativeErrors e = scene.errorsOf(r);
-  std::printf("| %s | %.3f %% | %.1f %% | %.2f | %.3g | %.1f | %.3g | %.1f |\n", label.c_str(), 100.0 * e.mean(),
-              100.0 * e.max(), seconds, double(r.relaxedEdges), 1e9 * seconds / double(r.relaxedEdges),
-              double(points), double(r.peakStateBytes) / (1024.0 * 1024.0));
-  std::fflush(stdout);
-}
-
-template <class F>
-double timed(F&& f) {
-  const auto start = std::chrono::steady_clock::now();
-  f();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  bench::printSteinerTableRow(label, scene.errorsOf(r), r, points, seconds);
 }
 
 void table(const bench::Scene& scene, int maxSteiner) {
@@ -41,22 +31,20 @@ void table(const bench::Scene& scene, int maxSteiner) {
   const auto& size = scene.domain.geometry().size;
   std::printf("\n#### %s, %zu^3 grid (max local anisotropy %.1f, %zu voxels with an exact distance)\n\n",
               scene.name.c_str(), size[0], scene.maxAnisotropy, exactCount);
-  std::printf("| method | mean rel. error | max rel. error | seconds | relaxed edges | ns / relaxed edge | "
-              "graph points | peak state MiB |\n");
-  std::printf("|---|---|---|---|---|---|---|---|\n");
+  bench::printSteinerTableHeader();
   const std::vector<VertexId> sources{scene.source};
   PropagationResult r;
-  double s = timed([&] { r = dijkstra(scene.domain, scene.metric, sources); });
+  double s = bench::timedSeconds([&] { r = dijkstra(scene.domain, scene.metric, sources); });
   row(scene, "Dijkstra, 26-neighbourhood", r, scene.domain.vertexCount(), s);
   for (int k : {5, 8}) {
-    s = timed([&] { r = shortTermVectorDijkstra(scene.domain, scene.metric, sources, k); });
+    s = bench::timedSeconds([&] { r = shortTermVectorDijkstra(scene.domain, scene.metric, sources, k); });
     row(scene, "STVD k = " + std::to_string(k) + ", 26-neighbourhood", r, scene.domain.vertexCount(), s);
   }
   for (int m = 1; m <= maxSteiner; m *= 2) {
     SteinerOptions o;
     o.steinerPoints = m;
     SteinerPropagationResult sr;
-    s = timed([&] { sr = steinerPropagate(scene.domain, scene.metric, sources, o); });
+    s = bench::timedSeconds([&] { sr = steinerPropagate(scene.domain, scene.metric, sources, o); });
     row(scene, "Lanthier M = " + std::to_string(m), sr, sr.graphPoints, s);
   }
 }

@@ -23,6 +23,7 @@
 #include "stvd/propagation.hpp"
 #include "stvd/steiner_propagation.hpp"
 #include "stvd/surface_metrics.hpp"
+#include "steiner_table_format.hpp"
 #include "surface_meshes.hpp"
 
 namespace {
@@ -38,13 +39,6 @@ struct SurfaceScene {
   std::function<double(VertexId)> exact;
 };
 
-template <class F>
-double timed(F&& f) {
-  const auto start = std::chrono::steady_clock::now();
-  f();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 void row(const SurfaceScene& scene, const std::string& label, const PropagationResult& r, std::uint64_t points,
          double seconds) {
   test::RelativeErrors e;
@@ -52,36 +46,31 @@ void row(const SurfaceScene& scene, const std::string& label, const PropagationR
     const double x = scene.exact(v);
     if (x > 1e-9) e.add(r.distance[v], x);
   }
-  std::printf("| %s | %.3f %% | %.1f %% | %.3f | %.3g | %.1f | %.3g | %.2f |\n", label.c_str(), 100.0 * e.mean(),
-              100.0 * e.max(), seconds, double(r.relaxedEdges), 1e9 * seconds / double(r.relaxedEdges),
-              double(points), double(r.peakStateBytes) / (1024.0 * 1024.0));
-  std::fflush(stdout);
+  bench::printSteinerTableRow(label, e, r, points, seconds);
 }
 
 void table(const SurfaceScene& scene, int maxSteiner) {
   std::printf("\n#### %s (%u vertices, %zu faces)\n\n", scene.name.c_str(), scene.surface.vertexCount(),
               scene.surface.faceCount());
-  std::printf("| method | mean rel. error | max rel. error | seconds | relaxed edges | ns / relaxed edge | "
-              "graph points | peak state MiB |\n");
-  std::printf("|---|---|---|---|---|---|---|---|\n");
+  bench::printSteinerTableHeader();
   const std::vector<VertexId> sources{scene.source};
   PropagationResult r;
   PropagationOptions o;
   o.method = Method::Dijkstra;
   o.k = 1;
-  double s = timed([&] { r = propagate(scene.surface, scene.metric, sources, o); });
+  double s = bench::timedSeconds([&] { r = propagate(scene.surface, scene.metric, sources, o); });
   row(scene, "Dijkstra", r, scene.surface.vertexCount(), s);
   o.method = Method::ShortTermVectorDijkstra;
   for (int k : {5, 8}) {
     o.k = k;
-    s = timed([&] { r = propagate(scene.surface, scene.metric, sources, o); });
+    s = bench::timedSeconds([&] { r = propagate(scene.surface, scene.metric, sources, o); });
     row(scene, "STVD k = " + std::to_string(k) + " (projection)", r, scene.surface.vertexCount(), s);
   }
   for (int m = 1; m <= maxSteiner; m *= 2) {
     SteinerOptions so;
     so.steinerPoints = m;
     SteinerPropagationResult sr;
-    s = timed([&] { sr = steinerPropagate(scene.surface, scene.metric, sources, so); });
+    s = bench::timedSeconds([&] { sr = steinerPropagate(scene.surface, scene.metric, sources, so); });
     row(scene, "Lanthier M = " + std::to_string(m), sr, sr.graphPoints, s);
   }
 }
