@@ -46,7 +46,7 @@ void propagation(benchmark::State& state) {
 
 BENCHMARK(propagation)
     ->ArgNames({"n", "k"})
-    ->ArgsProduct({{64, 128}, {0, 2, 3, 4, 5, 6, 8, 10, 12, 16}})
+    ->ArgsProduct({{32, 64, 128}, {0, 2, 3, 4, 5, 6, 8, 10, 12, 16}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "stvd/chain_unfolding.hpp"
@@ -23,23 +25,96 @@ namespace detail {
 /// for the per-neighbour update. It is the same for every neighbour w of v,
 /// so it is gathered once per finalised vertex.
 ///
-/// Candidate i = 2..m+1 of the update of w lives in SIMD lane L = i - 2: its
-/// sum vector is E_i = e_1 + ... + e_i = x(w) - x(c_{i-1}) and its base
+/// Candidate i = 2..m+1 of the update of w has index L = i - 2: its sum
+/// vector is E_i = e_1 + ... + e_i = x(w) - x(c_{i-1}) and its base
 /// distance is dist(c_{i-1}). Chain edge j >= 2 runs from c_{j-1} to c_{j-2}
 /// (the direction of propagation) and is measured with the norm of its end
 /// points; edge 1 (v -> w) is supplied per neighbour.
 template <class Norm>
 struct ChainMemory {
-  static constexpr int kMaxLanes = 16;
   using EdgeParams = typename Norm::EdgeParams;
   int edgeCount;  // m + 1: edges 1..m+1
-  alignas(64) float backX[kMaxLanes], backY[kMaxLanes], backZ[kMaxLanes];  // x(c_{L+1}) - x(v)
-  alignas(64) double baseDistance[kMaxLanes];  // dist(c_{L+1}); +inf in padding lanes
+  float backX[kMaxMemoryDepth], backY[kMaxMemoryDepth], backZ[kMaxMemoryDepth];  // x(c_{L+1}) - x(v)
+  double baseDistance[kMaxMemoryDepth];  // dist(c_{L+1})
   Vec3f edge[kMaxMemoryDepth + 1];             // e_j, j = 2..m+1
   EdgeParams edgeNorm[kMaxMemoryDepth + 1];
 };
 
-/// l_g(E_i) for all candidates of one neighbour at once, one lane per i.
+/// Up to kCapacity neighbours of one popped vertex, gathered before any of
+/// them is updated. The lengths of all their edges (and, for STVD, of all
+/// their chain candidates) are then computed in one branch-free pass that is
+/// vectorised across neighbours, and only after it the updates, with their
+/// unpredictable comparisons, run. Computing and updating neighbour by
+/// neighbour let every mispredicted comparison throw away the next
+/// neighbour's arithmetic already in flight, and used at most as many SIMD
+/// lanes as there are candidates.
+///
+/// The edge norms are stored component-wise (structure of arrays), so that
+/// one vector load fetches a component for eight neighbours; this asks
+/// Norm::EdgeParams to be a plain struct of floats, as both built-in norms are.
+template <class Norm>
+struct NeighborBatch {
+  static constexpr int kCapacity = 32;
+  using EdgeParams = typename Norm::EdgeParams;
+  static_assert(std::is_trivially_copyable_v<EdgeParams> && sizeof(EdgeParams) % sizeof(float) == 0,
+                "Norm::EdgeParams must be a plain struct of floats");
+  static constexpr int kParamFloats = static_cast<int>(sizeof(EdgeParams) / sizeof(float));
+
+  /// The computing loops run over whole groups of this many neighbours (the
+  /// widest SIMD register holds 8 floats), so that no scalar remainder loop
+  /// runs; the padding entries measure a zero edge with a zero norm.
+  static constexpr int kLaneGroup = 8;
+  static_assert(kCapacity % kLaneGroup == 0, "capacity must be whole lane groups");
+
+  int size = 0;    // neighbours in the batch
+  int padded = 0;  // size rounded up to whole lane groups, after pad()
+  VertexId vertex[kCapacity];
+  alignas(64) float ex[kCapacity], ey[kCapacity], ez[kCapacity];  // edge 1: x(w) - x(v)
+  alignas(64) float param[kParamFloats][kCapacity];                 // its norm, by component
+  alignas(64) double best[kCapacity];                               // shortest candidate
+
+  STVD_ALWAYS_INLINE void add(VertexId w, Vec3f e, const EdgeParams& g) {
+    vertex[size] = w;
+    ex[size] = e.x;
+    ey[size] = e.y;
+    ez[size] = e.z;
+    float flat[kParamFloats];
+    std::memcpy(flat, &g, sizeof g);
+    for (int c = 0; c < kParamFloats; ++c) param[c][size] = flat[c];
+    ++size;
+  }
+  STVD_ALWAYS_INLINE void pad() {
+    padded = (size + kLaneGroup - 1) / kLaneGroup * kLaneGroup;
+    for (int n = size; n < padded; ++n) {
+      ex[n] = ey[n] = ez[n] = 0.f;
+      for (int c = 0; c < kParamFloats; ++c) param[c][n] = 0.f;
+    }
+  }
+  STVD_ALWAYS_INLINE EdgeParams edgeNorm(int n) const {
+    return gatherEdgeNorm(n, std::make_integer_sequence<int, kParamFloats>{});
+  }
+  // Aggregate initialisation in declaration order (the order add() copied
+  // the components in), with no loop and no copy through memory, so that the
+  // loops over neighbours that call it stay innermost and vectorise.
+  template <int... C>
+  STVD_ALWAYS_INLINE EdgeParams gatherEdgeNorm(int n, std::integer_sequence<int, C...>) const {
+    return EdgeParams{param[C][n]...};
+  }
+
+  /// best[n] = dv + l(e_n): the Dijkstra candidate (and STVD's i = 1),
+  /// computed by the same code for both methods, so that STVD with k = 1
+  /// matches Dijkstra bit for bit.
+  STVD_ALWAYS_INLINE void setDijkstraCandidates(double dv) {
+    STVD_SIMD_LOOP
+    for (int n = 0; n < padded; ++n)
+      best[n] = dv + static_cast<double>(Norm::length(edgeNorm(n), ex[n], ey[n], ez[n]));
+  }
+};
+
+/// Lowers best[n] of every neighbour in the batch to its STVD candidates
+/// i = 2..m+1, base distance dist(c_{i-1}) plus l_g(E_i) with
+/// E_i = e_1 + ... + e_i (see ChainMemory), one candidate at a time and all
+/// neighbours at once.
 ///
 /// ChainMeasure::ProjectionWeighted (section 6 of the paper):
 ///   l_g(E) = max(0, sum_j (e_j . Ebar) ||Ebar||_{g_j}),  Ebar = E / |E|:
@@ -50,49 +125,51 @@ struct ChainMemory {
 /// the whole of E is measured with the most expensive of the chain's norms
 /// in its direction.
 /// A constant norm gives exactly |E| ||Ebar|| = ||E|| with either rule.
-template <int Lanes, ChainMeasure Measure, class Norm>
-STVD_ALWAYS_INLINE void chainSumLengths(const ChainMemory<Norm>& chain, Vec3f e1,
-                                        const typename Norm::EdgeParams& g1, float* out) {
-  alignas(64) float ux[Lanes], uy[Lanes], uz[Lanes], acc[Lanes], length[Lanes];
-  STVD_SIMD_LOOP
-  for (int lane = 0; lane < Lanes; ++lane) {
-    const float ex = e1.x - chain.backX[lane];
-    const float ey = e1.y - chain.backY[lane];
-    const float ez = e1.z - chain.backZ[lane];
-    // A zero sum vector (coincident points) gives Ebar = 0 and length 0.
-    const float n2 = ex * ex + ey * ey + ez * ez;
-    const float inv = 1.f / std::sqrt(std::max(n2, std::numeric_limits<float>::min()));
-    length[lane] = n2 * inv;
-    ux[lane] = ex * inv;
-    uy[lane] = ey * inv;
-    uz[lane] = ez * inv;
-    // Edge 1 (v -> w) belongs to every candidate.
-    const float norm1 = Norm::length(g1, ux[lane], uy[lane], uz[lane]);
-    if constexpr (Measure == ChainMeasure::ProjectionWeighted)
-      acc[lane] = (e1.x * ux[lane] + e1.y * uy[lane] + e1.z * uz[lane]) * norm1;
-    else
-      acc[lane] = norm1;
-  }
-  for (int j = 2; j <= chain.edgeCount; ++j) {
-    const Vec3f ej = chain.edge[j];
-    const typename Norm::EdgeParams& gj = chain.edgeNorm[j];
+template <ChainMeasure Measure, class Norm>
+STVD_ALWAYS_INLINE void lowerToChainCandidates(const ChainMemory<Norm>& chain,
+                                               NeighborBatch<Norm>& batch) {
+  constexpr int kCapacity = NeighborBatch<Norm>::kCapacity;
+  const int size = batch.padded;
+  alignas(64) float ux[kCapacity], uy[kCapacity], uz[kCapacity], acc[kCapacity], length[kCapacity];
+  for (int lane = 0; lane + 2 <= chain.edgeCount; ++lane) {
+    const int i = lane + 2;  // candidate i sums edges 1..i
+    const float bx = chain.backX[lane], by = chain.backY[lane], bz = chain.backZ[lane];
     STVD_SIMD_LOOP
-    for (int lane = 0; lane < Lanes; ++lane) {
-      const float normJ = Norm::length(gj, ux[lane], uy[lane], uz[lane]);
-      if constexpr (Measure == ChainMeasure::ProjectionWeighted) {
-        const float projection = ej.x * ux[lane] + ej.y * uy[lane] + ej.z * uz[lane];
-        acc[lane] += j <= lane + 2 ? projection * normJ : 0.f;
-      } else {
-        acc[lane] = j <= lane + 2 ? std::max(acc[lane], normJ) : acc[lane];
+    for (int n = 0; n < size; ++n) {
+      const float ex = batch.ex[n] - bx, ey = batch.ey[n] - by, ez = batch.ez[n] - bz;
+      // A zero sum vector (coincident points) gives Ebar = 0 and length 0.
+      const float n2 = ex * ex + ey * ey + ez * ez;
+      const float inv = 1.f / std::sqrt(std::max(n2, std::numeric_limits<float>::min()));
+      length[n] = n2 * inv;
+      ux[n] = ex * inv;
+      uy[n] = ey * inv;
+      uz[n] = ez * inv;
+      // Edge 1 (v -> w) belongs to every candidate.
+      const float norm1 = Norm::length(batch.edgeNorm(n), ux[n], uy[n], uz[n]);
+      if constexpr (Measure == ChainMeasure::ProjectionWeighted)
+        acc[n] = (batch.ex[n] * ux[n] + batch.ey[n] * uy[n] + batch.ez[n] * uz[n]) * norm1;
+      else
+        acc[n] = norm1;
+    }
+    for (int j = 2; j <= i; ++j) {
+      const Vec3f ej = chain.edge[j];
+      const typename Norm::EdgeParams gj = chain.edgeNorm[j];
+      STVD_SIMD_LOOP
+      for (int n = 0; n < size; ++n) {
+        const float normJ = Norm::length(gj, ux[n], uy[n], uz[n]);
+        if constexpr (Measure == ChainMeasure::ProjectionWeighted)
+          acc[n] += (ej.x * ux[n] + ej.y * uy[n] + ej.z * uz[n]) * normJ;
+        else
+          acc[n] = std::max(acc[n], normJ);
       }
     }
-  }
-  STVD_SIMD_LOOP
-  for (int lane = 0; lane < Lanes; ++lane) {
-    if constexpr (Measure == ChainMeasure::ProjectionWeighted)
-      out[lane] = std::max(acc[lane], 0.f);
-    else
-      out[lane] = length[lane] * acc[lane];
+    const double base = chain.baseDistance[lane];
+    STVD_SIMD_LOOP
+    for (int n = 0; n < size; ++n) {
+      const float l = Measure == ChainMeasure::ProjectionWeighted ? std::max(acc[n], 0.f)
+                                                                  : length[n] * acc[n];
+      batch.best[n] = std::min(batch.best[n], base + static_cast<double>(l));
+    }
   }
 }
 
@@ -154,12 +231,7 @@ class Propagation {
  private:
   template <ChainMeasure Measure>
   void runVector(int k, const std::vector<std::uint8_t>& isTarget, std::size_t remainingTargets) {
-    if (k <= 5)
-      loop(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<4, Measure>(v, k); });
-    else if (k <= 9)
-      loop(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<8, Measure>(v, k); });
-    else
-      loop(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<16, Measure>(v, k); });
+    loop(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<Measure>(v, k); });
   }
 
   template <class Relax>
@@ -206,21 +278,47 @@ class Propagation {
     }
   }
 
-  STVD_HOT_LOOP void relaxDijkstra(VertexId v) {
-    const double dv = distance_[v];
+  // Gathers the neighbours of v that are not final, with their edge vector
+  // and edge norm, in batches; `flush` computes and applies the candidates
+  // of a full batch (and of the last one).
+  template <class Flush>
+  STVD_ALWAYS_INLINE void forEachNeighborBatch(VertexId v, NeighborBatch<Norm>& batch,
+                                               Flush&& flush) {
     const auto& pv = metric_[v];
-    domain_.forEachNeighbor(v, [&](VertexId w, Vec3f e) {
+    batch.size = 0;
+    domain_.forEachNeighbor(v, [&](VertexId w, Vec3f e) STVD_ALWAYS_INLINE_LAMBDA {
       if (queue_.isFinal(w)) return;
-      ++relaxed_;
       // Norm::edgeParams(pv, metric_[w]) for domains in R^3; a surface
       // carries the norm into v's tangent frame (chain_unfolding.hpp).
-      const auto g = ChainUnfolding<Domain>::template edgeNorm<Norm>(domain_, pv, metric_[w], v, w, e);
-      update(w, v, dv + Norm::length(g, e.x, e.y, e.z));
+      batch.add(w, e, ChainUnfolding<Domain>::template edgeNorm<Norm>(domain_, pv, metric_[w], v, w, e));
+      if (batch.size == NeighborBatch<Norm>::kCapacity) {
+        batch.pad();
+        flush(batch);
+        batch.size = 0;
+      }
+    });
+    if (batch.size > 0) {
+      batch.pad();
+      flush(batch);
+    }
+  }
+
+  STVD_ALWAYS_INLINE void applyCandidates(VertexId v, const NeighborBatch<Norm>& batch) {
+    relaxed_ += static_cast<std::uint64_t>(batch.size);
+    for (int n = 0; n < batch.size; ++n) update(batch.vertex[n], v, batch.best[n]);
+  }
+
+  STVD_HOT_LOOP void relaxDijkstra(VertexId v) {
+    const double dv = distance_[v];
+    NeighborBatch<Norm> batch;
+    forEachNeighborBatch(v, batch, [&](NeighborBatch<Norm>& b) STVD_ALWAYS_INLINE_LAMBDA {
+      b.setDijkstraCandidates(dv);
+      applyCandidates(v, b);
     });
   }
 
   // STVD update of every neighbour w of v (see ChainMemory).
-  template <int Lanes, ChainMeasure Measure>
+  template <ChainMeasure Measure>
   STVD_HOT_LOOP void relaxVector(VertexId v, int k) {
     VertexId chain[kMaxMemoryDepth];
     int count = 1;
@@ -229,7 +327,6 @@ class Propagation {
       chain[count] = predecessor_[chain[count - 1]];
       ++count;
     }
-    static_assert(Lanes <= ChainMemory<Norm>::kMaxLanes, "too many lanes");
     ChainMemory<Norm> memory;
     memory.edgeCount = count;
     Vec3f p[kMaxMemoryDepth];
@@ -242,31 +339,20 @@ class Propagation {
           domain_, metric_[chain[j - 1]], metric_[chain[j - 2]], chain[j - 1], chain[j - 2],
           memory.edge[j]);
     }
-    // Padding lanes repeat the last chain vertex so that every lane stays
-    // finite, and their base distance is +inf so that they never win.
-    for (int lane = 0; lane < Lanes; ++lane) {
-      const int c = std::min(lane + 1, count - 1);
-      memory.backX[lane] = p[c].x;
-      memory.backY[lane] = p[c].y;
-      memory.backZ[lane] = p[c].z;
-      memory.baseDistance[lane] = lane + 1 < count ? distance_[chain[lane + 1]] : kUnreachable;
+    for (int lane = 0; lane + 1 < count; ++lane) {
+      memory.backX[lane] = p[lane + 1].x;
+      memory.backY[lane] = p[lane + 1].y;
+      memory.backZ[lane] = p[lane + 1].z;
+      memory.baseDistance[lane] = distance_[chain[lane + 1]];
     }
 
     const double dv = distance_[v];
-    const auto& pv = metric_[v];
-    domain_.forEachNeighbor(v, [&](VertexId w, Vec3f e1) STVD_ALWAYS_INLINE_LAMBDA {
-      if (queue_.isFinal(w)) return;
-      ++relaxed_;
-      const typename Norm::EdgeParams g1 =
-          ChainUnfolding<Domain>::template edgeNorm<Norm>(domain_, pv, metric_[w], v, w, e1);
-      // i = 1 is the Dijkstra term, measured exactly as Dijkstra measures it
-      // (so that k = 1 and Dijkstra agree bit for bit).
-      double best = dv + Norm::length(g1, e1.x, e1.y, e1.z);
-      alignas(64) float length[Lanes];
-      chainSumLengths<Lanes, Measure, Norm>(memory, e1, g1, length);
-      for (int lane = 0; lane < Lanes; ++lane)
-        best = std::min(best, memory.baseDistance[lane] + static_cast<double>(length[lane]));
-      update(w, v, best);
+    NeighborBatch<Norm> batch;
+    forEachNeighborBatch(v, batch, [&](NeighborBatch<Norm>& b) STVD_ALWAYS_INLINE_LAMBDA {
+      // i = 1 is the Dijkstra term, measured exactly as Dijkstra measures it.
+      b.setDijkstraCandidates(dv);
+      lowerToChainCandidates<Measure>(memory, b);
+      applyCandidates(v, b);
     });
   }
 
