@@ -90,8 +90,9 @@ struct PropagationResult {
   /// Distance updates evaluated: one per (finalised v, neighbour w) pair
   /// with w in the domain and not yet final.
   std::uint64_t relaxedEdges = 0;
-  /// Peak bytes of propagation state (distances, predecessors, queue slots
-  /// and queue), excluding the domain and the metric.
+  /// Peak bytes of propagation state (per-vertex distance, predecessor and
+  /// queue slot, the queue, and the result arrays while they are filled),
+  /// excluding the domain and the metric.
   std::uint64_t peakStateBytes = 0;
 };
 

@@ -181,13 +181,13 @@ class Propagation {
       : domain_(domain),
         metric_(metric),
         options_(options),
-        distance_(makeLargeArray<double>(domain.vertexCount(), kUnreachable)),
-        predecessor_(makeLargeArray<VertexId>(domain.vertexCount(), kNoVertex)),
-        queue_(domain.vertexCount()) {}
+        state_(makeLargeArray<VertexState>(domain.vertexCount(),
+                                           {kUnreachable, kNoVertex, FrontQueue::kUnseen})),
+        queue_(&state_.data()->queueSlot, 2) {}  // 16-byte records: every 4th word
 
   PropagationResult run(const std::vector<VertexId>& sources) {
     for (const VertexId s : sources) {
-      distance_[s] = 0.0;
+      state_[s].distance = 0.0;
       queue_.pushOrDecrease(s, 0.0);
     }
     std::vector<std::uint8_t> isTarget;
@@ -211,20 +211,23 @@ class Propagation {
       runVector<ChainMeasure::LargestEdgeNorm>(k, isTarget, remainingTargets);
     }
 
+    PropagationResult result;
     // Only final vertices carry a distance; everything else is unreachable.
+    result.distance = makeLargeArray<double>(domain_.vertexCount(), kUnreachable);
+    result.predecessor = makeLargeArray<VertexId>(domain_.vertexCount(), kNoVertex);
     for (VertexId v = 0; v < domain_.vertexCount(); ++v) {
-      if (!queue_.isFinal(v)) {
-        distance_[v] = kUnreachable;
-        predecessor_[v] = kNoVertex;
+      if (queue_.isFinal(v)) {
+        result.distance[v] = state_[v].distance;
+        result.predecessor[v] = state_[v].predecessor;
       }
     }
-    PropagationResult result;
     result.termination = termination_;
     result.finalizedVertices = finalized_;
     result.relaxedEdges = relaxed_;
+    // The records and the result arrays coexist while the latter are filled.
+    peakBytes_ = std::max(peakBytes_, stateBytes() + result.distance.capacity() * sizeof(double) +
+                                          result.predecessor.capacity() * sizeof(VertexId));
     result.peakStateBytes = peakBytes_ + isTarget.capacity();
-    result.distance = std::move(distance_);
-    result.predecessor = std::move(predecessor_);
     return result;
   }
 
@@ -254,7 +257,7 @@ class Propagation {
       if (options_.progress && finalized_ % kProgressInterval == 0) {
         peakBytes_ = std::max(peakBytes_, stateBytes());
         progress.finalizedVertices = finalized_;
-        progress.frontDistance = distance_[v];
+        progress.frontDistance = state_[v].distance;
         if (!options_.progress(progress)) {
           termination_ = Termination::Cancelled;
           break;
@@ -266,14 +269,14 @@ class Propagation {
   }
 
   std::uint64_t stateBytes() const {
-    return distance_.capacity() * sizeof(double) + predecessor_.capacity() * sizeof(VertexId) +
-           queue_.capacityBytes();
+    return state_.capacity() * sizeof(VertexState) + queue_.capacityBytes();
   }
 
   void update(VertexId w, VertexId v, double candidate) {
-    if (candidate < distance_[w]) {
-      distance_[w] = candidate;
-      predecessor_[w] = v;
+    VertexState& sw = state_[w];
+    if (candidate < sw.distance) {
+      sw.distance = candidate;
+      sw.predecessor = v;
       queue_.pushOrDecrease(w, candidate);
     }
   }
@@ -309,7 +312,7 @@ class Propagation {
   }
 
   STVD_HOT_LOOP void relaxDijkstra(VertexId v) {
-    const double dv = distance_[v];
+    const double dv = state_[v].distance;
     NeighborBatch<Norm> batch;
     forEachNeighborBatch(v, batch, [&](NeighborBatch<Norm>& b) STVD_ALWAYS_INLINE_LAMBDA {
       b.setDijkstraCandidates(dv);
@@ -323,8 +326,8 @@ class Propagation {
     VertexId chain[kMaxMemoryDepth];
     int count = 1;
     chain[0] = v;
-    while (count < k && predecessor_[chain[count - 1]] != kNoVertex) {
-      chain[count] = predecessor_[chain[count - 1]];
+    while (count < k && state_[chain[count - 1]].predecessor != kNoVertex) {
+      chain[count] = state_[chain[count - 1]].predecessor;
       ++count;
     }
     ChainMemory<Norm> memory;
@@ -343,10 +346,10 @@ class Propagation {
       memory.backX[lane] = p[lane + 1].x;
       memory.backY[lane] = p[lane + 1].y;
       memory.backZ[lane] = p[lane + 1].z;
-      memory.baseDistance[lane] = distance_[chain[lane + 1]];
+      memory.baseDistance[lane] = state_[chain[lane + 1]].distance;
     }
 
-    const double dv = distance_[v];
+    const double dv = state_[v].distance;
     NeighborBatch<Norm> batch;
     forEachNeighborBatch(v, batch, [&](NeighborBatch<Norm>& b) STVD_ALWAYS_INLINE_LAMBDA {
       // i = 1 is the Dijkstra term, measured exactly as Dijkstra measures it.
@@ -359,8 +362,16 @@ class Propagation {
   const Domain& domain_;
   const MetricField<Norm>& metric_;
   const PropagationOptions& options_;
-  std::vector<double> distance_;
-  std::vector<VertexId> predecessor_;
+  // What the propagation knows of a vertex, in one 16-byte record: a
+  // neighbour's distance and queue slot are read together, and with three
+  // separate arrays each look at a neighbour cost up to three cache lines.
+  struct VertexState {
+    double distance;
+    VertexId predecessor;
+    std::uint32_t queueSlot;  // FrontQueue's slot
+  };
+  static_assert(sizeof(VertexState) == 16, "one record per 16 bytes");
+  std::vector<VertexState> state_;
   FrontQueue queue_;
   Termination termination_ = Termination::Completed;
   std::uint64_t finalized_ = 0;
