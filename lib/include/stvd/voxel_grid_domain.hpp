@@ -2,6 +2,7 @@
 // stencil of index offsets. Nothing is stored per edge.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -85,6 +86,20 @@ class VoxelGridDomain {
   Vec3f displacement(VertexId from, VertexId to) const {
     const VoxelIndex a = indexOf(from), b = indexOf(to);
     return toFloat(geometry_.indexToPhysicalOffset(b.i - a.i, b.j - a.j, b.k - a.k));
+  }
+
+  /// Calls f(first, last) for every run of consecutive vertex numbers that
+  /// holds neighbours of v: the rows of the stencil's bounding block, cut
+  /// to the image (they may include masked voxels and v itself).
+  template <class F>
+  STVD_ALWAYS_INLINE void forEachNeighborRun(VertexId v, F&& f) const {
+    const VoxelIndex c = indexOf(v);
+    const int r = stencil_.radius();
+    const int iFirst = std::max(c.i - r, 0), iLast = std::min(c.i + r, static_cast<int>(nx_) - 1);
+    const int jFirst = std::max(c.j - r, 0), jLast = std::min(c.j + r, static_cast<int>(ny_) - 1);
+    const int kFirst = std::max(c.k - r, 0), kLast = std::min(c.k + r, static_cast<int>(nz_) - 1);
+    for (int k = kFirst; k <= kLast; ++k)
+      for (int j = jFirst; j <= jLast; ++j) f(vertexAt(iFirst, j, k), vertexAt(iLast, j, k));
   }
 
   /// Calls f(w, e) for every neighbour w of v inside the domain, with e the

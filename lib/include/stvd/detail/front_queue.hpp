@@ -37,6 +37,7 @@ class FrontQueue {
   bool empty() const { return heap_.empty(); }
   bool isFinal(VertexId v) const { return slot(v) == kFinal; }
   double minKey() const { return heap_.front().key; }
+  VertexId minVertex() const { return heap_.front().id; }
   std::size_t capacityBytes() const {
     return heap_.capacity() * sizeof(Entry) + ownSlots_.capacity() * sizeof(std::uint32_t);
   }
