@@ -265,6 +265,7 @@ class Propagation {
         }
       }
       relax(v);
+      if (options_.method != Method::Dijkstra && !queue_.empty()) prefetchChain(queue_.minVertex());
     }
     peakBytes_ = std::max(peakBytes_, stateBytes());
   }
@@ -276,8 +277,8 @@ class Propagation {
   static STVD_ALWAYS_INLINE void prefetchRange(const T* first, const T* last) {
     const char* a = reinterpret_cast<const char*>(first);
     const char* end = reinterpret_cast<const char*>(last + 1);
-    for (; a < end; a += 64) __builtin_prefetch(a);
-    __builtin_prefetch(end - 1);
+    for (; a < end; a += 64) detail::prefetch(a);
+    detail::prefetch(end - 1);
   }
   STVD_ALWAYS_INLINE void prefetchNeighborhood(VertexId u) {
     if constexpr (std::is_same_v<Domain, VoxelGridDomain>) {
@@ -285,6 +286,27 @@ class Propagation {
         prefetchRange(&state_[first], &state_[last]);
         prefetchRange(&metric_[first], &metric_[last]);
       });
+    }
+  }
+
+  // STVD also reads the predecessor chain of the next vertex u: dependent
+  // loads reaching k - 1 voxels behind the front, into voxels popped long
+  // ago. Once u's neighbourhood has arrived (after v's relaxation), the
+  // first two links are known; the rest of the chain is guessed to go on by
+  // the second link's offset, as it does where the front is straight.
+  STVD_ALWAYS_INLINE void prefetchChain(VertexId u) {
+    if constexpr (std::is_same_v<Domain, VoxelGridDomain>) {
+      const VertexId p1 = state_[u].predecessor;
+      if (p1 == kNoVertex) return;
+      const VertexId p2 = state_[p1].predecessor;
+      if (p2 == kNoVertex) return;
+      const std::int64_t step = static_cast<std::int64_t>(p2) - static_cast<std::int64_t>(p1);
+      const std::int64_t count = static_cast<std::int64_t>(state_.size());
+      std::int64_t guess = p2;
+      for (int m = 2; m < options_.k && guess >= 0 && guess < count; ++m, guess += step) {
+        detail::prefetch(&state_[static_cast<std::size_t>(guess)]);
+        detail::prefetch(&metric_[static_cast<std::size_t>(guess)]);
+      }
     }
   }
 

@@ -26,3 +26,19 @@
 #else
 #define STVD_HOT_LOOP
 #endif
+
+namespace stvd::detail {
+/// Asks for the cache line holding `address` to be loaded (a hint; never
+/// faults). On x86-64 it is a volatile asm statement rather than
+/// __builtin_prefetch: GCC 12 drops __builtin_prefetch from the inlined STVD
+/// loop (measured: not one prefetch instruction left in it).
+inline __attribute__((always_inline)) void prefetch(const void* address) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  asm volatile("prefetcht0 %0" : : "m"(*static_cast<const char*>(address)));
+#elif defined(__GNUC__) || defined(__clang__)
+  __builtin_prefetch(address);
+#else
+  (void)address;
+#endif
+}
+}  // namespace stvd::detail
