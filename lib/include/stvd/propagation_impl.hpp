@@ -183,7 +183,7 @@ class Propagation {
         options_(options),
         state_(makeLargeArray<VertexState>(domain.vertexCount(),
                                            {kUnreachable, kNoVertex, FrontQueue::kUnseen})),
-        queue_(&state_.data()->queueSlot, 2) {}  // 16-byte records: every 4th word
+        queue_(&state_.data()->queueSlot, 2) {}  // a slot every 2^2 = 4 words (16 bytes)
 
   PropagationResult run(const std::vector<VertexId>& sources) {
     for (const VertexId s : sources) {
