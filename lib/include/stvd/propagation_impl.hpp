@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
@@ -183,7 +184,7 @@ class Propagation {
         options_(options),
         state_(makeLargeArray<VertexState>(domain.vertexCount(),
                                            {kUnreachable, kNoVertex, FrontQueue::kUnseen})),
-        queue_(&state_.data()->queueSlot, 2) {}  // a slot every 2^2 = 4 words (16 bytes)
+        queue_(&state_.data()->queueSlot, kRecordWordsLog2) {}
 
   PropagationResult run(const std::vector<VertexId>& sources) {
     for (const VertexId s : sources) {
@@ -275,13 +276,15 @@ class Propagation {
   // relaxed overlaps the cache misses of the two pops.
   template <class T>
   static STVD_ALWAYS_INLINE void prefetchRange(const T* first, const T* last) {
-    const char* a = reinterpret_cast<const char*>(first);
-    const char* end = reinterpret_cast<const char*>(last + 1);
-    for (; a < end; a += 64) detail::prefetch(a);
-    detail::prefetch(end - 1);
+    // Every 64-byte line from the one holding *first to the one holding the
+    // last byte of *last.
+    constexpr std::uintptr_t kLine = 64;
+    const auto end = reinterpret_cast<std::uintptr_t>(last + 1);
+    for (auto line = reinterpret_cast<std::uintptr_t>(first) & ~(kLine - 1); line < end; line += kLine)
+      detail::prefetch(reinterpret_cast<const void*>(line));
   }
   STVD_ALWAYS_INLINE void prefetchNeighborhood(VertexId u) {
-    if constexpr (std::is_same_v<Domain, VoxelGridDomain>) {
+    if constexpr (kPrefetches) {
       domain_.forEachNeighborRun(u, [&](VertexId first, VertexId last) {
         prefetchRange(&state_[first], &state_[last]);
         prefetchRange(&metric_[first], &metric_[last]);
@@ -295,7 +298,7 @@ class Propagation {
   // first two links are known; the rest of the chain is guessed to go on by
   // the second link's offset, as it does where the front is straight.
   STVD_ALWAYS_INLINE void prefetchChain(VertexId u) {
-    if constexpr (std::is_same_v<Domain, VoxelGridDomain>) {
+    if constexpr (kPrefetches) {
       const VertexId p1 = state_[u].predecessor;
       if (p1 == kNoVertex) return;
       const VertexId p2 = state_[p1].predecessor;
@@ -412,7 +415,14 @@ class Propagation {
     VertexId predecessor;
     std::uint32_t queueSlot;  // FrontQueue's slot
   };
-  static_assert(sizeof(VertexState) == 16, "one record per 16 bytes");
+  // FrontQueue finds the slot of vertex v at word v << kRecordWordsLog2
+  // from the first record's slot.
+  static constexpr unsigned kRecordWordsLog2 = 2;
+  static_assert(sizeof(VertexState) == sizeof(std::uint32_t) << kRecordWordsLog2,
+                "one record per 16 bytes");
+  // Prefetching needs the grid's runs of neighbour numbers; meshes and
+  // surfaces have no such runs (their neighbours come from adjacency lists).
+  static constexpr bool kPrefetches = std::is_same_v<Domain, VoxelGridDomain>;
   std::vector<VertexState> state_;
   FrontQueue queue_;
   Termination termination_ = Termination::Completed;
