@@ -40,13 +40,9 @@ void table(const bench::Scene& scene, int maxSteiner) {
     s = bench::timedSeconds([&] { r = shortTermVectorDijkstra(scene.domain, scene.metric, sources, k); });
     row(scene, "STVD k = " + std::to_string(k) + ", 26-neighbourhood", r, scene.domain.vertexCount(), s);
   }
-  for (int m = 1; m <= maxSteiner; m *= 2) {
-    SteinerOptions o;
-    o.steinerPoints = m;
-    SteinerPropagationResult sr;
-    s = bench::timedSeconds([&] { sr = steinerPropagate(scene.domain, scene.metric, sources, o); });
-    row(scene, "Lanthier M = " + std::to_string(m), sr, sr.graphPoints, s);
-  }
+  bench::printLanthierRows(scene.domain, scene.metric, sources, maxSteiner,
+                           [&](const std::string& label, const PropagationResult& result, std::uint64_t points,
+                               double seconds) { row(scene, label, result, points, seconds); });
 }
 
 }  // namespace

@@ -7,9 +7,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "relative_error.hpp"
 #include "stvd/propagation.hpp"
+#include "stvd/steiner_propagation.hpp"
 
 namespace stvd::bench {
 
@@ -35,6 +37,20 @@ inline void printSteinerTableRow(const std::string& label, const test::RelativeE
               100.0 * e.max(), seconds, double(r.relaxedEdges), 1e9 * seconds / double(r.relaxedEdges),
               double(points), double(r.peakStateBytes) / (1024.0 * 1024.0));
   std::fflush(stdout);
+}
+
+/// One row per Lanthier run with M = 1, 2, 4, ... <= maxSteiner Steiner
+/// points per edge: row(label, result, graph points, seconds).
+template <class Domain, class Metric, class Row>
+void printLanthierRows(const Domain& domain, const Metric& metric, const std::vector<VertexId>& sources,
+                       int maxSteiner, Row&& row) {
+  for (int m = 1; m <= maxSteiner; m *= 2) {
+    SteinerOptions o;
+    o.steinerPoints = m;
+    SteinerPropagationResult sr;
+    const double s = timedSeconds([&] { sr = steinerPropagate(domain, metric, sources, o); });
+    row("Lanthier M = " + std::to_string(m), sr, sr.graphPoints, s);
+  }
 }
 
 }  // namespace stvd::bench

@@ -66,13 +66,9 @@ void table(const SurfaceScene& scene, int maxSteiner) {
     s = bench::timedSeconds([&] { r = propagate(scene.surface, scene.metric, sources, o); });
     row(scene, "STVD k = " + std::to_string(k) + " (projection)", r, scene.surface.vertexCount(), s);
   }
-  for (int m = 1; m <= maxSteiner; m *= 2) {
-    SteinerOptions so;
-    so.steinerPoints = m;
-    SteinerPropagationResult sr;
-    s = bench::timedSeconds([&] { sr = steinerPropagate(scene.surface, scene.metric, sources, so); });
-    row(scene, "Lanthier M = " + std::to_string(m), sr, sr.graphPoints, s);
-  }
+  bench::printLanthierRows(scene.surface, scene.metric, sources, maxSteiner,
+                           [&](const std::string& label, const PropagationResult& result, std::uint64_t points,
+                               double seconds) { row(scene, label, result, points, seconds); });
 }
 
 }  // namespace
