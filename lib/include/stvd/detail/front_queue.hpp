@@ -1,17 +1,47 @@
-// The priority queue of the propagation front: an indexed 4-ary min-heap
-// with decrease-key. One 32-bit slot per vertex tells whether the vertex is
-// unseen, final, or where it sits in the heap, so a vertex is in the heap at
-// most once and memory stays bounded by the front size.
+// The priority queue of the propagation front, in two levels: an indexed
+// 4-ary min-heap with decrease-key holds only the keys of the current narrow
+// key bucket ("hot"), and every later key waits unsorted in a flat bucket
+// array ("cold") until its bucket becomes current. Pops come out in exact key
+// order, as from one heap.
 //
-// The slots are either the queue's own array, or a field of per-vertex
-// records the caller owns (every 2^strideLog2-th 32-bit word): the grid
-// propagation keeps a vertex's distance, predecessor and slot in one
-// 16-byte record, so that looking at a neighbour costs one cache line.
+// Why two levels: a single heap holds the whole front, several MiB at 256^3.
+// Each sift step then moves an entry and writes the queue slot of a vertex
+// anywhere on the front, so a pop or a decrease-key is a chain of dependent
+// cache misses whose length grows with the volume. Appending to a bucket
+// touches one line, and the hot heap (about 1/256 of the front) and the
+// records of its vertices stay in cache.
+//
+// One 32-bit slot per vertex tells whether the vertex is unseen, final,
+// cold, or where it sits in the heap. The slots are either the queue's own
+// array, or a field of per-vertex records the caller owns (every
+// 2^strideLog2-th 32-bit word): the grid propagation keeps a vertex's
+// distance, predecessor and slot in one 16-byte record, so that looking at a
+// neighbour costs one cache line.
+//
+// Buckets. A key's place is t = (key - base) / width: t below the current
+// bucket's end goes into the heap, t below kBucketCount into bucket floor(t),
+// anything further into the overflow list. Because t is a monotone function
+// of the key, every key in a bucket is at most every key in the buckets and
+// the overflow after it. When the heap runs empty the next non-empty bucket
+// is moved into it; when every bucket is used up, the overflow is spread
+// over a fresh set of buckets starting at its smallest key, with a width
+// that makes the buckets span four times the overflow's key range (the range
+// of keys on the front, about one edge length, so the buckets last for
+// several such ranges before they are spread again).
+//
+// A cold vertex whose key drops is appended again, as the queue does not know
+// where its earlier entry is; the lowest of its entries is moved into the
+// heap first, and the others are recognised as stale by the vertex's slot
+// (in the heap or final) and dropped when their bucket is reached.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
+#include "stvd/detail/compiler.hpp"
 #include "stvd/large_array.hpp"
 #include "stvd/types.hpp"
 
@@ -21,43 +51,58 @@ class FrontQueue {
  public:
   static constexpr std::uint32_t kUnseen = 0xffffffffu;
   static constexpr std::uint32_t kFinal = 0xfffffffeu;
+  static constexpr std::uint32_t kCold = 0xfffffffdu;
+  /// Heap positions lie below this value.
+  static constexpr std::uint32_t kMaxHeapSize = kCold;
+  static constexpr int kBucketCount = 1024;
 
   /// Slots of its own for vertexCount vertices.
   explicit FrontQueue(std::size_t vertexCount)
       : ownSlots_(makeLargeArray<std::uint32_t>(vertexCount, kUnseen)),
         slots_(ownSlots_.data()),
-        strideLog2_(0) {}
+        strideLog2_(0),
+        buckets_(kBucketCount) {}
   /// The slot of vertex v is firstSlot[v << strideLog2], already set to
   /// kUnseen; the storage must outlive the queue.
   FrontQueue(std::uint32_t* firstSlot, unsigned strideLog2)
-      : slots_(firstSlot), strideLog2_(strideLog2) {}
+      : slots_(firstSlot), strideLog2_(strideLog2), buckets_(kBucketCount) {}
   FrontQueue(const FrontQueue&) = delete;
   FrontQueue& operator=(const FrontQueue&) = delete;
 
-  bool empty() const { return heap_.empty(); }
+  /// True when no vertex is queued. Moves the next cold bucket into the heap
+  /// when the heap has run empty, so that minKey() and minVertex() can be
+  /// called after it returned false.
+  bool empty() {
+    if (heap_.empty() && coldEntries_ != 0) refill();
+    return heap_.empty();
+  }
   bool isFinal(VertexId v) const { return slot(v) == kFinal; }
+  /// The smallest queued key and its vertex; only after empty() returned false.
   double minKey() const { return heap_.front().key; }
   VertexId minVertex() const { return heap_.front().id; }
   std::size_t capacityBytes() const {
-    return heap_.capacity() * sizeof(Entry) + ownSlots_.capacity() * sizeof(std::uint32_t);
+    std::size_t entries = heap_.capacity() + overflow_.capacity() + spreading_.capacity();
+    for (const auto& bucket : buckets_) entries += bucket.capacity();
+    return entries * sizeof(Entry) + buckets_.capacity() * sizeof(buckets_[0]) +
+           ownSlots_.capacity() * sizeof(std::uint32_t);
   }
 
-  /// Inserts v with `key`, or lowers its key if it is already queued and the
+  /// Queues v with `key`, or lowers its key if it is already queued and the
   /// new key is lower. v must not be final.
-  void pushOrDecrease(VertexId v, double key) {
-    std::uint32_t pos = slot(v);
-    if (pos == kUnseen) {
-      pos = static_cast<std::uint32_t>(heap_.size());
-      heap_.push_back({key, v});
-    } else if (key < heap_[pos].key) {
-      heap_[pos].key = key;
-    } else {
+  STVD_ALWAYS_INLINE void pushOrDecrease(VertexId v, double key) {
+    const std::uint32_t pos = slot(v);
+    if (pos < kMaxHeapSize) {
+      if (key < heap_[pos].key) {
+        heap_[pos].key = key;
+        siftUp(pos);
+      }
       return;
     }
-    siftUp(pos);
+    place({key, v});
   }
 
-  /// Removes the vertex with the smallest key and marks it final.
+  /// Removes a vertex with the smallest key and marks it final; only after
+  /// empty() returned false.
   VertexId popMin() {
     const VertexId top = heap_.front().id;
     slot(top) = kFinal;
@@ -72,6 +117,123 @@ class FrontQueue {
     double key;
     VertexId id;
   };
+
+  // Puts an unseen or cold vertex into the heap, a bucket or the overflow.
+  STVD_ALWAYS_INLINE void place(const Entry& e) {
+    const double t = (e.key - base_) * inverseWidth_;
+    if (t < hotEnd_) {
+      const auto pos = static_cast<std::uint32_t>(heap_.size());
+      heap_.push_back(e);
+      siftUp(pos);
+      return;
+    }
+    slot(e.id) = kCold;
+    ++coldEntries_;
+    if (t < bucketEnd_)
+      buckets_[static_cast<std::size_t>(t)].push_back(e);
+    else
+      overflow_.push_back(e);
+  }
+
+  // Called with an empty heap and cold entries: moves the next bucket with a
+  // live entry into the heap, spreading the overflow when the buckets are
+  // used up.
+  void refill() {
+    while (heap_.empty() && coldEntries_ != 0) {
+      while (++current_ < kBucketCount && buckets_[current_].empty()) {
+      }
+      if (current_ < kBucketCount) {
+        hotEnd_ = static_cast<double>(current_ + 1);
+        promote(buckets_[current_]);
+      } else {
+        spreadOverflow();
+      }
+    }
+  }
+
+  // Moves the live entries of `bucket` into the heap and empties it.
+  void promote(std::vector<Entry>& bucket) {
+    constexpr std::size_t kAhead = 16;  // slot reads in flight
+    const std::size_t n = bucket.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i + kAhead < n) prefetch(&slot(bucket[i + kAhead].id));
+      mergeIntoHeap(bucket[i]);
+    }
+    coldEntries_ -= n;
+    bucket.clear();
+  }
+
+  // A cold entry reaches the heap: the vertex enters it, or its key is
+  // lowered if an earlier entry brought it there; a final vertex's entry is
+  // dropped.
+  STVD_ALWAYS_INLINE void mergeIntoHeap(const Entry& e) {
+    const std::uint32_t pos = slot(e.id);
+    if (pos == kCold) {
+      const auto last = static_cast<std::uint32_t>(heap_.size());
+      heap_.push_back(e);
+      siftUp(last);
+    } else if (pos < kMaxHeapSize && e.key < heap_[pos].key) {
+      heap_[pos].key = e.key;
+      siftUp(pos);
+    }
+  }
+
+  // All buckets are used up and the heap is empty: spreads the live overflow
+  // entries over new buckets that start at their smallest key.
+  void spreadOverflow() {
+    spreading_.swap(overflow_);
+    overflow_.clear();
+    coldEntries_ -= spreading_.size();
+    double lo = std::numeric_limits<double>::infinity();
+    double hi = -lo;
+    std::size_t live = 0;
+    for (const Entry& e : spreading_) {
+      if (slot(e.id) != kCold) continue;  // final: the heap is empty
+      spreading_[live++] = e;
+      lo = e.key < lo ? e.key : lo;
+      hi = e.key > hi ? e.key : hi;
+    }
+    spreading_.resize(live);
+    if (live == 0) return;
+    // Four key ranges across all buckets. A zero range (all keys equal, as
+    // for the sources) keeps the last width, or takes a tiny one at the
+    // start; the keys that follow then set a proper width at the next spread.
+    double width = 4.0 * (hi - lo) / kBucketCount;
+    if (!(width > 0.0)) width = width_ > 0.0 ? width_ : std::max(std::abs(lo), 1.0) * 1e-9;
+    if (std::isfinite(lo) && std::isfinite(width)) {
+      width_ = width;
+      base_ = lo;
+      inverseWidth_ = 1.0 / width;
+      hotEnd_ = 1.0;
+      bucketEnd_ = kBucketCount;
+      current_ = 0;
+    } else {
+      // Infinite keys (or a range beyond the doubles) have no bucket: every
+      // finite key goes into the heap until it runs empty again.
+      base_ = 0.0;
+      inverseWidth_ = 0.0;
+      hotEnd_ = std::numeric_limits<double>::infinity();
+      bucketEnd_ = hotEnd_;
+      current_ = kBucketCount;
+      for (const Entry& e : spreading_) mergeIntoHeap(e);
+      spreading_.clear();
+      return;
+    }
+    // A vertex may have several live entries; once one of them is in the
+    // heap, the others only lower its key there.
+    for (const Entry& e : spreading_) {
+      const std::uint32_t pos = slot(e.id);
+      if (pos < kMaxHeapSize) {
+        if (e.key < heap_[pos].key) {
+          heap_[pos].key = e.key;
+          siftUp(pos);
+        }
+      } else {
+        place(e);
+      }
+    }
+    spreading_.clear();
+  }
 
   void siftUp(std::uint32_t pos) {
     const Entry moving = heap_[pos];
@@ -112,6 +274,19 @@ class FrontQueue {
   std::vector<std::uint32_t> ownSlots_;  // empty when the caller owns the slots
   std::uint32_t* slots_;
   unsigned strideLog2_;
+
+  // The buckets. Until the first spread every key goes to the overflow
+  // (t = 0 is below neither hotEnd_ nor bucketEnd_).
+  std::vector<std::vector<Entry>> buckets_;
+  std::vector<Entry> overflow_;
+  std::vector<Entry> spreading_;  // the overflow being spread
+  std::size_t coldEntries_ = 0;   // entries in buckets and overflow, stale ones included
+  double base_ = 0.0;
+  double inverseWidth_ = 0.0;
+  double width_ = 0.0;
+  double hotEnd_ = 0.0;     // t below it: the heap
+  double bucketEnd_ = 0.0;  // t below it: a bucket; kBucketCount after a spread
+  int current_ = kBucketCount;  // the bucket last moved into the heap
 };
 
 }  // namespace stvd::detail
