@@ -32,11 +32,17 @@ namespace stvd::detail {
 /// faults). On x86-64 it is a volatile asm statement rather than
 /// __builtin_prefetch: GCC 12 drops __builtin_prefetch from the inlined STVD
 /// loop (measured: not one prefetch instruction left in it).
+///
+/// The hint is T1 (the outer cache levels) rather than T0: what is asked for
+/// is the next popped vertex's neighbourhood, some thirty lines not needed
+/// before the current relaxation ends. Measured with the time stamp counter
+/// on default STVD at 256^3, T1 took the gather phase from about 1280 to
+/// about 950 cycles per pop; T2 gave the same as T1.
 inline __attribute__((always_inline)) void prefetch(const void* address) {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-  asm volatile("prefetcht0 %0" : : "m"(*static_cast<const char*>(address)));
+  asm volatile("prefetcht1 %0" : : "m"(*static_cast<const char*>(address)));
 #elif defined(__GNUC__) || defined(__clang__)
-  __builtin_prefetch(address);
+  __builtin_prefetch(address, 0, 2);
 #else
   (void)address;
 #endif
