@@ -1,7 +1,7 @@
 // The priority queue of the propagation front, in two levels: an indexed
 // 4-ary min-heap with decrease-key holds only the keys of the current narrow
 // key bucket ("hot"), and every later key waits unsorted in a flat bucket
-// array ("cold") until its bucket becomes current. Pops come out in exact key
+// list ("cold") until its bucket becomes current. Pops come out in exact key
 // order, as from one heap.
 //
 // Why two levels: a single heap holds the whole front, several MiB at 256^3.
@@ -25,9 +25,10 @@
 // the overflow after it. When the heap runs empty the next non-empty bucket
 // is moved into it; when every bucket is used up, the overflow is spread
 // over a fresh set of buckets starting at its smallest key, with a width
-// that makes the buckets span four times the overflow's key range (the range
-// of keys on the front, about one edge length, so the buckets last for
-// several such ranges before they are spread again).
+// that makes the buckets span four times the overflow's key range (about the
+// range of keys on the front, so that the buckets last while the front
+// advances by several such ranges). The bucket lists share one pool of 4 KiB
+// chunks (chunked_lists.hpp), so that memory follows the entries queued.
 //
 // A cold vertex whose key drops is appended again, as the queue does not know
 // where its earlier entry is; the lowest of its entries is moved into the
@@ -41,6 +42,7 @@
 #include <limits>
 #include <vector>
 
+#include "stvd/detail/chunked_lists.hpp"
 #include "stvd/detail/compiler.hpp"
 #include "stvd/large_array.hpp"
 #include "stvd/types.hpp"
@@ -61,11 +63,11 @@ class FrontQueue {
       : ownSlots_(makeLargeArray<std::uint32_t>(vertexCount, kUnseen)),
         slots_(ownSlots_.data()),
         strideLog2_(0),
-        buckets_(kBucketCount) {}
+        cold_(kBucketCount + 1) {}
   /// The slot of vertex v is firstSlot[v << strideLog2], already set to
   /// kUnseen; the storage must outlive the queue.
   FrontQueue(std::uint32_t* firstSlot, unsigned strideLog2)
-      : slots_(firstSlot), strideLog2_(strideLog2), buckets_(kBucketCount) {}
+      : slots_(firstSlot), strideLog2_(strideLog2), cold_(kBucketCount + 1) {}
   FrontQueue(const FrontQueue&) = delete;
   FrontQueue& operator=(const FrontQueue&) = delete;
 
@@ -81,9 +83,7 @@ class FrontQueue {
   double minKey() const { return heap_.front().key; }
   VertexId minVertex() const { return heap_.front().id; }
   std::size_t capacityBytes() const {
-    std::size_t entries = heap_.capacity() + overflow_.capacity() + spreading_.capacity();
-    for (const auto& bucket : buckets_) entries += bucket.capacity();
-    return entries * sizeof(Entry) + buckets_.capacity() * sizeof(buckets_[0]) +
+    return heap_.capacity() * sizeof(Entry) + cold_.capacityBytes() +
            ownSlots_.capacity() * sizeof(std::uint32_t);
   }
 
@@ -129,10 +129,7 @@ class FrontQueue {
     }
     slot(e.id) = kCold;
     ++coldEntries_;
-    if (t < bucketEnd_)
-      buckets_[static_cast<std::size_t>(t)].push_back(e);
-    else
-      overflow_.push_back(e);
+    cold_.append(t < bucketEnd_ ? static_cast<std::size_t>(t) : kOverflow, e);
   }
 
   // Called with an empty heap and cold entries: moves the next bucket with a
@@ -140,27 +137,29 @@ class FrontQueue {
   // used up.
   void refill() {
     while (heap_.empty() && coldEntries_ != 0) {
-      while (++current_ < kBucketCount && buckets_[current_].empty()) {
+      while (++current_ < kBucketCount && cold_.empty(current_)) {
       }
       if (current_ < kBucketCount) {
         hotEnd_ = static_cast<double>(current_ + 1);
-        promote(buckets_[current_]);
+        promote(current_);
       } else {
         spreadOverflow();
       }
     }
   }
 
-  // Moves the live entries of `bucket` into the heap and empties it.
-  void promote(std::vector<Entry>& bucket) {
-    constexpr std::size_t kAhead = 16;  // slot reads in flight
-    const std::size_t n = bucket.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      if (i + kAhead < n) prefetch(&slot(bucket[i + kAhead].id));
-      mergeIntoHeap(bucket[i]);
-    }
-    coldEntries_ -= n;
-    bucket.clear();
+  // Moves the live entries of a bucket into the heap and empties it. The
+  // slots lie anywhere on the front and are asked for a few entries ahead.
+  void promote(int bucket) {
+    constexpr int kAhead = 16;
+    cold_.drain(static_cast<std::size_t>(bucket), [this](const Entry* run, int n) {
+      for (int i = 0; i < kAhead && i < n; ++i) prefetch(&slot(run[i].id));
+      for (int i = 0; i < n; ++i) {
+        if (i + kAhead < n) prefetch(&slot(run[i + kAhead].id));
+        mergeIntoHeap(run[i]);
+      }
+      coldEntries_ -= static_cast<std::size_t>(n);
+    });
   }
 
   // A cold entry reaches the heap: the vertex enters it, or its key is
@@ -178,29 +177,26 @@ class FrontQueue {
     }
   }
 
-  // All buckets are used up and the heap is empty: spreads the live overflow
-  // entries over new buckets that start at their smallest key.
+  // All buckets are used up and the heap is empty: spreads the overflow
+  // over new buckets that start at its smallest key. Entries of final
+  // vertices take part in choosing the width (reading their slots for that
+  // would be a cache miss each) but are dropped.
   void spreadOverflow() {
-    spreading_.swap(overflow_);
-    overflow_.clear();
-    coldEntries_ -= spreading_.size();
     double lo = std::numeric_limits<double>::infinity();
     double hi = -lo;
-    std::size_t live = 0;
-    for (const Entry& e : spreading_) {
-      if (slot(e.id) != kCold) continue;  // final: the heap is empty
-      spreading_[live++] = e;
-      lo = e.key < lo ? e.key : lo;
-      hi = e.key > hi ? e.key : hi;
-    }
-    spreading_.resize(live);
-    if (live == 0) return;
+    cold_.forEachRun(kOverflow, [&](const Entry* run, int n) {
+      for (int i = 0; i < n; ++i) {
+        lo = std::min(lo, run[i].key);
+        hi = std::max(hi, run[i].key);
+      }
+    });
     // Four key ranges across all buckets. A zero range (all keys equal, as
     // for the sources) keeps the last width, or takes a tiny one at the
     // start; the keys that follow then set a proper width at the next spread.
     double width = 4.0 * (hi - lo) / kBucketCount;
     if (!(width > 0.0)) width = width_ > 0.0 ? width_ : std::max(std::abs(lo), 1.0) * 1e-9;
-    if (std::isfinite(lo) && std::isfinite(width)) {
+    const bool finite = std::isfinite(lo) && std::isfinite(width);
+    if (finite) {
       width_ = width;
       base_ = lo;
       inverseWidth_ = 1.0 / width;
@@ -208,31 +204,28 @@ class FrontQueue {
       bucketEnd_ = kBucketCount;
       current_ = 0;
     } else {
-      // Infinite keys (or a range beyond the doubles) have no bucket: every
-      // finite key goes into the heap until it runs empty again.
+      // Infinite keys (or a range beyond the doubles) fit no bucket: they
+      // all go into the heap, and so does every key after them until the
+      // heap runs empty again.
       base_ = 0.0;
       inverseWidth_ = 0.0;
       hotEnd_ = std::numeric_limits<double>::infinity();
       bucketEnd_ = hotEnd_;
       current_ = kBucketCount;
-      for (const Entry& e : spreading_) mergeIntoHeap(e);
-      spreading_.clear();
-      return;
     }
-    // A vertex may have several live entries; once one of them is in the
-    // heap, the others only lower its key there.
-    for (const Entry& e : spreading_) {
-      const std::uint32_t pos = slot(e.id);
-      if (pos < kMaxHeapSize) {
-        if (e.key < heap_[pos].key) {
-          heap_[pos].key = e.key;
-          siftUp(pos);
-        }
-      } else {
-        place(e);
+    cold_.drain(kOverflow, [&](const Entry* run, int n) {
+      coldEntries_ -= static_cast<std::size_t>(n);
+      for (int i = 0; i < n; ++i) {
+        // A vertex may have several entries here; once one of them is in
+        // the heap, the others only lower its key there.
+        const std::uint32_t pos = slot(run[i].id);
+        if (pos == kFinal) continue;
+        if (pos == kCold && finite)
+          place(run[i]);
+        else
+          mergeIntoHeap(run[i]);
       }
-    }
-    spreading_.clear();
+    });
   }
 
   void siftUp(std::uint32_t pos) {
@@ -277,9 +270,8 @@ class FrontQueue {
 
   // The buckets. Until the first spread every key goes to the overflow
   // (t = 0 is below neither hotEnd_ nor bucketEnd_).
-  std::vector<std::vector<Entry>> buckets_;
-  std::vector<Entry> overflow_;
-  std::vector<Entry> spreading_;  // the overflow being spread
+  static constexpr std::size_t kOverflow = kBucketCount;  // the list after the buckets
+  ChunkedLists<Entry, 255> cold_;  // 4 KiB chunks
   std::size_t coldEntries_ = 0;   // entries in buckets and overflow, stale ones included
   double base_ = 0.0;
   double inverseWidth_ = 0.0;
