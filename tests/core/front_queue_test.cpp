@@ -43,21 +43,49 @@ class ReferenceQueue {
   std::vector<bool> final_;
 };
 
-// Pops everything left and checks the order against the reference.
-void drainInOrder(FrontQueue& queue, ReferenceQueue& reference, std::size_t& pops) {
-  while (!queue.empty()) {
-    ASSERT_FALSE(reference.empty());
-    const double expected = reference.minKey();
-    ASSERT_EQ(queue.minKey(), expected);
-    const VertexId v = queue.popMin();
-    ASSERT_TRUE(reference.isQueued(v)) << "vertex " << v << " popped twice or never pushed";
-    ASSERT_EQ(reference.keyOf(v), expected) << "vertex " << v << " popped with a key not its lowest";
-    ASSERT_TRUE(queue.isFinal(v));
-    reference.finish(v);
-    ++pops;
+// The queue under test next to the reference: every push goes to both, and
+// every pop is checked against the reference.
+class CheckedQueue {
+ public:
+  CheckedQueue(FrontQueue& queue, std::size_t n) : queue_(queue), reference_(n) {}
+
+  void push(VertexId v, double key) {
+    queue_.pushOrDecrease(v, key);
+    reference_.push(v, key);
   }
-  EXPECT_TRUE(reference.empty());
-}
+  bool empty() { return queue_.empty(); }
+  bool isFinal(VertexId v) const { return queue_.isFinal(v); }
+  std::size_t pops() const { return pops_; }
+  ReferenceQueue& reference() { return reference_; }
+
+  /// Pops one vertex after empty() returned false; records a failure and
+  /// returns kNoVertex if it is not a vertex with the smallest key, popped
+  /// with its lowest key.
+  VertexId pop() {
+    const double expected = reference_.minKey();
+    EXPECT_EQ(queue_.minKey(), expected);
+    const VertexId v = queue_.popMin();
+    EXPECT_TRUE(reference_.isQueued(v)) << "vertex " << v << " popped twice or never pushed";
+    EXPECT_EQ(reference_.keyOf(v), expected) << "vertex " << v << " popped with a key not its lowest";
+    EXPECT_TRUE(queue_.isFinal(v));
+    if (::testing::Test::HasFailure()) return kNoVertex;
+    reference_.finish(v);
+    ++pops_;
+    return v;
+  }
+
+  /// Pops everything left, checking each pop, until the first failure.
+  void drain() {
+    while (!queue_.empty())
+      if (pop() == kNoVertex) return;
+    EXPECT_TRUE(reference_.empty());
+  }
+
+ private:
+  FrontQueue& queue_;
+  ReferenceQueue reference_;
+  std::size_t pops_ = 0;
+};
 
 // A Dijkstra-like run on a side x side grid graph with 8 neighbours, from
 // its corner: every pop pushes the neighbours that are not final with keys a
@@ -65,39 +93,29 @@ void drainInOrder(FrontQueue& queue, ReferenceQueue& reference, std::size_t& pop
 // as not, and one in eight of them, as STVD's candidates can, slightly below
 // the popped key. The front sweeps across the grid, so the keys pass through
 // many buckets and spreads.
-std::size_t runLikeAPropagation(FrontQueue& queue, int side, double maxEdge, unsigned seed) {
+void runLikeAPropagation(FrontQueue& queue, int side, double maxEdge, unsigned seed) {
   const std::size_t n = static_cast<std::size_t>(side) * side;
   std::mt19937 random(seed);
   std::uniform_real_distribution<double> edge(0.1 * maxEdge, maxEdge);
-  ReferenceQueue reference(n);
-  queue.pushOrDecrease(0, 0.0);
-  reference.push(0, 0.0);
-  std::size_t pops = 0;
+  CheckedQueue checked(queue, n);
+  checked.push(0, 0.0);
   int pushes = 0;
-  while (!queue.empty()) {
+  while (!checked.empty()) {
     const double key = queue.minKey();
-    EXPECT_EQ(key, reference.minKey());
-    const VertexId v = queue.popMin();
-    EXPECT_TRUE(reference.isQueued(v)) << "vertex " << v << " popped twice or never pushed";
-    EXPECT_EQ(reference.keyOf(v), key) << "vertex " << v << " popped with a key not its lowest";
-    if (::testing::Test::HasFailure()) return pops;
-    reference.finish(v);
-    ++pops;
+    const VertexId v = checked.pop();
+    if (v == kNoVertex) return;
     const int x = static_cast<int>(v) % side, y = static_cast<int>(v) / side;
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         if ((dx == 0 && dy == 0) || x + dx < 0 || x + dx >= side || y + dy < 0 || y + dy >= side)
           continue;
         const auto w = static_cast<VertexId>((y + dy) * side + x + dx);
-        if (queue.isFinal(w)) continue;
-        const double candidate = ++pushes % 8 == 0 ? key - 0.01 * edge(random) : key + edge(random);
-        queue.pushOrDecrease(w, candidate);
-        reference.push(w, candidate);
+        if (checked.isFinal(w)) continue;
+        checked.push(w, ++pushes % 8 == 0 ? key - 0.01 * edge(random) : key + edge(random));
       }
   }
-  EXPECT_TRUE(reference.empty());
-  EXPECT_EQ(pops, n);
-  return pops;
+  EXPECT_TRUE(checked.reference().empty());
+  EXPECT_EQ(checked.pops(), n);
 }
 
 TEST(FrontQueue, PopsInKeyOrderThroughAPropagationLikeRun) {
@@ -128,79 +146,48 @@ TEST(FrontQueue, KeepsSlotsInCallerRecordsWithAStride) {
 
 TEST(FrontQueue, EqualKeysAndRepeatedDecreasesPopEachVertexOnce) {
   FrontQueue queue(100);
-  ReferenceQueue reference(100);
-  for (VertexId v = 0; v < 100; ++v) {
-    queue.pushOrDecrease(v, 5.0);
-    reference.push(v, 5.0);
-  }
+  CheckedQueue checked(queue, 100);
+  for (VertexId v = 0; v < 100; ++v) checked.push(v, 5.0);
   // Lower some keys several times, raise others (ignored).
   for (VertexId v = 0; v < 100; v += 3)
-    for (double key : {4.0, 6.0, 3.0, 3.5}) {
-      queue.pushOrDecrease(v, key);
-      reference.push(v, key);
-    }
-  std::size_t pops = 0;
-  drainInOrder(queue, reference, pops);
-  EXPECT_EQ(pops, 100u);
+    for (double key : {4.0, 6.0, 3.0, 3.5}) checked.push(v, key);
+  checked.drain();
+  EXPECT_EQ(checked.pops(), 100u);
 }
 
 TEST(FrontQueue, ALowerKeyJustBelowTheLastOneWins) {
   // Keys waiting for the same bucket, or the same spread, as the vertex's
   // earlier key: the lower one must be the one popped.
   FrontQueue queue(200);
-  ReferenceQueue reference(200);
-  std::size_t pops = 0;
-  for (VertexId v = 0; v < 100; ++v) {
-    queue.pushOrDecrease(v, 1.0 + v);
-    reference.push(v, 1.0 + v);
-  }
-  for (VertexId v : {0u, 1u, 50u}) {
-    const double lower = std::nextafter(1.0 + v, 0.0);
-    queue.pushOrDecrease(v, lower);
-    reference.push(v, lower);
-  }
+  CheckedQueue checked(queue, 200);
+  for (VertexId v = 0; v < 100; ++v) checked.push(v, 1.0 + v);
+  for (VertexId v : {0u, 1u, 50u}) checked.push(v, std::nextafter(1.0 + v, 0.0));
   // After the first pop the rest waits in buckets; lower keys again there.
-  ASSERT_FALSE(queue.empty());
-  ASSERT_EQ(queue.minKey(), reference.minKey());
-  ASSERT_EQ(queue.popMin(), 0u);
-  reference.finish(0);
-  ++pops;
-  for (VertexId v = 1; v < 100; v += 7) {
-    const double lower = std::nextafter(reference.keyOf(v), 0.0);
-    queue.pushOrDecrease(v, lower);
-    reference.push(v, lower);
-  }
-  drainInOrder(queue, reference, pops);
-  EXPECT_EQ(pops, 100u);
+  ASSERT_FALSE(checked.empty());
+  ASSERT_EQ(checked.pop(), 0u);
+  for (VertexId v = 1; v < 100; v += 7)
+    checked.push(v, std::nextafter(checked.reference().keyOf(v), 0.0));
+  checked.drain();
+  EXPECT_EQ(checked.pops(), 100u);
 }
 
 TEST(FrontQueue, FarOutlierAndInfiniteKeysComeLast) {
   FrontQueue queue(50);
-  ReferenceQueue reference(50);
+  CheckedQueue checked(queue, 50);
   const double infinity = std::numeric_limits<double>::infinity();
-  for (VertexId v = 0; v < 50; ++v) {
-    const double key = v == 7 ? infinity : v == 9 ? 1e300 : 0.25 * v;
-    queue.pushOrDecrease(v, key);
-    reference.push(v, key);
-  }
-  std::size_t pops = 0;
-  drainInOrder(queue, reference, pops);
-  EXPECT_EQ(pops, 50u);
+  for (VertexId v = 0; v < 50; ++v) checked.push(v, v == 7 ? infinity : v == 9 ? 1e300 : 0.25 * v);
+  checked.drain();
+  EXPECT_EQ(checked.pops(), 50u);
 }
 
 TEST(FrontQueue, PushesAfterRunningEmptyStartAFreshRange) {
   FrontQueue queue(20);
-  ReferenceQueue reference(20);
-  std::size_t pops = 0;
-  queue.pushOrDecrease(0, 1.0);
-  reference.push(0, 1.0);
-  drainInOrder(queue, reference, pops);
-  for (VertexId v = 1; v < 20; ++v) {
-    queue.pushOrDecrease(v, 1000.0 - v);
-    reference.push(v, 1000.0 - v);
-  }
-  drainInOrder(queue, reference, pops);
-  EXPECT_EQ(pops, 20u);
+  CheckedQueue checked(queue, 20);
+  checked.push(0, 1.0);
+  checked.drain();
+  for (VertexId v = 1; v < 20; ++v) checked.push(v, 1000.0 - v);
+  checked.drain();
+  EXPECT_EQ(checked.pops(), 20u);
 }
 
 }  // namespace
