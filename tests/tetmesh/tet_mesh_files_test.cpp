@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -14,7 +15,8 @@
 namespace stvd::tetmesh {
 namespace {
 
-/// A fresh folder per test program run, with helpers to write text files.
+/// A fresh folder per test, with helpers to write text files; removed with
+/// everything in it when the test ends.
 class Folder {
  public:
   Folder() {
@@ -22,6 +24,12 @@ class Folder {
     if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
     path_ = pattern;
   }
+  ~Folder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  Folder(const Folder&) = delete;
+  Folder& operator=(const Folder&) = delete;
   std::string file(const std::string& name, const std::string& text) const {
     const std::string p = path_ + "/" + name;
     std::ofstream(p) << text;
