@@ -94,6 +94,23 @@ constexpr double kTetStvdDefaultMaxBound = 0.47;
 /// Dijkstra's mean error over STVD's (k = 8): measured 42.
 constexpr double kTetMinImprovement = 28.0;
 
+TEST(TetrahedralMesh, NeighbourRunsAreTheNeighboursOneVertexEach) {
+  // The propagation prefetches the runs: they must name every neighbour
+  // that forEachNeighbor reports, and nothing else.
+  const test::TetrahedralBox box = test::kuhnTetrahedralBox({4, 3, 2}, {1, 1, 1}, 0.2, 7);
+  const CellMeshDomain mesh = CellMeshDomain::fromTetrahedra(box.points, box.tets);
+  for (VertexId v = 0; v < mesh.vertexCount(); ++v) {
+    std::vector<VertexId> inRuns, neighbours;
+    mesh.forEachNeighborRun(v, [&](VertexId first, VertexId last) {
+      EXPECT_EQ(first, last);
+      inRuns.push_back(first);
+    });
+    mesh.forEachNeighbor(v, [&](VertexId w, Vec3f) { neighbours.push_back(w); });
+    EXPECT_FALSE(neighbours.empty());
+    EXPECT_EQ(inRuns, neighbours) << "vertex " << v;
+  }
+}
+
 TEST(TetrahedralMesh, DijkstraErrorIsWithinItsStatedBound) {
   const RelativeErrors e = tetrahedralScene().measure(Method::Dijkstra, 1, "Dijkstra");
   EXPECT_LE(e.mean(), kTetDijkstraMeanBound);

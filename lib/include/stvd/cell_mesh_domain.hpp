@@ -44,6 +44,14 @@ class CellMeshDomain {
   const VertexId* neighborsBegin(VertexId v) const { return neighbors_.data() + firstNeighbor_[v]; }
   const VertexId* neighborsEnd(VertexId v) const { return neighbors_.data() + firstNeighbor_[v + 1]; }
 
+  /// Calls f(w, w) for every neighbour w of v: the runs of consecutive
+  /// vertex numbers that hold v's neighbours (as
+  /// VoxelGridDomain::forEachNeighborRun), on a mesh one vertex each.
+  template <class F>
+  STVD_ALWAYS_INLINE void forEachNeighborRun(VertexId v, F&& f) const {
+    for (const VertexId* it = neighborsBegin(v); it != neighborsEnd(v); ++it) f(*it, *it);
+  }
+
   /// Calls f(w, e) for every neighbour w of v with e = x(w) - x(v).
   template <class F>
   STVD_ALWAYS_INLINE void forEachNeighbor(VertexId v, F&& f) const {

@@ -288,6 +288,10 @@ class Propagation {
       domain_.forEachNeighborRun(u, [&](VertexId first, VertexId last) {
         prefetchRange(&state_[first], &state_[last]);
         prefetchRange(&metric_[first], &metric_[last]);
+        // A mesh's edge vectors come from its vertex positions; a grid's
+        // from the stencil, which is always in cache.
+        if constexpr (std::is_same_v<Domain, CellMeshDomain>)
+          prefetchRange(&domain_.points()[first], &domain_.points()[last]);
       });
     }
   }
@@ -296,9 +300,10 @@ class Propagation {
   // loads reaching k - 1 voxels behind the front, into voxels popped long
   // ago. Once u's neighbourhood has arrived (after v's relaxation), the
   // first two links are known; the rest of the chain is guessed to go on by
-  // the second link's offset, as it does where the front is straight.
+  // the second link's offset, as it does where the front is straight. Only
+  // a grid's numbering makes that guess meaningful.
   STVD_ALWAYS_INLINE void prefetchChain(VertexId u) {
-    if constexpr (kPrefetches) {
+    if constexpr (std::is_same_v<Domain, VoxelGridDomain>) {
       const VertexId p1 = state_[u].predecessor;
       if (p1 == kNoVertex) return;
       const VertexId p2 = state_[p1].predecessor;
@@ -420,9 +425,12 @@ class Propagation {
   static constexpr unsigned kRecordWordsLog2 = 2;
   static_assert(sizeof(VertexState) == sizeof(std::uint32_t) << kRecordWordsLog2,
                 "one record per 16 bytes");
-  // Prefetching needs the grid's runs of neighbour numbers; meshes and
-  // surfaces have no such runs (their neighbours come from adjacency lists).
-  static constexpr bool kPrefetches = std::is_same_v<Domain, VoxelGridDomain>;
+  // Prefetching needs the domain's runs of neighbour numbers: rows of the
+  // stencil's block on a grid, single vertices from the adjacency list of a
+  // cell mesh. Surfaces are not prefetched (not tried): measuring their
+  // edges also reads the end points' positions and normals.
+  static constexpr bool kPrefetches =
+      std::is_same_v<Domain, VoxelGridDomain> || std::is_same_v<Domain, CellMeshDomain>;
   std::vector<VertexState> state_;
   FrontQueue queue_;
   Termination termination_ = Termination::Completed;
