@@ -214,8 +214,11 @@ class Propagation {
 
     PropagationResult result;
     // Only final vertices carry a distance; everything else is unreachable.
-    result.distance = makeLargeArray<double>(domain_.vertexCount(), kUnreachable);
-    result.predecessor = makeLargeArray<VertexId>(domain_.vertexCount(), kNoVertex);
+    // The result arrays are written once in order, so they gain nothing from
+    // huge pages, and on a virtual machine fresh huge pages can cost several
+    // times more to touch first than small ones (docs/performance.md).
+    result.distance = std::vector<double>(domain_.vertexCount(), kUnreachable);
+    result.predecessor = std::vector<VertexId>(domain_.vertexCount(), kNoVertex);
     for (VertexId v = 0; v < domain_.vertexCount(); ++v) {
       if (queue_.isFinal(v)) {
         result.distance[v] = state_[v].distance;
