@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "stvd/detail/compiler.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd {
@@ -50,6 +51,12 @@ class CellMeshDomain {
   template <class F>
   STVD_ALWAYS_INLINE void forEachNeighborRun(VertexId v, F&& f) const {
     for (const VertexId* it = neighborsBegin(v); it != neighborsEnd(v); ++it) f(*it, *it);
+  }
+  /// Asks for the positions of v's neighbours, which forEachNeighbor reads
+  /// to form the edge vectors (a prefetch: only the caches change).
+  STVD_ALWAYS_INLINE void prefetchNeighborGeometry(VertexId v) const {
+    for (const VertexId* it = neighborsBegin(v); it != neighborsEnd(v); ++it)
+      detail::prefetchRange(&points_[*it], &points_[*it]);
   }
 
   /// Calls f(w, e) for every neighbour w of v with e = x(w) - x(v).

@@ -275,27 +275,16 @@ class Propagation {
   }
 
   // The vertex now at the top of the queue is nearly always the next one
-  // popped. Asking for its neighbours' records and tensors while v is
-  // relaxed overlaps the cache misses of the two pops.
-  template <class T>
-  static STVD_ALWAYS_INLINE void prefetchRange(const T* first, const T* last) {
-    // Every 64-byte line from the one holding *first to the one holding the
-    // last byte of *last.
-    constexpr std::uintptr_t kLine = 64;
-    const auto end = reinterpret_cast<std::uintptr_t>(last + 1);
-    for (auto line = reinterpret_cast<std::uintptr_t>(first) & ~(kLine - 1); line < end; line += kLine)
-      detail::prefetch(reinterpret_cast<const void*>(line));
-  }
+  // popped. Asking for its neighbours' records and tensors (and what the
+  // domain reads to form their edge vectors) while v is relaxed overlaps
+  // the cache misses of the two pops.
   STVD_ALWAYS_INLINE void prefetchNeighborhood(VertexId u) {
     if constexpr (kPrefetches) {
       domain_.forEachNeighborRun(u, [&](VertexId first, VertexId last) {
         prefetchRange(&state_[first], &state_[last]);
         prefetchRange(&metric_[first], &metric_[last]);
-        // A mesh's edge vectors come from its vertex positions; a grid's
-        // from the stencil, which is always in cache.
-        if constexpr (std::is_same_v<Domain, CellMeshDomain>)
-          prefetchRange(&domain_.points()[first], &domain_.points()[last]);
       });
+      domain_.prefetchNeighborGeometry(u);
     }
   }
 

@@ -102,6 +102,10 @@ class VoxelGridDomain {
       for (int j = jFirst; j <= jLast; ++j) f(vertexAt(iFirst, j, k), vertexAt(iLast, j, k));
   }
 
+  /// Nothing to ask for ahead of forEachNeighbor: the edge vectors come from
+  /// the stencil, which stays in cache.
+  void prefetchNeighborGeometry(VertexId) const {}
+
   /// Calls f(w, e) for every neighbour w of v inside the domain, with e the
   /// physical edge vector x(w) - x(v). The interior of the image takes a
   /// path without bounds checks.

@@ -1,6 +1,8 @@
 // Compiler hints for the propagation's inner loops.
 #pragma once
 
+#include <cstdint>
+
 #if defined(__GNUC__) || defined(__clang__)
 /// Forces inlining of the small functions of the inner loops, where a call
 /// would stop vectorisation.
@@ -46,5 +48,15 @@ inline __attribute__((always_inline)) void prefetch(const void* address) {
 #else
   (void)address;
 #endif
+}
+
+/// prefetch() for every 64-byte line from the one holding *first to the one
+/// holding the last byte of *last.
+template <class T>
+inline __attribute__((always_inline)) void prefetchRange(const T* first, const T* last) {
+  constexpr std::uintptr_t kLine = 64;
+  const auto end = reinterpret_cast<std::uintptr_t>(last + 1);
+  for (auto line = reinterpret_cast<std::uintptr_t>(first) & ~(kLine - 1); line < end; line += kLine)
+    prefetch(reinterpret_cast<const void*>(line));
 }
 }  // namespace stvd::detail
