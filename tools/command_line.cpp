@@ -130,36 +130,6 @@ bool parseTensorInputOption(const std::string& option, ArgumentReader& args, Ten
   return true;
 }
 
-TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options) {
-  TensorInput input;
-  try {
-    input.read = imaging::readTensorVolume(path, {options.order, options.frame});
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitInput, e.what());
-  }
-  input.mask = input.read.volume.mask;
-  if (!input.mask.empty()) input.maskDescription = "the file's confidence channel";
-  if (!options.maskPath.empty()) {
-    imaging::ScalarImage mask;
-    try {
-      mask = imaging::readScalarImage(options.maskPath);
-    } catch (const imaging::ImageIoError& e) {
-      throw ToolError(kExitInput, e.what());
-    }
-    const std::string mismatch = imaging::geometryMismatch(mask.geometry, input.read.volume.geometry);
-    if (!mismatch.empty())
-      throw ToolError(kExitInput, options.maskPath + ": the mask is on another grid than " + path + " (" +
-                                      mismatch + ")");
-    if (input.mask.empty()) input.mask.assign(mask.values.size(), 1);
-    for (std::size_t v = 0; v < mask.values.size(); ++v)
-      if (mask.values[v] == 0.f || std::isnan(mask.values[v])) input.mask[v] = 0;
-    input.maskDescription = input.maskDescription.empty()
-                                ? options.maskPath
-                                : options.maskPath + " and " + input.maskDescription;
-  }
-  return input;
-}
-
 std::string orientationCode(const GridGeometry& geometry) {
   // LPS components: +x is Left, +y Posterior, +z Superior.
   const char positive[3] = {'L', 'P', 'S'}, negative[3] = {'R', 'A', 'I'};
@@ -208,25 +178,6 @@ std::string tensorInputHelp(bool withMetricOptions) {
   else
     text += "  --max-anisotropy A      count tensors with lambda_max/lambda_min above A (default 100).\n";
   return text;
-}
-
-std::string withThousands(unsigned long long n) {
-  std::string digits = std::to_string(n);
-  std::string out;
-  const int first = static_cast<int>(digits.size() % 3);
-  for (std::size_t i = 0; i < digits.size(); ++i) {
-    if (i != 0 && (static_cast<int>(i) - first) % 3 == 0) out += ',';
-    out += digits[i];
-  }
-  return out;
-}
-
-std::string fixed(double x, int decimals) {
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(decimals);
-  s << x;
-  return s.str();
 }
 
 bool takeInputOrHelp(const std::string& argument, const ArgumentReader& args, std::string& input,

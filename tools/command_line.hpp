@@ -10,9 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "stvd/itk/tensor_input.hpp"
 #include "stvd/itk/tensor_layout.hpp"
 #include "stvd/itk/tensor_metric.hpp"
 #include "stvd/itk/tensor_volume.hpp"
+#include "stvd/number_text.hpp"
 
 namespace stvd::tool {
 
@@ -66,31 +68,15 @@ int parseInteger(const std::string& option, const std::string& text);
 std::array<double, 3> parseTriple(const std::string& option, const std::string& text);
 std::array<int, 3> parseIntegerTriple(const std::string& option, const std::string& text);
 
-/// How to read a tensor file and turn it into a metric: the options
-/// `distance` and `info` share.
-struct TensorInputOptions {
-  std::optional<imaging::TensorOrder> order;
-  std::optional<imaging::TensorFrame> frame;
-  imaging::MetricOptions metric;
-  std::string maskPath;
-};
+// How to read a tensor file and turn it into a metric, and the tensors with
+// their mask (stvd/itk/tensor_input.hpp). imaging::readTensorInput throws
+// ImageIoError, which main() reports with kExitInput.
+using imaging::TensorInput;
+using imaging::TensorInputOptions;
 
 /// When `option` is one of the tensor input options, reads its value from
 /// `args` into `options` and returns true.
 bool parseTensorInputOption(const std::string& option, ArgumentReader& args, TensorInputOptions& options);
-
-/// A tensor file read as the options say, with its mask: the file's own
-/// (NRRD confidence) and the --mask file's, combined; empty when neither.
-struct TensorInput {
-  imaging::TensorReadResult read;
-  std::vector<std::uint8_t> mask;
-  /// How the mask came about, for reports: "" or e.g. "mask.nii.gz".
-  std::string maskDescription;
-};
-
-/// Reads the tensor file and the mask. Throws ToolError(kExitInput) naming
-/// the file: unreadable, wrong layout, or a mask on another grid.
-TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options);
 
 /// "LAS"-style orientation code: the RAS direction each index axis points
 /// to most (L/R, P/A, I/S), as NIfTI tools print it.
@@ -106,9 +92,8 @@ std::string tensorInputHelp(bool withMetricOptions);
 bool takeInputOrHelp(const std::string& argument, const ArgumentReader& args, std::string& input,
                      const char* helpText, bool withMetricOptions);
 
-/// 1234567 -> "1,234,567".
-std::string withThousands(unsigned long long n);
-/// Fixed-point with `decimals` digits.
-std::string fixed(double x, int decimals);
+// Numbers in messages and reports, as the library writes them.
+using text::fixed;
+using text::withThousands;
 
 }  // namespace stvd::tool

@@ -17,7 +17,8 @@
 #include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
-#include "stvd/parallel_tasks.hpp"
+#include "stvd/label_regions.hpp"
+#include "stvd/region_connectivity.hpp"
 #include "stvd/stencil.hpp"
 #include "subcommands.hpp"
 
@@ -94,18 +95,6 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
   return o;
 }
 
-struct Region {
-  long label = 0;
-  std::vector<VertexId> voxels;  // in the domain
-};
-
-/// d(A, B) and the path measurements for one ordered pair.
-struct PairResult {
-  double geodesic = kUnreachable;
-  double pathLength = std::numeric_limits<double>::quiet_NaN();
-  double straight = std::numeric_limits<double>::quiet_NaN();
-};
-
 std::string number(double x) { return std::isfinite(x) ? fixed(x, 4) : "n/a"; }
 
 }  // namespace
@@ -129,65 +118,26 @@ int runConnectivity(int argc, char** argv) {
   } catch (const imaging::ImageIoError& e) {
     throw ToolError(kExitInput, e.what());
   }
-  const std::string mismatch = imaging::geometryMismatch(labels.geometry, g);
-  if (!mismatch.empty())
-    throw ToolError(kExitInput, o.labels + ": the labels are on another grid than " + o.input + " (" + mismatch + ")");
-  std::map<long, Region> byLabel;
-  for (std::size_t v = 0; v < labels.values.size(); ++v) {
-    const float value = labels.values[v];
-    if (value == 0.f || std::isnan(value)) continue;
-    if (value != std::round(value))
-      throw ToolError(kExitInput, o.labels + ": label value " + fixed(value, 3) + " is not an integer");
-    Region& r = byLabel[std::lround(value)];
-    r.label = std::lround(value);
-    if (built.inDomain[v]) r.voxels.push_back(static_cast<VertexId>(v));
-  }
-  std::vector<Region> regions;
+  imaging::requireSameGrid(labels.geometry, g, o.labels, "the labels are", o.input);
   std::size_t empty = 0;
-  for (auto& [label, region] : byLabel) {
-    if (region.voxels.empty())
-      ++empty;
-    else
-      regions.push_back(std::move(region));
-  }
-  if (regions.size() < 2)
-    throw ToolError(kExitDomain, o.labels + ": fewer than two regions have voxels inside the domain of " + o.input);
+  const std::vector<LabelRegion> regions =
+      regionsInDomain(labelRegions(o.labels, labels.values, built.inDomain), o.labels, o.input, empty);
 
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
-  const PropagationOptions propagation = propagationOptions(o);
   const std::size_t n = regions.size();
-  std::vector<PairResult> table(n * n);
-
-  // Region a's row is written only by the thread that propagates from a,
-  // so the table is the same for any number of threads.
-  auto work = [&](std::size_t a) {
-    const PropagationResult result = propagate(domain, metric, regions[a].voxels, propagation);
-    for (std::size_t b = 0; b < n; ++b) {
-      if (b == a) continue;
-      VertexId nearest = kNoVertex;
-      for (VertexId v : regions[b].voxels)
-        if (std::isfinite(result.distance[v]) && (nearest == kNoVertex || result.distance[v] < result.distance[nearest]))
-          nearest = v;
-      if (nearest == kNoVertex) continue;
-      const TracedPath path = traceGeodesicPath(domain, metric, result, nearest);
-      PairResult& r = table[a * n + b];
-      r.geodesic = path.geodesicLength;
-      r.pathLength = path.euclideanLength;
-      r.straight = norm(path.points.back() - path.points.front());
-    }
-  };
-  const unsigned threadCount = threadCountFor(o.threads, n);
-  forEachTaskInParallel(n, threadCount, work);
+  std::vector<std::vector<VertexId>> regionVoxels;
+  for (const LabelRegion& r : regions) regionVoxels.push_back(r.voxels);
+  const RegionConnectivity table = regionConnectivity(domain, metric, regionVoxels, propagationOptions(o), o.threads);
+  const unsigned threadCount = table.threads;
 
   std::ostringstream tsv;
   tsv << "region_a\tregion_b\tgeodesic_mm\tpath_mm\tstraight_mm\tconnectivity\tvoxels_a\tvoxels_b\n";
   for (std::size_t a = 0; a < n; ++a)
     for (std::size_t b = 0; b < n; ++b) {
       if (a == b) continue;
-      const PairResult& r = table[a * n + b];
-      const double index = std::isfinite(r.geodesic) && r.geodesic > 0.0 ? r.pathLength / r.geodesic
-                                                                          : std::numeric_limits<double>::quiet_NaN();
+      const RegionPair& r = table(a, b);
+      const double index = r.connectivity();
       tsv << regions[a].label << "\t" << regions[b].label << "\t" << number(r.geodesic) << "\t" << number(r.pathLength)
           << "\t" << number(r.straight) << "\t" << number(index) << "\t" << regions[a].voxels.size() << "\t"
           << regions[b].voxels.size() << "\n";

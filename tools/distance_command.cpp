@@ -420,10 +420,7 @@ int runDistance(int argc, char** argv) {
 
   phase = Clock::now();
   imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
-  if (built.counts.domain == 0)
-    throw ToolError(kExitDomain, o.input + ": the domain is empty: no voxel has a usable tensor" +
-                                     (input.mask.empty() ? std::string() : " inside the mask") +
-                                     (o.tensor.metric.faThreshold ? " above the FA threshold" : ""));
+  imaging::requireNonEmptyDomain(o.input, built.counts, !input.mask.empty(), o.tensor.metric);
   t.metric = secondsSince(phase);
 
   phase = Clock::now();  // reading a seed label image counts as reading
@@ -436,10 +433,7 @@ int runDistance(int argc, char** argv) {
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   t.metric += secondsSince(phase);
 
-  std::vector<VertexId> sources;
-  for (const Seed& s : seeds) sources.push_back(domain.vertexAt(s.index.i, s.index.j, s.index.k));
-  std::sort(sources.begin(), sources.end());
-  sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
+  const std::vector<VertexId> sources = imaging::sourceVertices(domain, seeds);
 
   phase = Clock::now();
   PropagationOptions options = propagationOptions(o);

@@ -18,6 +18,7 @@
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/streamline_io.hpp"
 #include "stvd/itk/symmetric_eigen.hpp"
+#include "stvd/label_regions.hpp"
 #include "stvd/stencil.hpp"
 #include "subcommands.hpp"
 
@@ -173,42 +174,18 @@ std::vector<Target> labelTargets(const PathOptions& o, const GridGeometry& g, co
   } catch (const imaging::ImageIoError& e) {
     throw ToolError(kExitInput, e.what());
   }
-  const std::string mismatch = imaging::geometryMismatch(labels.geometry, g);
-  if (!mismatch.empty())
-    throw ToolError(kExitInput, o.targetLabels + ": the target labels are on another grid than " + o.input + " (" +
-                                    mismatch + ")");
-  std::map<long, VertexId> nearest;  // label -> voxel (kNoVertex: none reachable)
-  for (std::size_t v = 0; v < labels.values.size(); ++v) {
-    const float value = labels.values[v];
-    if (value == 0.f || std::isnan(value)) continue;
-    if (value != std::round(value))
-      throw ToolError(kExitInput, o.targetLabels + ": label value " + fixed(value, 3) + " is not an integer");
-    auto [it, inserted] = nearest.emplace(std::lround(value), kNoVertex);
-    if (!inDomain[v] || !std::isfinite(distance[v])) continue;
-    if (it->second == kNoVertex || distance[v] < distance[it->second]) it->second = static_cast<VertexId>(v);
-  }
-  if (nearest.empty()) throw ToolError(kExitDomain, o.targetLabels + ": the target label image has no non-zero voxel");
+  imaging::requireSameGrid(labels.geometry, g, o.targetLabels, "the target labels are", o.input);
+  const std::vector<LabelRegion> regions = labelRegions(o.targetLabels, labels.values, inDomain);
+  if (regions.empty()) throw ToolError(kExitDomain, o.targetLabels + ": the target label image has no non-zero voxel");
   std::vector<Target> targets;
-  for (const auto& [label, vertex] : nearest) {
+  for (const LabelRegion& region : regions) {
+    const VertexId vertex = nearestReached(distance, region.voxels);
     if (vertex == kNoVertex)
-      throw ToolError(kExitDomain, o.targetLabels + ": no voxel of label " + std::to_string(label) +
+      throw ToolError(kExitDomain, o.targetLabels + ": no voxel of label " + std::to_string(region.label) +
                                        " lies in the domain of " + o.input + " and is reachable from the seeds");
-    targets.push_back({vertex, "label " + std::to_string(label)});
+    targets.push_back({vertex, "label " + std::to_string(region.label)});
   }
   return targets;
-}
-
-/// Length-weighted mean of per-point values (trapezoid rule); NaN when a
-/// value is missing or the path has no length.
-double lengthWeightedMean(const std::vector<Vec3d>& points, const std::vector<float>& values) {
-  double sum = 0.0, length = 0.0;
-  for (std::size_t n = 1; n < points.size(); ++n) {
-    const double l = norm(points[n] - points[n - 1]);
-    sum += 0.5 * l * (static_cast<double>(values[n - 1]) + values[n]);
-    length += l;
-  }
-  if (points.size() == 1) return values[0];
-  return length > 0.0 ? sum / length : std::numeric_limits<double>::quiet_NaN();
 }
 
 std::string tsvNumber(double x, int decimals) { return std::isfinite(x) ? fixed(x, decimals) : "n/a"; }
@@ -252,10 +229,7 @@ int runPath(int argc, char** argv) {
 
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
-  std::vector<VertexId> sources;
-  for (const Seed& s : seeds) sources.push_back(domain.vertexAt(s.index.i, s.index.j, s.index.k));
-  std::sort(sources.begin(), sources.end());
-  sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
+  const std::vector<VertexId> sources = imaging::sourceVertices(domain, seeds);
   const Clock::time_point propagationStart = Clock::now();
   const PropagationResult result = propagate(domain, metric, sources, propagationOptions(o));
   const double propagationSeconds = std::chrono::duration<double>(Clock::now() - propagationStart).count();
@@ -274,13 +248,7 @@ int runPath(int argc, char** argv) {
   // FA of the diffusion tensors, for the values along the paths.
   const bool withFa = o.tensor.metric.kind == imaging::TensorKind::Diffusion;
   std::vector<float> fa;
-  if (withFa) {
-    fa.assign(g.voxelCount(), 0.f);
-    for (std::size_t v = 0; v < fa.size(); ++v)
-      if (built.inDomain[v])
-        fa[v] = static_cast<float>(
-            imaging::fractionalAnisotropy(imaging::eigenDecompose(input.read.volume.tensors[v]).values));
-  }
+  if (withFa) fa = imaging::fractionalAnisotropyMap(input.read.volume.tensors, built.inDomain);
 
   const Clock::time_point tracingStart = Clock::now();
   imaging::StreamlineSet set;
@@ -300,25 +268,13 @@ int runPath(int argc, char** argv) {
   std::ostringstream summary;
   for (std::size_t n = 0; n < targets.size(); ++n) {
     const Target& t = targets[n];
-    PathTracingOptions tracing = o.tracing;
-    if (o.discrete) tracing.refine = false;  // only the predecessor chain is written
-    TracedPath path = traceGeodesicPath(domain, metric, result, t.vertex, tracing);
-    if (o.discrete) {
-      TracedPath d;
-      d.discrete = path.discrete;
-      d.geodesicLength = path.geodesicLength;
-      for (VertexId v : path.discrete) d.points.push_back(domain.physicalPoint(v));
-      d.discretePoints = d.points.size();
-      for (std::size_t p = 1; p < d.points.size(); ++p) d.euclideanLength += norm(d.points[p] - d.points[p - 1]);
-      d.metricLength = std::numeric_limits<double>::quiet_NaN();
-      path = d;
-    }
-    std::vector<float> faAlong;
+    const TracedPath path = o.discrete ? discreteGeodesicPath(domain, result, t.vertex)
+                                       : traceGeodesicPath(domain, metric, result, t.vertex, o.tracing);
     double meanFa = std::numeric_limits<double>::quiet_NaN();
     if (withFa) {
-      for (const Vec3d& p : path.points) faAlong.push_back(static_cast<float>(interpolateAtPoint(domain, fa, p)));
-      meanFa = lengthWeightedMean(path.points, faAlong);
-      set.pointValues[0].push_back(faAlong);
+      const PathSamples faAlong = sampleAlongPath(domain, fa, path.points);
+      meanFa = faAlong.lengthWeightedMean;
+      set.pointValues[0].push_back(faAlong.values);
       set.lineValues[2].push_back(static_cast<float>(meanFa));
     }
     set.lines.push_back(path.points);

@@ -76,7 +76,7 @@ SurfaceOptions parse(int argc, char** argv) {
   SurfaceOptions o;
   // Surfaces keep the paper's chain measure as their default, as the help
   // text and docs/surfaces.md state (images and tet meshes use largest).
-  o.chainMeasure = ChainMeasure::ProjectionWeighted;
+  o.chainMeasure = kSurfaceChainMeasure;
   ArgumentReader args(argc, argv, 2);
   while (!args.done()) {
     const std::string a = args.take();

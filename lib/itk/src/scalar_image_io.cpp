@@ -73,4 +73,11 @@ std::string geometryMismatch(const GridGeometry& a, const GridGeometry& b) {
   return {};
 }
 
+void requireSameGrid(const GridGeometry& image, const GridGeometry& reference, const std::string& imageName,
+                     const std::string& subject, const std::string& referenceName) {
+  const std::string mismatch = geometryMismatch(image, reference);
+  if (!mismatch.empty())
+    throw ImageIoError(imageName, subject + " on another grid than " + referenceName + " (" + mismatch + ")");
+}
+
 }  // namespace stvd::imaging

@@ -10,12 +10,11 @@
 #include "nrrd_header.hpp"
 #include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/tensor_arrays.hpp"
 #include "stvd/itk/tensor_volume.hpp"
 
 namespace stvd::imaging {
 namespace {
-
-constexpr const char* kOrderHint = "state it with --tensor-order fsl|mrtrix|lower";
 
 std::string describeLayout(itk::ImageIOBase& io) {
   std::ostringstream s;
@@ -28,22 +27,6 @@ std::string describeLayout(itk::ImageIOBase& io) {
 
 Matrix3 transpose(const Matrix3& m) {
   return {m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]};
-}
-
-/// The matrix that takes the file's components to LPS components.
-Matrix3 fileToLps(const TensorFileInfo& info, const GridGeometry& geometry) {
-  if (info.frame == TensorFrame::Voxel) return voxelAxes(geometry);
-  const bool nrrd = info.layout == TensorFileLayout::NrrdSymMatrix ||
-                    info.layout == TensorFileLayout::NrrdMaskedSymMatrix;
-  return nrrd ? info.measurementFrameLps : rasToLps();
-}
-
-void checkStatedOrder(const std::string& path, const TensorReadOptions& options, TensorFileLayout layout,
-                      TensorOrder fixed) {
-  if (options.order && *options.order != fixed)
-    throw ImageIoError(path, "a " + tensorFileLayoutName(layout) + " file has the fixed component order " +
-                                 tensorOrderComponents(fixed) + "; the stated order " +
-                                 tensorOrderName(*options.order) + " contradicts it");
 }
 
 }  // namespace
@@ -69,18 +52,16 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
                                "expected), found " + describeLayout(*io));
     const detail::NrrdTensorHeader header = detail::readNrrdTensorHeader(path);
     info.layout = header.masked ? TensorFileLayout::NrrdMaskedSymMatrix : TensorFileLayout::NrrdSymMatrix;
-    info.order = TensorOrder::Fsl;
+    info.order = resolveTensorOrder(path, info.layout, options.order);
     info.nrrdSpace = header.space;
     info.hasMeasurementFrame = header.hasMeasurementFrame;
     info.measurementFrameLps = multiply(header.spaceToLps, header.measurementFrame);
-    checkStatedOrder(path, options, info.layout, info.order);
     // ITK hands the six tensor values over in NRRD's own order, xx xy xz yy yz zz.
     bufferOrder = TensorOrder::Fsl;
   } else if (ioClass == "NiftiImageIO") {
     if (dims == 3 && components == 6 && tensorPixel) {
       info.layout = TensorFileLayout::NiftiSymMatrix5D;
-      info.order = TensorOrder::Lower;
-      checkStatedOrder(path, options, info.layout, info.order);
+      info.order = resolveTensorOrder(path, info.layout, options.order);
       // ITK reorders the standard's lower triangle into its own upper one.
       bufferOrder = TensorOrder::Fsl;
     } else if ((dims == 3 && components == 6) || (dims == 4 && components == 1 && io->GetDimensions(3) == 6) ||
@@ -89,10 +70,7 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
       // with six volumes, or five with the six along the fifth (as the 5D
       // layout, without its intent).
       info.layout = TensorFileLayout::NiftiSixVolumes;
-      if (!options.order)
-        throw ImageIoError(path, "a NIfTI file with six values per voxel and no SYMMATRIX intent does not say "
-                                 "its component order; " + std::string(kOrderHint));
-      info.order = *options.order;
+      info.order = resolveTensorOrder(path, info.layout, options.order);
       bufferOrder = info.order;
       interleaved = dims == 3;
     } else if (dims == 4 && components == 1) {
@@ -117,13 +95,15 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
   if (values.size() != 6 * n)
     throw ImageIoError(path, "holds " + std::to_string(values.size()) + " values, expected 6 per voxel");
 
-  const Matrix3 toLps = fileToLps(info, volume.geometry);
-  volume.tensors.resize(n);
-  float c[6];
-  for (std::size_t v = 0; v < n; ++v) {
-    for (int q = 0; q < 6; ++q) c[q] = interleaved ? values[6 * v + q] : values[v + n * q];
-    volume.tensors[v] = changeTensorFrame(tensorFromComponents(c, bufferOrder), toLps);
-  }
+  // The same conversion as for arrays in memory (tensor_arrays.hpp).
+  const std::array<std::size_t, 3>& size = volume.geometry.size;
+  const std::ptrdiff_t nx = static_cast<std::ptrdiff_t>(size[0]), nxy = nx * static_cast<std::ptrdiff_t>(size[1]);
+  TensorComponentLayout layout;
+  layout.order = bufferOrder;
+  const std::ptrdiff_t voxel = interleaved ? 6 : 1, component = interleaved ? 1 : static_cast<std::ptrdiff_t>(n);
+  layout.voxelStride = {voxel, voxel * nx, voxel * nxy};
+  for (int q = 0; q < 6; ++q) layout.componentOffset[q] = q * component;
+  volume.tensors = tensorsInLps(values.data(), size, layout, componentFrameToLps(info, volume.geometry));
 
   if (info.layout == TensorFileLayout::NrrdMaskedSymMatrix) {
     const std::vector<float> confidence = detail::readNrrdConfidence(path);

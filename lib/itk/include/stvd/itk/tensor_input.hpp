@@ -1,0 +1,48 @@
+// A tensor volume as stvd's front ends take it in: the tensors (read from a
+// file, or converted from arrays, tensor_arrays.hpp) with the mask that
+// restricts the domain, and how the metric is to be made from them.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "stvd/itk/scalar_image.hpp"
+#include "stvd/itk/tensor_layout.hpp"
+#include "stvd/itk/tensor_metric.hpp"
+#include "stvd/itk/tensor_volume.hpp"
+
+namespace stvd::imaging {
+
+/// How to read a tensor file and turn it into a metric (the tool's
+/// --tensor-order, --tensor-frame, --tensor-kind, --diffusion-metric,
+/// --max-anisotropy, --fa-threshold and --mask).
+struct TensorInputOptions {
+  std::optional<TensorOrder> order;
+  std::optional<TensorFrame> frame;
+  MetricOptions metric;
+  std::string maskPath;
+};
+
+/// A tensor volume with its mask: the file's own (NRRD confidence) and a
+/// mask image's, combined; empty when neither.
+struct TensorInput {
+  TensorReadResult read;
+  std::vector<std::uint8_t> mask;
+  /// How the mask came about, for reports: "" or e.g. "mask.nii.gz".
+  std::string maskDescription;
+};
+
+/// Reads the tensor file and, when options.maskPath is set, the mask file.
+/// Throws ImageIoError naming the file: unreadable, wrong layout, or a mask
+/// on another grid.
+TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options);
+
+/// Restricts `input` to the voxels where `mask` is neither zero nor NaN.
+/// `maskName` and `inputName` name the two in messages and in the mask
+/// description. Throws ImageIoError(maskName, ...) when the mask is on
+/// another grid than the tensors (geometryMismatch).
+void addMask(TensorInput& input, const ScalarImage& mask, const std::string& maskName, const std::string& inputName);
+
+}  // namespace stvd::imaging

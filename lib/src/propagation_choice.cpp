@@ -1,0 +1,106 @@
+#include "stvd/propagation_choice.hpp"
+
+#include "stvd/stencil.hpp"
+#include "stvd/steiner_propagation.hpp"
+
+namespace stvd {
+
+void setMethod(PropagationChoice& o, const std::string& m) {
+  o.lanthier = m == "lanthier";
+  if (m == "stvd")
+    o.method = Method::ShortTermVectorDijkstra;
+  else if (m == "dijkstra")
+    o.method = Method::Dijkstra;
+  else if (!o.lanthier)
+    throw OptionError("--method: '" + m + "' is not one of stvd, dijkstra, lanthier");
+}
+
+void setSteinerPoints(PropagationChoice& o, int points) {
+  o.steinerPoints = points;
+  if (o.steinerPoints < 1 || o.steinerPoints > kMaxSteinerPoints)
+    throw OptionError("--steiner must be between 1 and " + std::to_string(kMaxSteinerPoints));
+}
+
+void setMemoryDepth(PropagationChoice& o, int k) {
+  o.k = k;
+  o.kGiven = true;
+  if (o.k < 1 || o.k > kMaxMemoryDepth)
+    throw OptionError("--k must be between 1 and " + std::to_string(kMaxMemoryDepth));
+}
+
+void setChainMeasure(PropagationChoice& o, const std::string& m) {
+  if (m == "projection")
+    o.chainMeasure = ChainMeasure::ProjectionWeighted;
+  else if (m == "largest")
+    o.chainMeasure = ChainMeasure::LargestEdgeNorm;
+  else
+    throw OptionError("--chain-measure: '" + m + "' is not one of projection, largest");
+  o.chainMeasureGiven = true;
+}
+
+void setStencil(PropagationChoice& o, const std::string& name) {
+  o.stencil = name;
+  o.stencilGiven = true;
+  try {
+    Stencil::byName(o.stencil);
+  } catch (const std::invalid_argument&) {
+    throw OptionError("--stencil: '" + o.stencil + "' is not one of 6, 18, 26, 98, 290");
+  }
+}
+
+namespace {
+
+/// The rules every domain shares: STVD's options are refused where no
+/// STVD runs (`stvdOnly`: every method but stvd; otherwise lanthier only),
+/// and --steiner goes with lanthier and lanthier needs it.
+void checkCommonChoice(const PropagationChoice& o, bool stvdOnly, const std::string& cellEdge,
+                       int suggestedSteinerPoints) {
+  const bool refuseStvdOptions = stvdOnly ? (o.lanthier || o.method != Method::ShortTermVectorDijkstra) : o.lanthier;
+  if (o.kGiven && refuseStvdOptions) throw OptionError("--k applies to --method stvd only");
+  if (o.chainMeasureGiven && refuseStvdOptions) throw OptionError("--chain-measure applies to --method stvd only");
+  if (o.lanthier && o.steinerPoints == 0)
+    throw OptionError("--method lanthier needs --steiner M, the Steiner points per " + cellEdge + " (1.." +
+                      std::to_string(kMaxSteinerPoints) + "; try " + std::to_string(suggestedSteinerPoints) + ")");
+  if (!o.lanthier && o.steinerPoints != 0) throw OptionError("--steiner applies to --method lanthier only");
+}
+
+}  // namespace
+
+void checkPropagationChoice(const PropagationChoice& o, bool lanthierAllowed) {
+  if (o.lanthier && !lanthierAllowed)
+    throw OptionError(
+        "--method lanthier gives distances but no predecessors, which paths need; use stvd or dijkstra");
+  checkCommonChoice(o, /*stvdOnly=*/true, "cube edge", 2);
+  if (o.lanthier && o.stencilGiven) throw OptionError("--stencil does not apply to --method lanthier (it uses cubes)");
+}
+
+void checkMeshPropagationChoice(const PropagationChoice& o, const std::string& cellEdge, int suggestedSteinerPoints) {
+  checkCommonChoice(o, /*stvdOnly=*/false, cellEdge, suggestedSteinerPoints);
+}
+
+PropagationOptions propagationOptions(const PropagationChoice& o) {
+  PropagationOptions options;
+  options.method = o.method;
+  options.k = o.method == Method::Dijkstra ? 1 : o.k;
+  options.chainMeasure = o.chainMeasure;
+  return options;
+}
+
+std::string methodText(const PropagationChoice& o) {
+  if (o.lanthier)
+    return "Lanthier Steiner-point propagation with M = " + std::to_string(o.steinerPoints) + " points per cube edge";
+  if (o.method == Method::Dijkstra) return "Dijkstra";
+  return "STVD with k = " + std::to_string(o.k) +
+         (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? " (largest-norm chain measure)"
+                                                          : " (projection chain measure)");
+}
+
+std::string methodName(const PropagationChoice& o) {
+  return o.lanthier ? "lanthier" : o.method == Method::Dijkstra ? "dijkstra" : "stvd";
+}
+
+std::string chainMeasureName(ChainMeasure measure) {
+  return measure == ChainMeasure::LargestEdgeNorm ? "largest" : "projection";
+}
+
+}  // namespace stvd
