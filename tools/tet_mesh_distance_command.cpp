@@ -17,11 +17,10 @@
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/tensor_frames.hpp"
 #include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
 #include "stvd/tetmesh/grid_resampling.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
+#include "stvd/tetmesh/tet_mesh_propagation.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
-#include "stvd/tetmesh/vertex_order.hpp"
 #include "tet_mesh_commands.hpp"
 
 namespace stvd::tool {
@@ -413,54 +412,13 @@ int runTetMeshDistance(int argc, char** argv) {
   std::sort(sources.begin(), sources.end());
   sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
 
-  // Propagation runs on the vertices renumbered along a Morton curve, so
-  // that neighbours are close in memory (1.7 to 2.5 times less time per
-  // edge than TetGen's numbering on a 490k-vertex mesh, docs/benchmarks.md);
-  // results are mapped back to the file's numbering.
-  const tetmesh::VertexPermutation order = tetmesh::mortonOrder(points);
-  std::vector<SymTensor3> orderedTensors(points.size());
-  std::vector<std::uint8_t> orderedInDomain(points.size());
-  for (std::size_t n = 0; n < points.size(); ++n) {
-    orderedTensors[n] = metricTensors[order.newToOld[n]];
-    orderedInDomain[n] = inGraph[order.newToOld[n]];
-  }
-  std::vector<VertexId> orderedSources;
-  for (VertexId v : sources) orderedSources.push_back(order.oldToNew[v]);
-
   const double setupSeconds = secondsSince(start);
   const Clock::time_point propagationStart = Clock::now();
-  const CellMeshDomain domain =
-      CellMeshDomain::fromTetrahedra(tetmesh::permutedPoints(points, order), tetmesh::permutedTets(tets, order));
-  const RiemannianMetric metric(std::move(orderedTensors), &orderedInDomain);
-  PropagationResult result;
-  if (o.lanthier) {
-    // The cells are the domain's tetrahedra (those with four usable
-    // corners), so vertices outside the domain are never reached.
-    std::optional<TetrahedralCells> cells;
-    try {
-      cells.emplace(tetmesh::permutedPoints(points, order), tetmesh::permutedTets(tets, order));
-    } catch (const std::invalid_argument& e) {  // e.g. a face shared by more than two tetrahedra
-      throw ToolError(kExitInput, o.input + ": " + e.what());
-    }
-    SteinerOptions steiner;
-    steiner.steinerPoints = o.steinerPoints;
-    steiner.maxDistance = o.maxDistance;
-    try {
-      result = steinerPropagate(*cells, metric, orderedSources, steiner);
-    } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
-      throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
-    }
-  } else {
-    PropagationOptions options = propagationOptions(o);
-    options.maxDistance = o.maxDistance;
-    result = propagate(domain, metric, orderedSources, options);
-  }
+  const tetmesh::TetMeshPropagation propagation = tetmesh::propagateOverTetrahedra(
+      points, tets, metricTensors, inGraph, sources, o, o.maxDistance, o.input);
   const double propagationSeconds = secondsSince(propagationStart);
-  {
-    std::vector<double> inFileOrder(mesh.vertexCount());
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v) inFileOrder[v] = result.distance[order.oldToNew[v]];
-    result.distance = std::move(inFileOrder);
-  }
+  PropagationResult result = propagation.result;
+  result.distance.resize(mesh.vertexCount());  // without points inserted for --seed-at point
 
   std::vector<double> values(result.distance.size());
   std::size_t reached = 0;
@@ -498,7 +456,7 @@ int runTetMeshDistance(int argc, char** argv) {
     std::ostringstream s;
     s << "Read " << nodeFile << ": " << withThousands(mesh.vertexCount()) << " vertices, "
       << withThousands(mesh.tets.size()) << " tetrahedra (" << withThousands(tets.size()) << " in the domain), "
-      << withThousands(domain.edgeCount()) << " edges, numbered from " << mesh.firstIndex << ".\n"
+      << withThousands(propagation.edgeCount) << " edges, numbered from " << mesh.firstIndex << ".\n"
       << "Metric: " << vt.description << ".\n"
       << (o.lanthier ? "Lanthier Steiner points, M = " + std::to_string(o.steinerPoints) + " per edge"
           : o.method == Method::Dijkstra ? std::string("Dijkstra")
