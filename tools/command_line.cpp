@@ -97,31 +97,17 @@ std::array<int, 3> parseIntegerTriple(const std::string& option, const std::stri
 bool parseTensorInputOption(const std::string& option, ArgumentReader& args, TensorInputOptions& options) {
   using namespace imaging;
   if (option == "--tensor-order") {
-    const std::string v = args.value(option);
-    options.order = parseTensorOrder(v);
-    if (!options.order) usageError("--tensor-order: '" + v + "' is not one of lower, fsl, mrtrix");
+    setTensorOrder(options, args.value(option));
   } else if (option == "--tensor-frame") {
-    const std::string v = args.value(option);
-    options.frame = parseTensorFrame(v);
-    if (!options.frame) usageError("--tensor-frame: '" + v + "' is not one of voxel, world");
+    setTensorFrame(options, args.value(option));
   } else if (option == "--tensor-kind") {
-    const std::string v = args.value(option);
-    const auto kind = parseTensorKind(v);
-    if (!kind) usageError("--tensor-kind: '" + v + "' is not one of diffusion, metric");
-    options.metric.kind = *kind;
+    setTensorKind(options, args.value(option));
   } else if (option == "--diffusion-metric") {
-    const std::string v = args.value(option);
-    const auto metric = parseDiffusionMetric(v);
-    if (!metric) usageError("--diffusion-metric: '" + v + "' is not one of inverse, adjugate");
-    options.metric.diffusionMetric = *metric;
+    setDiffusionMetric(options, args.value(option));
   } else if (option == "--max-anisotropy") {
-    const double a = parseNumber(option, args.value(option));
-    if (!(a >= 1.0)) usageError("--max-anisotropy must be at least 1");
-    options.metric.maxAnisotropy = a;
+    setMaxAnisotropy(options, parseNumber(option, args.value(option)));
   } else if (option == "--fa-threshold") {
-    const double t = parseNumber(option, args.value(option));
-    if (!(t >= 0.0 && t < 1.0)) usageError("--fa-threshold must be in [0, 1)");
-    options.metric.faThreshold = t;
+    setFaThreshold(options, parseNumber(option, args.value(option)));
   } else if (option == "--mask") {
     options.maskPath = args.value(option);
   } else {

@@ -101,7 +101,7 @@ struct DistanceOptions : SeedOptions, PropagationChoice {
   std::string output;
   double maxDistance = std::numeric_limits<double>::infinity();
   TensorInputOptions tensor;
-  float unreachableValue = -1.f;
+  float unreachableValue = static_cast<float>(kFrontEndUnreachableValue);
   std::string statsPath;
   bool quiet = false;
 };
@@ -147,8 +147,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
     usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
   checkPropagationChoice(o, /*lanthierAllowed=*/true);
-  if (o.tensor.metric.faThreshold && o.tensor.metric.kind != imaging::TensorKind::Diffusion)
-    usageError("--fa-threshold applies to --tensor-kind diffusion only");
+  imaging::checkTensorInputOptions(o.tensor);
   return o;
 }
 

@@ -18,7 +18,6 @@
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/streamline_io.hpp"
 #include "stvd/itk/symmetric_eigen.hpp"
-#include "stvd/label_regions.hpp"
 #include "stvd/stencil.hpp"
 #include "subcommands.hpp"
 
@@ -154,39 +153,11 @@ PathOptions parsePathOptions(int argc, char** argv) {
   if (o.targetVoxels.empty() && o.targetPoints.empty() && o.targetLabels.empty())
     usageError("no target: add --target-voxel I,J,K, --target-point X,Y,Z or --targets LABELS");
   checkPropagationChoice(o, /*lanthierAllowed=*/false);
-  if (o.tensor.metric.faThreshold && o.tensor.metric.kind != imaging::TensorKind::Diffusion)
-    usageError("--fa-threshold applies to --tensor-kind diffusion only");
+  imaging::checkTensorInputOptions(o.tensor);
   return o;
 }
 
-struct Target {
-  VertexId vertex = kNoVertex;
-  std::string name;  // how the user gave it
-};
-
-/// One target per distinct non-zero label: the region's voxel in the domain
-/// with the smallest distance from the seeds.
-std::vector<Target> labelTargets(const PathOptions& o, const GridGeometry& g, const std::vector<std::uint8_t>& inDomain,
-                                 const std::vector<double>& distance) {
-  imaging::ScalarImage labels;
-  try {
-    labels = imaging::readScalarImage(o.targetLabels);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitInput, e.what());
-  }
-  imaging::requireSameGrid(labels.geometry, g, o.targetLabels, "the target labels are", o.input);
-  const std::vector<LabelRegion> regions = labelRegions(o.targetLabels, labels.values, inDomain);
-  if (regions.empty()) throw ToolError(kExitDomain, o.targetLabels + ": the target label image has no non-zero voxel");
-  std::vector<Target> targets;
-  for (const LabelRegion& region : regions) {
-    const VertexId vertex = nearestReached(distance, region.voxels);
-    if (vertex == kNoVertex)
-      throw ToolError(kExitDomain, o.targetLabels + ": no voxel of label " + std::to_string(region.label) +
-                                       " lies in the domain of " + o.input + " and is reachable from the seeds");
-    targets.push_back({vertex, "label " + std::to_string(region.label)});
-  }
-  return targets;
-}
+using Target = imaging::PathTarget;
 
 std::string tsvNumber(double x, int decimals) { return std::isfinite(x) ? fixed(x, decimals) : "n/a"; }
 
@@ -237,13 +208,11 @@ int runPath(int argc, char** argv) {
   std::vector<Target> targets;
   for (const Seed& t : targetSeeds) targets.push_back({domain.vertexAt(t.index.i, t.index.j, t.index.k), t.givenAs});
   if (!o.targetLabels.empty()) {
-    const std::vector<Target> fromLabels = labelTargets(o, g, built.inDomain, result.distance);
+    const std::vector<Target> fromLabels = imaging::labelTargets(
+        o.targetLabels, imaging::readScalarImage(o.targetLabels), o.input, g, built.inDomain, result.distance);
     targets.insert(targets.end(), fromLabels.begin(), fromLabels.end());
   }
-  for (const Target& t : targets)
-    if (!std::isfinite(result.distance[t.vertex]))
-      throw ToolError(kExitDomain, o.input + ": target " + t.name + " is not reachable from the seeds (no path "
-                                                                   "inside the domain connects them)");
+  imaging::requireReachable(o.input, targets, result.distance);
 
   // FA of the diffusion tensors, for the values along the paths.
   const bool withFa = o.tensor.metric.kind == imaging::TensorKind::Diffusion;

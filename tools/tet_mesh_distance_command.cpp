@@ -105,7 +105,7 @@ struct TetDistanceOptions : PropagationChoice {
   std::string outsideImage = "error";
   double maxDistance = std::numeric_limits<double>::infinity();
   TensorInputOptions tensor;
-  double unreachableValue = -1.0;
+  double unreachableValue = kFrontEndUnreachableValue;
   std::string reference;
   bool quiet = false;
 };
@@ -342,15 +342,9 @@ int runTetMeshDistance(int argc, char** argv) {
 
   // Tetrahedra with a corner outside the domain are left out; so are the
   // edges they alone contribute.
-  std::vector<CellMeshDomain::Tetrahedron> tets;
-  tets.reserve(mesh.tets.size());
-  for (const auto& t : mesh.tets)
-    if (inDomain[t[0]] && inDomain[t[1]] && inDomain[t[2]] && inDomain[t[3]]) tets.push_back(t);
-  if (tets.empty())
-    throw ToolError(kExitDomain, o.input + ": the domain is empty: no tetrahedron has four usable vertices");
-  std::vector<std::uint8_t> inKeptTet(mesh.vertexCount(), 0);
-  for (const auto& t : tets)
-    for (VertexId v : t) inKeptTet[v] = 1;
+  tetmesh::TetrahedraInDomain kept = tetmesh::tetrahedraInDomain(mesh.tets, inDomain, o.input);
+  std::vector<CellMeshDomain::Tetrahedron> tets = std::move(kept.tets);
+  std::vector<std::uint8_t> inKeptTet = std::move(kept.covered);
 
   std::vector<VertexId> sources;
   for (long long n : o.seedVertices) {

@@ -25,6 +25,10 @@ inline constexpr int kFrontEndMemoryDepth = 8;
 /// Surfaces keep the paper's rule by default (docs/surfaces.md).
 inline constexpr ChainMeasure kSurfaceChainMeasure = ChainMeasure::ProjectionWeighted;
 
+/// What the front ends' distance maps hold where no distance was reached
+/// (-1, which no distance can take; --unreachable-value changes it).
+inline constexpr double kFrontEndUnreachableValue = -1.0;
+
 /// A propagation as a front end's user chose it (--method, --steiner, --k,
 /// --chain-measure, --stencil), with the front ends' defaults; the *Given
 /// flags record what was stated, for the checks below.

@@ -5,6 +5,7 @@
 
 #include "stvd/front_end_errors.hpp"
 #include "stvd/itk/symmetric_eigen.hpp"
+#include "stvd/label_regions.hpp"
 #include "stvd/number_text.hpp"
 
 namespace stvd::imaging {
@@ -107,6 +108,31 @@ std::vector<SeedVoxel> labelSeedVoxels(const std::string& labelsName, const Scal
     throw NothingToCompute(labelsName + ": none of its " + withThousands(nonZero) +
                            " non-zero voxels lies inside the domain of " + inputName);
   return seeds;
+}
+
+std::vector<PathTarget> labelTargets(const std::string& labelsName, const ScalarImage& labels,
+                                     const std::string& inputName, const GridGeometry& geometry,
+                                     const std::vector<std::uint8_t>& inDomain, const std::vector<double>& distance) {
+  requireSameGrid(labels.geometry, geometry, labelsName, "the target labels are", inputName);
+  const std::vector<LabelRegion> regions = labelRegions(labelsName, labels.values, inDomain);
+  if (regions.empty()) throw NothingToCompute(labelsName + ": the target label image has no non-zero voxel");
+  std::vector<PathTarget> targets;
+  for (const LabelRegion& region : regions) {
+    const VertexId vertex = nearestReached(distance, region.voxels);
+    if (vertex == kNoVertex)
+      throw NothingToCompute(labelsName + ": no voxel of label " + std::to_string(region.label) +
+                             " lies in the domain of " + inputName + " and is reachable from the seeds");
+    targets.push_back({vertex, "label " + std::to_string(region.label)});
+  }
+  return targets;
+}
+
+void requireReachable(const std::string& inputName, const std::vector<PathTarget>& targets,
+                      const std::vector<double>& distance) {
+  for (const PathTarget& t : targets)
+    if (!std::isfinite(distance[t.vertex]))
+      throw NothingToCompute(inputName + ": target " + t.name +
+                             " is not reachable from the seeds (no path inside the domain connects them)");
 }
 
 std::vector<VertexId> sourceVertices(const VoxelGridDomain& domain, const std::vector<SeedVoxel>& seeds) {

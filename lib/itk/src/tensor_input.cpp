@@ -2,8 +2,47 @@
 
 #include <cmath>
 
+#include "stvd/front_end_errors.hpp"
+
 
 namespace stvd::imaging {
+
+void setTensorOrder(TensorInputOptions& o, const std::string& v) {
+  o.order = parseTensorOrder(v);
+  if (!o.order) throw OptionError("--tensor-order: '" + v + "' is not one of lower, fsl, mrtrix");
+}
+
+void setTensorFrame(TensorInputOptions& o, const std::string& v) {
+  o.frame = parseTensorFrame(v);
+  if (!o.frame) throw OptionError("--tensor-frame: '" + v + "' is not one of voxel, world");
+}
+
+void setTensorKind(TensorInputOptions& o, const std::string& v) {
+  const auto kind = parseTensorKind(v);
+  if (!kind) throw OptionError("--tensor-kind: '" + v + "' is not one of diffusion, metric");
+  o.metric.kind = *kind;
+}
+
+void setDiffusionMetric(TensorInputOptions& o, const std::string& v) {
+  const auto metric = parseDiffusionMetric(v);
+  if (!metric) throw OptionError("--diffusion-metric: '" + v + "' is not one of inverse, adjugate");
+  o.metric.diffusionMetric = *metric;
+}
+
+void setMaxAnisotropy(TensorInputOptions& o, double a) {
+  if (!(a >= 1.0)) throw OptionError("--max-anisotropy must be at least 1");
+  o.metric.maxAnisotropy = a;
+}
+
+void setFaThreshold(TensorInputOptions& o, double t) {
+  if (!(t >= 0.0 && t < 1.0)) throw OptionError("--fa-threshold must be in [0, 1)");
+  o.metric.faThreshold = t;
+}
+
+void checkTensorInputOptions(const TensorInputOptions& o) {
+  if (o.metric.faThreshold && o.metric.kind != TensorKind::Diffusion)
+    throw OptionError("--fa-threshold applies to --tensor-kind diffusion only");
+}
 
 TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options) {
   TensorInput input;

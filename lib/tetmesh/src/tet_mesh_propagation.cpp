@@ -12,6 +12,25 @@
 
 namespace stvd::tetmesh {
 
+TetrahedraInDomain tetrahedraInDomain(const std::vector<std::array<VertexId, 4>>& tets,
+                                      const std::vector<std::uint8_t>& inDomain, const std::string& meshName) {
+  TetrahedraInDomain out;
+  out.tets.reserve(tets.size());
+  for (std::size_t n = 0; n < tets.size(); ++n)
+    for (VertexId v : tets[n])
+      if (v >= inDomain.size())
+        throw InputError(meshName + ": tetrahedron " + std::to_string(n) + " has the corner " + std::to_string(v) +
+                         ", but there are " + std::to_string(inDomain.size()) + " vertices");
+  for (const auto& t : tets)
+    if (inDomain[t[0]] && inDomain[t[1]] && inDomain[t[2]] && inDomain[t[3]]) out.tets.push_back(t);
+  if (out.tets.empty())
+    throw NothingToCompute(meshName + ": the domain is empty: no tetrahedron has four usable vertices");
+  out.covered.assign(inDomain.size(), 0);
+  for (const auto& t : out.tets)
+    for (VertexId v : t) out.covered[v] = 1;
+  return out;
+}
+
 TetMeshPropagation propagateOverTetrahedra(const std::vector<Vec3d>& points,
                                            const std::vector<std::array<VertexId, 4>>& tets,
                                            const std::vector<SymTensor3>& metricTensors,

@@ -52,6 +52,27 @@ std::vector<SeedVoxel> labelSeedVoxels(const std::string& labelsName, const Scal
                                        const std::string& inputName, const GridGeometry& geometry,
                                        const std::vector<std::uint8_t>& inDomain, std::size_t& leftOut);
 
+/// The end of a path: a vertex of the domain and how the user named it.
+struct PathTarget {
+  VertexId vertex = kNoVertex;
+  std::string name;
+};
+
+/// One target per distinct non-zero label of `labels` (labelRegions): the
+/// region's voxel in the domain with the smallest distance from the seeds
+/// (the end of the shortest path from the seeds to the region). Throws
+/// ImageIoError when the labels are on another grid than `geometry`,
+/// InputError for a label that is not an integer, NothingToCompute when no
+/// voxel is non-zero or a label has no reached voxel in the domain.
+std::vector<PathTarget> labelTargets(const std::string& labelsName, const ScalarImage& labels,
+                                     const std::string& inputName, const GridGeometry& geometry,
+                                     const std::vector<std::uint8_t>& inDomain, const std::vector<double>& distance);
+
+/// Throws NothingToCompute naming `inputName` and the first target that
+/// has no finite distance (no path inside the domain reaches it).
+void requireReachable(const std::string& inputName, const std::vector<PathTarget>& targets,
+                      const std::vector<double>& distance);
+
 /// The vertices of the seeds, sorted, each once: the sources of a
 /// propagation.
 std::vector<VertexId> sourceVertices(const VoxelGridDomain& domain, const std::vector<SeedVoxel>& seeds);

@@ -25,6 +25,25 @@ struct TensorInputOptions {
   std::string maskPath;
 };
 
+// The setters take a value as the user gave it and throw OptionError with
+// the tool's message when it is not one of the accepted ones.
+
+/// "lower" (alias "nifti"), "fsl" (alias "upper") or "mrtrix".
+void setTensorOrder(TensorInputOptions& options, const std::string& name);
+/// "voxel" or "world".
+void setTensorFrame(TensorInputOptions& options, const std::string& name);
+/// "diffusion" or "metric".
+void setTensorKind(TensorInputOptions& options, const std::string& name);
+/// "inverse" or "adjugate".
+void setDiffusionMetric(TensorInputOptions& options, const std::string& name);
+/// At least 1.
+void setMaxAnisotropy(TensorInputOptions& options, double cap);
+/// In [0, 1).
+void setFaThreshold(TensorInputOptions& options, double threshold);
+/// OptionError for combinations that make no sense (an FA threshold on
+/// metric tensors).
+void checkTensorInputOptions(const TensorInputOptions& options);
+
 /// A tensor volume with its mask: the file's own (NRRD confidence) and a
 /// mask image's, combined; empty when neither.
 struct TensorInput {

@@ -17,6 +17,20 @@
 
 namespace stvd::tetmesh {
 
+/// The tetrahedra whose four corners are in the domain, and the vertices
+/// they cover (one byte per vertex, 1 when covered).
+struct TetrahedraInDomain {
+  std::vector<std::array<VertexId, 4>> tets;
+  std::vector<std::uint8_t> covered;
+};
+
+/// Leaves out the tetrahedra with a corner outside the domain (`inDomain`,
+/// one byte per vertex), and so the edges only they contribute. Throws
+/// InputError naming `meshName` for a corner out of range, and
+/// NothingToCompute naming it when no tetrahedron is left.
+TetrahedraInDomain tetrahedraInDomain(const std::vector<std::array<VertexId, 4>>& tets,
+                                      const std::vector<std::uint8_t>& inDomain, const std::string& meshName);
+
 struct TetMeshPropagation {
   /// Distances and predecessors per vertex, in the numbering of `points`.
   PropagationResult result;
