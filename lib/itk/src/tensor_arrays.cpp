@@ -30,8 +30,8 @@ GridGeometry gridGeometryFromRasAffine(const std::array<double, 16>& a, const st
 }
 
 template <class T>
-std::vector<SymTensor3> tensorsInLps(const T* components, const std::array<std::size_t, 3>& size,
-                                     const TensorComponentLayout& layout, const Matrix3& toLps) {
+std::vector<SymTensor3> tensorsFromArray(const T* components, const std::array<std::size_t, 3>& size,
+                                         const TensorComponentLayout& layout, const Matrix3& frameChange) {
   std::vector<SymTensor3> tensors(size[0] * size[1] * size[2]);
   float c[6];
   std::size_t v = 0;
@@ -42,15 +42,15 @@ std::vector<SymTensor3> tensorsInLps(const T* components, const std::array<std::
                          static_cast<std::ptrdiff_t>(j) * layout.voxelStride[1] +
                          static_cast<std::ptrdiff_t>(k) * layout.voxelStride[2];
         for (int q = 0; q < 6; ++q) c[q] = static_cast<float>(voxel[layout.componentOffset[q]]);
-        tensors[v] = changeTensorFrame(tensorFromComponents(c, layout.order), toLps);
+        tensors[v] = changeTensorFrame(tensorFromComponents(c, layout.order), frameChange);
       }
   return tensors;
 }
 
-template std::vector<SymTensor3> tensorsInLps(const float*, const std::array<std::size_t, 3>&,
-                                              const TensorComponentLayout&, const Matrix3&);
-template std::vector<SymTensor3> tensorsInLps(const double*, const std::array<std::size_t, 3>&,
-                                              const TensorComponentLayout&, const Matrix3&);
+template std::vector<SymTensor3> tensorsFromArray(const float*, const std::array<std::size_t, 3>&,
+                                                  const TensorComponentLayout&, const Matrix3&);
+template std::vector<SymTensor3> tensorsFromArray(const double*, const std::array<std::size_t, 3>&,
+                                                  const TensorComponentLayout&, const Matrix3&);
 
 TensorOrder resolveTensorOrder(const std::string& name, TensorFileLayout layout,
                                const std::optional<TensorOrder>& stated) {

@@ -103,7 +103,7 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
   const std::ptrdiff_t voxel = interleaved ? 6 : 1, component = interleaved ? 1 : static_cast<std::ptrdiff_t>(n);
   layout.voxelStride = {voxel, voxel * nx, voxel * nxy};
   for (int q = 0; q < 6; ++q) layout.componentOffset[q] = q * component;
-  volume.tensors = tensorsInLps(values.data(), size, layout, componentFrameToLps(info, volume.geometry));
+  volume.tensors = tensorsFromArray(values.data(), size, layout, componentFrameToLps(info, volume.geometry));
 
   if (info.layout == TensorFileLayout::NrrdMaskedSymMatrix) {
     const std::vector<float> confidence = detail::readNrrdConfidence(path);

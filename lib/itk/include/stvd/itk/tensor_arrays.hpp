@@ -43,11 +43,13 @@ struct TensorComponentLayout {
 };
 
 /// One tensor per voxel (linear index i + nx*(j + ny*k)): the components
-/// read as single precision, put in order and changed into the LPS frame
-/// with `toLps` (componentFrameToLps). Instantiated for float and double.
+/// read as single precision, put in order and changed into another frame
+/// with `frameChange`, M T M^T (componentFrameToLps gives the matrix into
+/// LPS; the identity keeps the frame exactly). Instantiated for float and
+/// double.
 template <class T>
-std::vector<SymTensor3> tensorsInLps(const T* components, const std::array<std::size_t, 3>& size,
-                                     const TensorComponentLayout& layout, const Matrix3& toLps);
+std::vector<SymTensor3> tensorsFromArray(const T* components, const std::array<std::size_t, 3>& size,
+                                         const TensorComponentLayout& layout, const Matrix3& frameChange);
 
 /// The component order of a tensor layout: the fixed order of the 5D NIfTI
 /// and NRRD layouts (a stated order must agree), the stated one for six
