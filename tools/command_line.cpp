@@ -6,9 +6,6 @@
 #include <iostream>
 #include <sstream>
 
-#include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/scalar_image.hpp"
-
 namespace stvd::tool {
 
 void usageError(const std::string& message) { throw ToolError(kExitUsage, message); }

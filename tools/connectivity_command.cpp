@@ -4,11 +4,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <fstream>
 #include <iostream>
-#include <limits>
-#include <map>
 #include <sstream>
 
 #include "command_line.hpp"

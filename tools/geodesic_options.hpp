@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "command_line.hpp"
-#include "stvd/propagation.hpp"
 #include "stvd/itk/seed_voxels.hpp"
+#include "stvd/propagation.hpp"
 #include "stvd/propagation_choice.hpp"
 #include "stvd/voxel_grid_domain.hpp"
 

@@ -7,7 +7,6 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
-#include <map>
 #include <sstream>
 
 #include "command_line.hpp"
@@ -17,7 +16,6 @@
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/streamline_io.hpp"
-#include "stvd/itk/symmetric_eigen.hpp"
 #include "stvd/stencil.hpp"
 #include "subcommands.hpp"
 

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
-#include <optional>
 #include <sstream>
 
 #include "command_line.hpp"

@@ -34,7 +34,12 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
   return o;
 }
 
-imaging::ScalarImage scalarImageOf(const py::handle& spec, const std::string& name, const GridGeometry& grid) {
+std::string scalarImageName(const py::handle& spec) {
+  return py::isinstance<py::str>(spec) ? spec.cast<std::string>() : spec.cast<py::tuple>()[3].cast<std::string>();
+}
+
+imaging::ScalarImage scalarImageOf(const py::handle& spec, const GridGeometry& grid) {
+  const std::string name = scalarImageName(spec);
   if (py::isinstance<py::str>(spec)) {
     const std::string path = spec.cast<std::string>();
     py::gil_scoped_release release;
@@ -91,10 +96,9 @@ void requireSymmetric(const T* data, const std::array<std::size_t, 3>& size,
 }
 
 /// Builds the metric and the domain as `stvd distance` does, without the GIL.
-std::shared_ptr<TensorField> finishField(std::shared_ptr<TensorField> field, const py::handle& mask,
-                                         const std::string& maskName) {
-  if (!mask.is_none()) imaging::addMask(field->input, scalarImageOf(mask, maskName, field->geometry()), maskName,
-                                        field->name);
+std::shared_ptr<TensorField> finishField(std::shared_ptr<TensorField> field, const py::handle& mask) {
+  if (!mask.is_none())
+    imaging::addMask(field->input, scalarImageOf(mask, field->geometry()), scalarImageName(mask), field->name);
   py::gil_scoped_release release;
   imaging::MetricFromTensors built =
       imaging::buildMetric(field->input.read.volume.tensors, field->input.mask, field->options.metric);
@@ -108,7 +112,7 @@ std::shared_ptr<TensorField> finishField(std::shared_ptr<TensorField> field, con
 }  // namespace
 
 std::shared_ptr<TensorField> fieldFromFile(const std::string& path, imaging::TensorInputOptions options,
-                                           const py::handle& mask, const std::string& maskName) {
+                                           const py::handle& mask) {
   auto field = std::make_shared<TensorField>();
   field->name = path;
   field->options = options;
@@ -118,14 +122,13 @@ std::shared_ptr<TensorField> fieldFromFile(const std::string& path, imaging::Ten
   }
   field->input.mask = field->input.read.volume.mask;
   if (!field->input.mask.empty()) field->input.maskDescription = "the file's confidence channel";
-  return finishField(std::move(field), mask, maskName);
+  return finishField(std::move(field), mask);
 }
 
 std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py::handle& affine,
                                             const std::optional<std::array<double, 3>>& zooms,
                                             const std::optional<bool>& niftiIntent, const std::string& name,
-                                            imaging::TensorInputOptions options, const py::handle& mask,
-                                            const std::string& maskName) {
+                                            imaging::TensorInputOptions options, const py::handle& mask) {
   const py::array array = numericArray(tensors, name);
   requireFloatingPoint(array, name);
   const py::ssize_t ndim = array.ndim();
@@ -184,7 +187,7 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
     if (matrices) requireSymmetric(view.data, size, layout.voxelStride, row, last, name);
     field->input.read.volume.tensors = imaging::tensorsFromArray(view.data, size, layout, toLps);
   });
-  return finishField(std::move(field), mask, maskName);
+  return finishField(std::move(field), mask);
 }
 
 }  // namespace stvd::python

@@ -47,14 +47,16 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
                                           const std::optional<double>& faThreshold);
 
 /// A scalar image given from Python: a path (read through ITK), or a tuple
-/// (array, affine or None, zooms or None). Without an affine the array is
-/// taken to be on `grid` when its shape is the grid's size (and is reported
-/// on another grid otherwise).
-imaging::ScalarImage scalarImageOf(const py::handle& spec, const std::string& name, const GridGeometry& grid);
+/// (array, affine or None, zooms or None, name). Without an affine the
+/// array is taken to be on `grid` when its shape is the grid's size (and is
+/// reported on another grid otherwise).
+imaging::ScalarImage scalarImageOf(const py::handle& spec, const GridGeometry& grid);
+/// How such an image is named in messages: its path, or the name in the tuple.
+std::string scalarImageName(const py::handle& spec);
 
 /// Reads a tensor file (and a mask) and builds the field. GIL released.
 std::shared_ptr<TensorField> fieldFromFile(const std::string& path, imaging::TensorInputOptions options,
-                                           const py::handle& mask, const std::string& maskName);
+                                           const py::handle& mask);
 
 /// Converts a tensor array with its affine and builds the field. `niftiIntent`
 /// says where the array came from: None for a plain array (six components
@@ -63,7 +65,6 @@ std::shared_ptr<TensorField> fieldFromFile(const std::string& path, imaging::Ten
 std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py::handle& affine,
                                             const std::optional<std::array<double, 3>>& zooms,
                                             const std::optional<bool>& niftiIntent, const std::string& name,
-                                            imaging::TensorInputOptions options, const py::handle& mask,
-                                            const std::string& maskName);
+                                            imaging::TensorInputOptions options, const py::handle& mask);
 
 }  // namespace stvd::python

@@ -111,8 +111,11 @@ std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const Te
   if (seedVoxels.empty() && seedPoints.empty() && seedLabels.is_none())
     throw OptionError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
   std::optional<imaging::ScalarImage> labels;
-  if (!seedLabels.is_none()) labels = scalarImageOf(seedLabels, "seed_labels", field->geometry());
-  const std::string labelsName = py::isinstance<py::str>(seedLabels) ? seedLabels.cast<std::string>() : "seed_labels";
+  std::string labelsName;
+  if (!seedLabels.is_none()) {
+    labels = scalarImageOf(seedLabels, field->geometry());
+    labelsName = scalarImageName(seedLabels);
+  }
 
   ProgressRelay relay(progress);
   std::shared_ptr<VolumePropagation> out;
@@ -171,9 +174,11 @@ py::list tracePaths(const std::shared_ptr<VolumePropagation>& p, const std::vect
     throw OptionError("no target: add --target-voxel I,J,K, --target-point X,Y,Z or --targets LABELS");
   const TensorField& field = *p->field;
   std::optional<imaging::ScalarImage> labels;
-  if (!targetLabels.is_none()) labels = scalarImageOf(targetLabels, "target_labels", field.geometry());
-  const std::string labelsName =
-      py::isinstance<py::str>(targetLabels) ? targetLabels.cast<std::string>() : "target_labels";
+  std::string labelsName;
+  if (!targetLabels.is_none()) {
+    labels = scalarImageOf(targetLabels, field.geometry());
+    labelsName = scalarImageName(targetLabels);
+  }
 
   struct Traced {
     imaging::PathTarget target;
@@ -244,8 +249,8 @@ py::list tracePaths(const std::shared_ptr<VolumePropagation>& p, const std::vect
 py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py::handle& labelsSpec,
                       PropagationChoice choice, unsigned threads, const py::handle& progress) {
   checkPropagationChoice(choice, /*lanthierAllowed=*/false);
-  const imaging::ScalarImage labels = scalarImageOf(labelsSpec, "labels", field->geometry());
-  const std::string labelsName = py::isinstance<py::str>(labelsSpec) ? labelsSpec.cast<std::string>() : "labels";
+  const imaging::ScalarImage labels = scalarImageOf(labelsSpec, field->geometry());
+  const std::string labelsName = scalarImageName(labelsSpec);
   ProgressRelay relay(progress);
   std::vector<LabelRegion> regions;
   std::size_t leftOut = 0;
@@ -300,14 +305,13 @@ void bindVolumes(py::module_& m) {
                                                         "Tensors, mask, metric and domain of a tensor volume.")
       .def_static(
           "from_file",
-          [](const std::string& path, const py::object& mask, const std::string& maskName,
-             const std::optional<std::string>& order, const std::optional<std::string>& frame,
+          [](const std::string& path, const py::object& mask, const std::optional<std::string>& order, const std::optional<std::string>& frame,
              const std::optional<std::string>& kind, const std::optional<std::string>& diffusionMetric,
              const std::optional<double>& maxAnisotropy, const std::optional<double>& faThreshold) {
             return fieldFromFile(path, tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold),
-                                 mask, maskName);
+                                 mask);
           },
-          py::arg("path"), py::arg("mask") = py::none(), py::arg("mask_name") = "mask",
+          py::arg("path"), py::arg("mask") = py::none(),
           py::arg("tensor_order") = py::none(), py::arg("tensor_frame") = py::none(),
           py::arg("tensor_kind") = py::none(), py::arg("diffusion_metric") = py::none(),
           py::arg("max_anisotropy") = py::none(), py::arg("fa_threshold") = py::none())
@@ -315,16 +319,15 @@ void bindVolumes(py::module_& m) {
           "from_array",
           [](const py::object& tensors, const py::object& affine, const std::optional<std::array<double, 3>>& zooms,
              const std::optional<bool>& niftiIntent, const std::string& name, const py::object& mask,
-             const std::string& maskName, const std::optional<std::string>& order,
+             const std::optional<std::string>& order,
              const std::optional<std::string>& frame, const std::optional<std::string>& kind,
              const std::optional<std::string>& diffusionMetric, const std::optional<double>& maxAnisotropy,
              const std::optional<double>& faThreshold) {
             return fieldFromArray(tensors, affine, zooms, niftiIntent, name,
-                                  tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold), mask,
-                                  maskName);
+                                  tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold), mask);
           },
           py::arg("tensors"), py::arg("affine"), py::arg("zooms") = py::none(), py::arg("nifti_intent") = py::none(),
-          py::arg("name") = "tensors", py::arg("mask") = py::none(), py::arg("mask_name") = "mask",
+          py::arg("name") = "tensors", py::arg("mask") = py::none(),
           py::arg("tensor_order") = py::none(), py::arg("tensor_frame") = py::none(),
           py::arg("tensor_kind") = py::none(), py::arg("diffusion_metric") = py::none(),
           py::arg("max_anisotropy") = py::none(), py::arg("fa_threshold") = py::none())

@@ -13,8 +13,7 @@ works without the GIL, so threads run in parallel. See docs/python.md.
 import numpy as np
 
 from . import _core
-from ._inputs import (image_name, index_list, is_image, is_path, point_list, scalar_image_spec, tensor_field,
-                      voxel_list)
+from ._inputs import index_list, is_image, is_path, point_list, scalar_image_spec, tensor_field, voxel_list
 from ._paths import Paths, tractogram
 from ._progress import progress_reporter
 
@@ -111,15 +110,19 @@ def _image_template(tensors, field):
     import nibabel
 
     if is_image(tensors):
-        header = tensors.header.copy() if isinstance(tensors, nibabel.Nifti1Image) else None
+        nifti = isinstance(tensors, nibabel.Nifti1Image)  # NIfTI-2 images are NIfTI-1 images too
+        header = tensors.header.copy() if nifti else None
+        image_class = type(tensors) if nifti else nibabel.Nifti1Image
         affine = tensors.affine
     elif is_path(tensors):
         try:  # a NIfTI file keeps its own header (read lazily, without the data)
             source = nibabel.load(tensors)
-            header = source.header.copy() if isinstance(source, nibabel.Nifti1Image) else None
-            affine = source.affine if header is not None else field.affine
+            nifti = isinstance(source, nibabel.Nifti1Image)
+            header = source.header.copy() if nifti else None
+            image_class = type(source) if nifti else nibabel.Nifti1Image
+            affine = source.affine if nifti else field.affine
         except Exception:  # NRRD, which NiBabel does not read
-            header, affine = None, field.affine
+            header, affine, image_class = None, field.affine, nibabel.Nifti1Image
     else:
         return None
 
@@ -133,7 +136,7 @@ def _image_template(tensors, field):
         out.set_intent("none", (), name="")
         out.set_data_dtype(np.float32)
         out.set_slope_inter(None, None)
-        return nibabel.Nifti1Image(data, affine, out)
+        return image_class(data, affine, out)
 
     return wrap
 
@@ -147,7 +150,7 @@ def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels
     and statistics. The arguments are those of ``stvd.distance``."""
     field = tensor_field(tensors, affine, mask, _tensor_options(tensor_order, tensor_frame, tensor_kind,
                                                                 diffusion_metric, max_anisotropy, fa_threshold))
-    labels, _ = scalar_image_spec(seed_labels, "seed_labels")
+    labels = scalar_image_spec(seed_labels, "seed_labels")
     with progress_reporter(progress) as reporter:
         result = field.propagate(voxel_list(seeds, "seeds"), point_list(seed_points, "seed_points"), bool(lps),
                                  labels, method=method, k=k, chain_measure=chain_measure, stencil=stencil,
@@ -204,7 +207,7 @@ def trace_paths(result, targets=None, *, target_points=None, target_labels=None,
     the seeds). Returns ``stvd.Paths``."""
     if not isinstance(result, Propagation):
         raise TypeError("result: expected the stvd.Propagation that stvd.propagate returns")
-    labels, _ = scalar_image_spec(target_labels, "target_labels")
+    labels = scalar_image_spec(target_labels, "target_labels")
     records = result._result.trace_paths(voxel_list(targets, "targets"), point_list(target_points, "target_points"),
                                          bool(lps), labels, step=step, smooth=smooth, refine=refine,
                                          discrete=bool(discrete))
@@ -251,7 +254,7 @@ def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tenso
         field = tensor_field(tensors, affine, mask, _tensor_options(tensor_order, tensor_frame, tensor_kind,
                                                                     diffusion_metric, max_anisotropy, fa_threshold))
         options = dict(method=method, k=k, chain_measure=chain_measure, stencil=stencil)
-    spec, _ = scalar_image_spec(labels, "labels")
+    spec = scalar_image_spec(labels, "labels")
     with progress_reporter(progress) as reporter:
         values = field.connectivity(spec, threads=threads, progress=reporter.callback, **options)
     return Connectivity(values)

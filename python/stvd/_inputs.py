@@ -34,28 +34,26 @@ def image_zooms(image):
 
 
 def scalar_image_spec(value, name):
-    """A mask or label image: a path, a NiBabel image or an array.
-
-    Returns what the extension takes (a path, or a tuple ``(array, affine,
-    zooms)``; an array without an affine is taken to be on the tensors'
-    grid when its shape is theirs) and the name for messages."""
+    """A mask or label image, a path, a NiBabel image or an array, as the
+    extension takes it: the path, or a tuple ``(array, affine, zooms, name)``
+    (an array without an affine is taken to be on the tensors' grid when its
+    shape is theirs); ``name`` names it in messages unless a file does."""
     if value is None:
-        return None, name
+        return None
     if is_path(value):
-        path = os.fspath(value)
-        return path, path
+        return os.fspath(value)
     if is_image(value):
-        return (np.asanyarray(value.dataobj), value.affine, image_zooms(value)), image_name(value, name)
-    return (value, None, None), name
+        return (np.asanyarray(value.dataobj), value.affine, image_zooms(value), image_name(value, name))
+    return (value, None, None, name)
 
 
 def tensor_field(tensors, affine, mask, options):
     """The extension's TensorField for a path, a NiBabel image or an array."""
-    mask_spec, mask_name = scalar_image_spec(mask, "mask")
+    mask_spec = scalar_image_spec(mask, "mask")
     if is_path(tensors):
         if affine is not None:
             raise ValueError("affine= applies to arrays; a file has its own geometry")
-        return _core.TensorField.from_file(os.fspath(tensors), mask=mask_spec, mask_name=mask_name, **options)
+        return _core.TensorField.from_file(os.fspath(tensors), mask=mask_spec, **options)
     if is_image(tensors):
         if affine is not None:
             raise ValueError("affine= applies to arrays; a NiBabel image has its own")
@@ -64,12 +62,12 @@ def tensor_field(tensors, affine, mask, options):
         symmatrix = intent is not None and intent()[0] == "symmetric matrix"
         return _core.TensorField.from_array(
             np.asanyarray(tensors.dataobj), tensors.affine, zooms=image_zooms(tensors), nifti_intent=symmatrix,
-            name=image_name(tensors, "tensors"), mask=mask_spec, mask_name=mask_name, **options)
+            name=image_name(tensors, "tensors"), mask=mask_spec, **options)
     if tensors is None:
         raise TypeError("tensors: expected a path, a NiBabel image or an array, got None")
     if affine is None:
         raise ValueError("tensors: an array needs affine=, the 4x4 matrix from voxel indices to RAS millimetres")
-    return _core.TensorField.from_array(tensors, affine, mask=mask_spec, mask_name=mask_name, **options)
+    return _core.TensorField.from_array(tensors, affine, mask=mask_spec, **options)
 
 
 def voxel_list(value, name):

@@ -5,7 +5,6 @@ tolerances."""
 
 import nibabel as nib
 import numpy as np
-import pytest
 
 import stvd
 from conftest import CC_BODY, DIPY_5D, MASK, SAMPLE
