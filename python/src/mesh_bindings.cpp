@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,6 +14,7 @@
 #include "array_access.hpp"
 #include "bindings.hpp"
 #include "progress_relay.hpp"
+#include "propagation_keywords.hpp"
 #include "stvd/front_end_errors.hpp"
 #include "stvd/itk/tensor_arrays.hpp"
 #include "stvd/itk/tensor_input.hpp"
@@ -24,6 +24,7 @@
 #include "stvd/surface_domain.hpp"
 #include "stvd/surface_metrics.hpp"
 #include "stvd/tetmesh/tet_mesh_propagation.hpp"
+#include "tensor_field.hpp"
 
 namespace stvd::python {
 namespace {
@@ -132,24 +133,6 @@ py::dict resultDict(const PropagationResult& r) {
   return d;
 }
 
-PropagationChoice meshChoice(const std::optional<std::string>& method, const std::optional<int>& k,
-                             const std::optional<std::string>& chainMeasure, const std::optional<int>& steiner,
-                             ChainMeasure defaultMeasure) {
-  PropagationChoice choice;
-  choice.chainMeasure = defaultMeasure;
-  if (method) setMethod(choice, *method);
-  if (steiner) setSteinerPoints(choice, *steiner);
-  if (k) setMemoryDepth(choice, *k);
-  if (chainMeasure) setChainMeasure(choice, *chainMeasure);
-  return choice;
-}
-
-double maxDistanceOf(const std::optional<double>& maxDistance) {
-  if (!maxDistance) return std::numeric_limits<double>::infinity();
-  if (!(*maxDistance > 0.0)) throw OptionError("--max-distance must be positive");
-  return *maxDistance;
-}
-
 py::dict tetMeshPropagate(const py::object& pointsObject, const py::object& tetsObject,
                           const std::vector<long long>& seeds, const py::object& tensorsObject,
                           const std::optional<std::string>& order, const std::optional<std::string>& kind,
@@ -158,15 +141,12 @@ py::dict tetMeshPropagate(const py::object& pointsObject, const py::object& tets
                           const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
                           const std::optional<int>& steiner, const std::optional<double>& maxDistance,
                           const py::object& progress) {
-  const PropagationChoice choice = meshChoice(method, k, chainMeasure, steiner, PropagationChoice{}.chainMeasure);
+  const PropagationChoice choice = choiceOf(method, k, chainMeasure, std::nullopt, steiner);
   checkMeshPropagationChoice(choice, "tetrahedron edge", 2);
   const double limit = maxDistanceOf(maxDistance);
-  imaging::TensorInputOptions options;
-  if (kind) imaging::setTensorKind(options, *kind);
-  if (diffusionMetric) imaging::setDiffusionMetric(options, *diffusionMetric);
-  if (maxAnisotropy) imaging::setMaxAnisotropy(options, *maxAnisotropy);
-  if (faThreshold) imaging::setFaThreshold(options, *faThreshold);
-  imaging::checkTensorInputOptions(options);
+  // The order is the rows' (rowTensors); a mesh has no frame of its own.
+  const imaging::TensorInputOptions options =
+      tensorOptions(std::nullopt, std::nullopt, kind, diffusionMetric, maxAnisotropy, faThreshold);
   const std::vector<Vec3d> points = pointRows(pointsObject, "points");
   std::vector<std::array<VertexId, 4>> tets;
   for (const auto& row : indexRows(tetsObject, 4, "tetrahedra")) tets.push_back({row[0], row[1], row[2], row[3]});
@@ -237,7 +217,7 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
                           const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
                           const std::optional<int>& steiner, const std::optional<double>& maxDistance,
                           const py::object& progress) {
-  const PropagationChoice choice = meshChoice(method, k, chainMeasure, steiner, kSurfaceChainMeasure);
+  const PropagationChoice choice = choiceOf(method, k, chainMeasure, std::nullopt, steiner, kSurfaceChainMeasure);
   checkMeshPropagationChoice(choice, "face edge", 4);
   const double limit = maxDistanceOf(maxDistance);
   std::vector<Vec3d> points = pointRows(verticesObject, "vertices");

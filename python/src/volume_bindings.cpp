@@ -16,6 +16,7 @@
 #include "array_access.hpp"
 #include "bindings.hpp"
 #include "progress_relay.hpp"
+#include "propagation_keywords.hpp"
 #include "stvd/geodesic_path.hpp"
 #include "stvd/itk/seed_voxels.hpp"
 #include "stvd/itk/streamline_io.hpp"
@@ -49,31 +50,12 @@ std::string terminationName(Termination t) {
   return "?";
 }
 
-/// The propagation choice from the keywords (None: the front ends' default).
-PropagationChoice choiceOf(const std::optional<std::string>& method, const std::optional<int>& k,
-                           const std::optional<std::string>& chainMeasure, const std::optional<std::string>& stencil,
-                           const std::optional<int>& steiner) {
-  PropagationChoice choice;
-  if (method) setMethod(choice, *method);
-  if (steiner) setSteinerPoints(choice, *steiner);
-  if (k) setMemoryDepth(choice, *k);
-  if (chainMeasure) setChainMeasure(choice, *chainMeasure);
-  if (stencil) setStencil(choice, *stencil);
-  return choice;
-}
-
 std::vector<std::array<double, 3>> finiteTriples(const std::vector<std::array<double, 3>>& points,
                                                  const std::string& name) {
   for (const auto& p : points)
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
       throw py::value_error(name + ": a point is not finite");
   return points;
-}
-
-double maxDistanceOf(const std::optional<double>& maxDistance) {
-  if (!maxDistance) return std::numeric_limits<double>::infinity();
-  if (!(*maxDistance > 0.0)) throw OptionError("--max-distance must be positive");
-  return *maxDistance;
 }
 
 py::dict voxelCounts(const imaging::MetricVoxelCounts& c) {
