@@ -55,12 +55,12 @@ def tool_distance(tmp_path, input_path, *options, name="tool.nii.gz"):
     return np.asanyarray(nib.load(output).dataobj)
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def dipy_image():
     return nib.load(DIPY_5D)
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def dipy_components(dipy_image):
     """The DIPY tensors as an (X, Y, Z, 6) float32 array in the 'lower' order
     (the NIfTI SYMMATRIX order the file uses)."""
