@@ -203,6 +203,30 @@ TEST_F(ToolPath, TheCorticospinalPathRunsMainlyAlongTheSuperiorAxis) {
   EXPECT_GT(l.lines[0].back().z - l.lines[0].front().z, 30.0);  // CST_L_high is 36.85 mm above CST_L_low
 }
 
+// A path that ends at the brain's edge passes next to voxels outside the
+// domain, which have no FA: the FA along it is interpolated over the
+// domain's voxels only, so every point and the mean have a value in every
+// file (the .tck header, the .vtk cell and point data, the table).
+TEST_F(ToolPath, FaAlongAPathToTheBrainsEdgeIsAlwaysANumber) {
+  for (const std::string name : {"edge.tck", "edge.vtk"}) {
+    const ToolRun run = pathRun({"--seed-voxel", "55,54,15", "--target-voxel", "89,45,13", "-o", path(name), "-q"});
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    const LoadedStreamlines l = name == "edge.tck" ? loadWithNibabel(path(name)) : loadLegacyVtk(path(name));
+    ASSERT_EQ(l.error, "");
+    ASSERT_EQ(l.lines.size(), 1u);
+    // .tck keeps per-path values as header entries, .vtk as cell data.
+    const double meanFa =
+        name == "edge.tck" ? std::stod(l.header.at("mean_fa")) : l.perLine.at("mean_fa")[0];
+    EXPECT_TRUE(std::isfinite(meanFa)) << name;
+    EXPECT_GT(meanFa, 0.0) << name;
+    EXPECT_LT(meanFa, 1.0) << name;
+    if (name == "edge.vtk") {
+      for (const double fa : l.perPoint.at("fa")[0]) EXPECT_TRUE(std::isfinite(fa)) << name;
+    }
+    EXPECT_NE(readTsv(path("edge.tsv")).at(0).at("mean_fa"), "n/a");
+  }
+}
+
 TEST_F(ToolPath, LabelTargetsEndAtEachRegionsVoxelNearestToTheSeeds) {
   const auto seeds = seedTable();
   imaging::ScalarImage labels = imaging::readScalarImage(sampleFile("dti_FA.nii.gz"));
