@@ -8,6 +8,7 @@
 
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
+#include "stvd/itk/tensor_plausibility.hpp"
 
 namespace stvd::tool {
 
@@ -124,6 +125,9 @@ bool parseTensorInputOption(const std::string& option, ArgumentReader& args, Ten
     options.metric.faThreshold = t;
   } else if (option == "--mask") {
     options.maskPath = args.value(option);
+  } else if (option == "--accept-implausible-tensors") {
+    args.noValue(option);
+    options.acceptImplausible = true;
   } else {
     return false;
   }
@@ -160,6 +164,23 @@ TensorInput readTensorInput(const std::string& path, const TensorInputOptions& o
   return input;
 }
 
+imaging::MetricFromTensors buildCheckedMetric(const std::string& path, const TensorInput& input,
+                                             const TensorInputOptions& options) {
+  imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, options.metric);
+  const std::string reason = imaging::implausibleTensorsReason(built.counts);
+  if (!reason.empty() && !options.acceptImplausible) {
+    const imaging::TensorFileInfo& info = input.read.info;
+    throw ToolError(kExitInput, path + ": " + reason + " as read (" + imaging::tensorFileLayoutName(info.layout) +
+                                    ", order " + imaging::tensorOrderName(info.order) + " = " +
+                                    imaging::tensorOrderComponents(info.order) + ", " +
+                                    imaging::tensorFrameName(info.frame) +
+                                    " frame): most likely a wrong --tensor-order; check it, --tensor-frame and "
+                                    "--tensor-kind (stvd info " + path +
+                                    " tries each order), or go on with --accept-implausible-tensors");
+  }
+  return built;
+}
+
 std::string orientationCode(const GridGeometry& geometry) {
   // LPS components: +x is Left, +y Posterior, +z Superior.
   const char positive[3] = {'L', 'P', 'S'}, negative[3] = {'R', 'A', 'I'};
@@ -190,7 +211,10 @@ std::string tensorInputHelp(bool withMetricOptions) {
       "                                  NRRD: the measurement frame, in the NRRD space\n"
       "                          default: voxel for NIfTI in the lower and fsl orders, world for\n"
       "                          NIfTI in the mrtrix order and for NRRD.\n"
-      "  --mask FILE             only voxels where FILE is non-zero (same grid as the tensors).\n";
+      "  --mask FILE             only voxels where FILE is non-zero (same grid as the tensors).\n"
+      "  --accept-implausible-tensors\n"
+      "                          go on although more than 10 % of the tensors are not positive\n"
+      "                          definite, which a wrong --tensor-order gives (default: exit 3).\n";
   if (withMetricOptions)
     text +=
         "Metric:\n"

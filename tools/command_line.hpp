@@ -73,6 +73,9 @@ struct TensorInputOptions {
   std::optional<imaging::TensorFrame> frame;
   imaging::MetricOptions metric;
   std::string maskPath;
+  /// --accept-implausible-tensors: go on when the tensors look like a wrong
+  /// layout (imaging::implausibleTensorsReason).
+  bool acceptImplausible = false;
 };
 
 /// When `option` is one of the tensor input options, reads its value from
@@ -91,6 +94,14 @@ struct TensorInput {
 /// Reads the tensor file and the mask. Throws ToolError(kExitInput) naming
 /// the file: unreadable, wrong layout, or a mask on another grid.
 TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options);
+
+/// imaging::buildMetric on the input's tensors and mask, then the check of
+/// the layout: when the tensors are implausible (most of them not positive
+/// definite, see tensor_plausibility.hpp), ToolError(kExitInput) naming the
+/// file, the order and frame as read and the options to check, unless
+/// options.acceptImplausible.
+imaging::MetricFromTensors buildCheckedMetric(const std::string& path, const TensorInput& input,
+                                             const TensorInputOptions& options);
 
 /// "LAS"-style orientation code: the RAS direction each index axis points
 /// to most (L/R, P/A, I/S), as NIfTI tools print it.

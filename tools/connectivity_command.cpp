@@ -121,7 +121,7 @@ int runConnectivity(int argc, char** argv) {
   }
   const TensorInput input = readTensorInput(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
-  imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
+  imaging::MetricFromTensors built = buildCheckedMetric(o.input, input, o.tensor);
 
   imaging::ScalarImage labels;
   try {

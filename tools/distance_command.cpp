@@ -419,7 +419,7 @@ int runDistance(int argc, char** argv) {
   t.read = secondsSince(phase);
 
   phase = Clock::now();
-  imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
+  imaging::MetricFromTensors built = buildCheckedMetric(o.input, input, o.tensor);
   if (built.counts.domain == 0)
     throw ToolError(kExitDomain, o.input + ": the domain is empty: no voxel has a usable tensor" +
                                      (input.mask.empty() ? std::string() : " inside the mask") +

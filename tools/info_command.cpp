@@ -9,6 +9,7 @@
 #include "command_line.hpp"
 #include "stvd/itk/symmetric_eigen.hpp"
 #include "stvd/itk/tensor_frames.hpp"
+#include "stvd/itk/tensor_plausibility.hpp"
 #include "subcommands.hpp"
 
 namespace stvd::tool {
@@ -39,7 +40,8 @@ InfoOptions parseInfoOptions(int argc, char** argv) {
   while (!args.done()) {
     const std::string a = args.take();
     if (takeInputOrHelp(a, args, o.input, kInfoHelp, false)) continue;
-    if (a == "--tensor-order" || a == "--tensor-frame" || a == "--mask" || a == "--max-anisotropy") {
+    if (a == "--tensor-order" || a == "--tensor-frame" || a == "--mask" || a == "--max-anisotropy" ||
+        a == "--accept-implausible-tensors") {
       parseTensorInputOption(a, args, o.tensor);
     } else {
       usageError("unknown option '" + a + "' (see stvd info --help)");
@@ -71,6 +73,42 @@ std::string matrixRows(const imaging::Matrix3& m) {
     s << "]\n";
   }
   return s.str();
+}
+
+/// The three component orders tried on the file, and what the order as
+/// read looks like: a wrong order leaves most tensors not positive definite.
+std::string componentOrderReport(const TensorInput& input, std::size_t considered) {
+  const imaging::TensorFileInfo& info = input.read.info;
+  std::ostringstream out;
+  out << "Component orders tried (tensors positive definite, of the " << withThousands(considered)
+      << " with a value):\n";
+  const imaging::TensorOrder* best = nullptr;
+  std::uint64_t bestCount = 0, asRead = 0;
+  const auto trials = imaging::tryComponentOrders(input.read, input.mask);
+  for (const imaging::ComponentOrderTrial& t : trials) {
+    const std::string name = imaging::tensorOrderName(t.order);
+    out << "  " << name << std::string(8 - name.size(), ' ') << imaging::tensorOrderComponents(t.order) << "  "
+        << withThousands(t.positiveDefinite) << " ("
+        << fixed(t.tensors ? 100.0 * double(t.positiveDefinite) / double(t.tensors) : 0.0, 1) << " %), FA above 1 in "
+        << withThousands(t.faAboveOne) << (t.order == info.order ? "   <- as read" : "") << "\n";
+    if (t.order == info.order) asRead = t.positiveDefinite;
+    if (!best || t.positiveDefinite > bestCount) {
+      best = &t.order;
+      bestCount = t.positiveDefinite;
+    }
+  }
+  if (considered > 0 &&
+      double(considered - asRead) > imaging::kMaxNotPositiveDefiniteShare * double(considered)) {
+    out << "Warning: read as " << imaging::tensorOrderName(info.order) << ", "
+        << fixed(100.0 * double(considered - asRead) / double(considered), 1)
+        << " % of the tensors are not positive definite; stvd distance, path and connectivity stop on such a file"
+           " (exit 3) unless --accept-implausible-tensors is given.";
+    if (best && *best != info.order)
+      out << " The order " << imaging::tensorOrderName(*best) << " gives " << withThousands(bestCount)
+          << " positive definite tensors: try --tensor-order " << imaging::tensorOrderName(*best) << ".";
+    out << "\n";
+  }
+  return out.str();
 }
 
 }  // namespace
@@ -157,6 +195,7 @@ int runInfo(int argc, char** argv) {
       << " without a positive eigenvalue.\n";
   out << "  stvd distance raises the eigenvalues of the first two kinds to lambda1/" << fixed(cap, 0)
       << " (--max-anisotropy) and leaves the last kind, zero and non-finite tensors outside the domain.\n";
+  out << componentOrderReport(input, considered);
   std::cout << out.str();
   return kExitOk;
 }

@@ -237,7 +237,7 @@ int runPath(int argc, char** argv) {
 
   const TensorInput input = readTensorInput(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
-  imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
+  imaging::MetricFromTensors built = buildCheckedMetric(o.input, input, o.tensor);
   if (built.counts.domain == 0)
     throw ToolError(kExitDomain, o.input + ": the domain is empty: no voxel has a usable tensor");
   std::size_t leftOut = 0;

@@ -258,8 +258,7 @@ VertexTensors tensorsFromAttributes(const TetDistanceOptions& o, const tetmesh::
 VertexTensors tensorsFromImage(const TetDistanceOptions& o, const tetmesh::TetMesh& mesh) {
   VertexTensors out;
   const TensorInput input = readTensorInput(o.tensors, o.tensor);
-  const imaging::MetricFromTensors built =
-      imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
+  const imaging::MetricFromTensors built = buildCheckedMetric(o.tensors, input, o.tensor);
   std::vector<Vec3d> lps(mesh.points);
   if (!o.lps)
     for (Vec3d& p : lps) p = {-p.x, -p.y, p.z};

@@ -76,6 +76,8 @@ MetricFromTensors buildMetric(const std::vector<SymTensor3>& tensors, const std:
     if (!isFinite(t)) { ++c.nonFinite; continue; }
     if (isZero(t)) { ++c.zero; continue; }
     const SymmetricEigen e = eigenDecompose(t);
+    if (!(e.values[2] > 0.0)) ++c.notPositiveDefinite;
+    if (e.values[2] < 0.0 && fractionalAnisotropy(e.values) > 1.0) ++c.faAboveOne;
     if (!(e.values[0] > 0.0)) { ++c.noPositiveEigenvalue; continue; }
     if (options.faThreshold && fractionalAnisotropy(e.values) < *options.faThreshold) {
       ++c.belowFaThreshold;

@@ -118,6 +118,7 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
     throw ImageIoError(path, "holds " + std::to_string(values.size()) + " values, expected 6 per voxel");
 
   const Matrix3 toLps = fileToLps(info, volume.geometry);
+  info.componentsToLps = toLps;
   volume.tensors.resize(n);
   float c[6];
   for (std::size_t v = 0; v < n; ++v) {

@@ -78,7 +78,14 @@ struct MetricVoxelCounts {
   std::uint64_t domain = 0;              ///< inside the domain
   std::uint64_t repairedNonPositive = 0; ///< in the domain; lambda_min <= 0 raised to the floor
   std::uint64_t repairedAnisotropy = 0;  ///< in the domain; 0 < lambda_min < floor raised
+  /// Of the tensors with a value (finite, non-zero, inside the masks), as
+  /// read (before the FA threshold and the repairs): lambda_min <= 0, and
+  /// FA above 1 (which only a negative eigenvalue gives). Many of them mean
+  /// a wrong layout (tensor_plausibility.hpp).
+  std::uint64_t notPositiveDefinite = 0;
+  std::uint64_t faAboveOne = 0;
   std::uint64_t repaired() const { return repairedNonPositive + repairedAnisotropy; }
+  std::uint64_t withTensor() const { return total - masked - nonFinite - zero; }
 };
 
 struct MetricFromTensors {

@@ -63,6 +63,9 @@ struct TensorFileInfo {
   Matrix3 measurementFrameLps{1, 0, 0, 0, 1, 0, 0, 0, 1};
   /// NRRD only: the file's "space" field ("" when absent).
   std::string nrrdSpace;
+  /// The matrix M that took the file's components to LPS (T_LPS = M T M^T):
+  /// the voxel axes, the NIfTI RAS flip or the NRRD measurement frame.
+  Matrix3 componentsToLps{1, 0, 0, 0, 1, 0, 0, 0, 1};
   /// File's component type, e.g. "float".
   std::string componentType;
 };
