@@ -121,7 +121,8 @@ int runInfo(int argc, char** argv) {
   const GridGeometry& g = volume.geometry;
   const bool nrrd = info.layout == imaging::TensorFileLayout::NrrdSymMatrix ||
                     info.layout == imaging::TensorFileLayout::NrrdMaskedSymMatrix;
-  const bool fixedOrder = info.layout != imaging::TensorFileLayout::NiftiSixVolumes;
+  const bool mrtrixImage = info.layout == imaging::TensorFileLayout::MrtrixSixVolumes;
+  const bool fixedOrder = info.layout != imaging::TensorFileLayout::NiftiSixVolumes && !mrtrixImage;
 
   std::ostringstream out;
   out << "File:        " << o.input << "\n";
@@ -129,7 +130,10 @@ int runInfo(int argc, char** argv) {
       << " components\n";
   out << "Order:       " << imaging::tensorOrderName(info.order) << " ("
       << imaging::tensorOrderComponents(info.order) << ")"
-      << (fixedOrder ? ", fixed by the layout" : ", as stated") << "\n";
+      << (fixedOrder                        ? ", fixed by the layout"
+          : mrtrixImage && !o.tensor.order ? ", MRtrix's tensor convention (default for MRtrix images)"
+                                            : ", as stated")
+      << "\n";
   out << "Frame:       " << imaging::tensorFrameName(info.frame)
       << (info.frameWasStated ? " (as stated)" : " (default for this layout and order)") << ": ";
   if (info.frame == imaging::TensorFrame::Voxel)

@@ -134,8 +134,8 @@ itk::ImageIOBase::Pointer openImageForReading(const std::string& path) {
   itk::ImageIOBase::Pointer io =
       itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::IOFileModeEnum::ReadMode);
   if (!io)
-    throw ImageIoError(path, "not a readable NIfTI (.nii, .nii.gz) or NRRD (.nrrd, .nhdr) image "
-                             "(unknown format, or a damaged header)");
+    throw ImageIoError(path, "not a readable NIfTI (.nii, .nii.gz), NRRD (.nrrd, .nhdr) or MRtrix (.mif, "
+                             ".mif.gz, .mih) image (unknown format, or a damaged header)");
   io->SetFileName(path);
   try {
     io->ReadImageInformation();

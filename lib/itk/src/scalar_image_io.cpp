@@ -6,11 +6,20 @@
 #include "itk_io_support.hpp"
 #include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/mrtrix_image.hpp"
 #include "stvd/itk/scalar_image.hpp"
 
 namespace stvd::imaging {
 
 ScalarImage readScalarImage(const std::string& path) {
+  if (isMrtrixImagePath(path)) {
+    MrtrixImage image = readMrtrixImage(path);
+    for (std::size_t a = 3; a < image.header.size.size(); ++a)
+      if (image.header.size[a] != 1)
+        throw ImageIoError(path, "not a 3D scalar image: axis " + std::to_string(a + 1) + " has " +
+                                     std::to_string(image.header.size[a]) + " samples");
+    return {image.geometry, std::move(image.values)};
+  }
   itk::ImageIOBase::Pointer io = detail::openImageForReading(path);
   const unsigned dims = io->GetNumberOfDimensions();
   if (io->GetNumberOfComponents() != 1)
@@ -32,6 +41,11 @@ void writeScalarImage(const std::string& path, const GridGeometry& geometry,
     throw ImageIoError(path, std::to_string(values.size()) + " values for a grid of " +
                                  std::to_string(geometry.voxelCount()) + " voxels");
   AtomicOutput output(path);
+  if (isMrtrixImagePath(path)) {
+    writeMrtrixImage(output.stagingPath(), path, geometry, values);
+    output.commit();
+    return;
+  }
   itk::ImageIOBase::Pointer io =
       detail::createFloatWriter(output.stagingPath(), path, geometry, 1, itk::IOPixelEnum::SCALAR);
   detail::writeFloatData(*io, path, values.data());
@@ -41,7 +55,7 @@ void writeScalarImage(const std::string& path, const GridGeometry& geometry,
 bool hasImageExtension(const std::string& path) {
   std::string lower = path;
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  for (const char* ext : {".nii", ".nii.gz", ".nrrd", ".nhdr"}) {
+  for (const char* ext : {".nii", ".nii.gz", ".nrrd", ".nhdr", ".mif", ".mif.gz"}) {
     const std::size_t n = std::char_traits<char>::length(ext);
     if (lower.size() > n && lower.compare(lower.size() - n, n, ext) == 0) return true;
   }

@@ -10,6 +10,7 @@
 #include "nrrd_header.hpp"
 #include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/mrtrix_image.hpp"
 #include "stvd/itk/tensor_volume.hpp"
 
 namespace stvd::imaging {
@@ -46,9 +47,47 @@ void checkStatedOrder(const std::string& path, const TensorReadOptions& options,
                                  tensorOrderName(*options.order) + " contradicts it");
 }
 
+/// Components of voxel v, q = 0..5, in `values` one volume after the other,
+/// brought into LPS.
+void tensorsFromVolumes(const std::vector<float>& values, TensorOrder order, const Matrix3& toLps,
+                        std::vector<SymTensor3>& tensors) {
+  const std::size_t n = values.size() / 6;
+  tensors.resize(n);
+  float c[6];
+  for (std::size_t v = 0; v < n; ++v) {
+    for (int q = 0; q < 6; ++q) c[q] = values[v + n * q];
+    tensors[v] = changeTensorFrame(tensorFromComponents(c, order), toLps);
+  }
+}
+
+/// An MRtrix tensor image: X Y Z 6, as dwi2tensor writes it (components
+/// D11 D22 D33 D12 D13 D23 along the scanner's RAS axes).
+TensorReadResult readMrtrixTensorVolume(const std::string& path, const TensorReadOptions& options) {
+  MrtrixImage image = readMrtrixImage(path);
+  const std::vector<std::size_t>& size = image.header.size;
+  if (!(size.size() == 4 && size[3] == 6)) {
+    std::string dim;
+    for (std::size_t s : size) dim += (dim.empty() ? "" : ",") + std::to_string(s);
+    throw ImageIoError(path, "not a tensor volume: an MRtrix tensor image has four axes with 6 volumes "
+                             "(dim X,Y,Z,6), this one has dim " + dim);
+  }
+  TensorReadResult result;
+  TensorFileInfo& info = result.info;
+  info.layout = TensorFileLayout::MrtrixSixVolumes;
+  info.order = options.order.value_or(TensorOrder::Mrtrix);
+  info.frameWasStated = options.frame.has_value();
+  info.frame = options.frame.value_or(defaultTensorFrame(info.layout, info.order));
+  info.componentType = image.header.datatype;
+  result.volume.geometry = image.geometry;
+  info.componentsToLps = info.frame == TensorFrame::Voxel ? voxelAxes(image.geometry) : rasToLps();
+  tensorsFromVolumes(image.values, info.order, info.componentsToLps, result.volume.tensors);
+  return result;
+}
+
 }  // namespace
 
 TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options) {
+  if (isMrtrixImagePath(path)) return readMrtrixTensorVolume(path, options);
   itk::ImageIOBase::Pointer io = detail::openImageForReading(path);
   const std::string ioClass = io->GetNameOfClass();
   const unsigned dims = io->GetNumberOfDimensions();
@@ -119,11 +158,12 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
 
   const Matrix3 toLps = fileToLps(info, volume.geometry);
   info.componentsToLps = toLps;
-  volume.tensors.resize(n);
-  float c[6];
-  for (std::size_t v = 0; v < n; ++v) {
-    for (int q = 0; q < 6; ++q) c[q] = interleaved ? values[6 * v + q] : values[v + n * q];
-    volume.tensors[v] = changeTensorFrame(tensorFromComponents(c, bufferOrder), toLps);
+  if (interleaved) {
+    volume.tensors.resize(n);
+    for (std::size_t v = 0; v < n; ++v)
+      volume.tensors[v] = changeTensorFrame(tensorFromComponents(&values[6 * v], bufferOrder), toLps);
+  } else {
+    tensorsFromVolumes(values, bufferOrder, toLps, volume.tensors);
   }
 
   if (info.layout == TensorFileLayout::NrrdMaskedSymMatrix) {
@@ -157,7 +197,8 @@ void writeTensorVolume(const std::string& path, const TensorVolume& volume,
     toLps = nrrd ? Matrix3{1, 0, 0, 0, 1, 0, 0, 0, 1} : rasToLps();
   const Matrix3 fromLps = transpose(toLps);
 
-  const bool sixVolumes = options.layout == TensorFileLayout::NiftiSixVolumes;
+  const bool mrtrix = options.layout == TensorFileLayout::MrtrixSixVolumes;
+  const bool sixVolumes = options.layout == TensorFileLayout::NiftiSixVolumes || mrtrix;
   const TensorOrder order = sixVolumes ? options.order : TensorOrder::Fsl;
   std::vector<float> buffer(6 * n);
   float c[6];
@@ -167,6 +208,13 @@ void writeTensorVolume(const std::string& path, const TensorVolume& volume,
   }
 
   AtomicOutput output(path);
+  if (mrtrix != isMrtrixImagePath(path))
+    throw ImageIoError(path, "the extension does not match the layout " + tensorFileLayoutName(options.layout));
+  if (mrtrix) {
+    writeMrtrixImage(output.stagingPath(), path, g, buffer, 6);
+    output.commit();
+    return;
+  }
   itk::ImageIOBase::Pointer io =
       sixVolumes ? detail::createFloatWriter(output.stagingPath(), path, g, 1, itk::IOPixelEnum::SCALAR, 6)
                  : detail::createFloatWriter(output.stagingPath(), path, g, 6,

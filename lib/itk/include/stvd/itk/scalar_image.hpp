@@ -17,19 +17,21 @@ struct ScalarImage {
 };
 
 /// Reads a 3D scalar image of any numeric component type (converted to
-/// float; a 4D file with one volume is accepted). Throws ImageIoError
+/// float; a 4D file with one volume is accepted): NIfTI and NRRD through
+/// ITK, MRtrix images (.mif, .mif.gz, .mih) through mrtrix_image.hpp. Throws ImageIoError
 /// naming the file when it is unreadable, truncated or not a scalar image.
 ScalarImage readScalarImage(const std::string& path);
 
 /// Writes a float32 scalar image with exactly this geometry, atomically: the
 /// file appears under `path` complete or not at all. The format follows the
-/// extension (.nii, .nii.gz, .nrrd, .nhdr); NRRD data are gzip-compressed.
+/// extension (.nii, .nii.gz, .nrrd, .nhdr, .mif, .mif.gz); NRRD data are
+/// gzip-compressed.
 /// Throws ImageIoError naming the file.
 void writeScalarImage(const std::string& path, const GridGeometry& geometry,
                       const std::vector<float>& values);
 
 /// True when the path ends in an image extension stvd reads and writes:
-/// .nii, .nii.gz, .nrrd or .nhdr (any letter case).
+/// .nii, .nii.gz, .nrrd, .nhdr, .mif or .mif.gz (any letter case).
 bool hasImageExtension(const std::string& path);
 
 /// Empty when two geometries describe the same voxel grid: equal sizes,

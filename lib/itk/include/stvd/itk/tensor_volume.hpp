@@ -7,8 +7,8 @@
 // tensor's six numbers are given in one of two frames:
 //   voxel: along the image's index axes (i, j, k), as DIPY and FSL fits of
 //          FSL-style b-vectors usually are;
-//   world: along the file's own world axes: RAS scanner space for NIfTI (as
-//          MRtrix writes tensors), the measurement frame mapped into the NRRD
+//   world: along the file's own world axes: RAS scanner space for NIfTI and
+//          MRtrix images (as MRtrix writes tensors), the measurement frame mapped into the NRRD
 //          space for NRRD.
 // A voxel-frame tensor T becomes R T R^T in LPS, with R the direction
 // cosines of the index axes (GridGeometry::direction). A NIfTI world-frame
@@ -75,7 +75,8 @@ struct TensorReadResult {
   TensorFileInfo info;
 };
 
-/// Reads a tensor volume from a .nii, .nii.gz, .nrrd or .nhdr file and
+/// Reads a tensor volume from a .nii, .nii.gz, .nrrd, .nhdr, .mif, .mif.gz
+/// or .mih file (MRtrix: X Y Z 6, order mrtrix unless stated) and
 /// brings its tensors into the LPS frame. Throws ImageIoError with a
 /// one-line message naming the file: unreadable or truncated file, not a
 /// tensor layout (scalar image, wrong component count), a 4D NIfTI without
@@ -83,9 +84,11 @@ struct TensorReadResult {
 TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options = {});
 
 struct TensorWriteOptions {
-  /// NIfTI: NiftiSymMatrix5D or NiftiSixVolumes; NRRD: NrrdSymMatrix.
+  /// NIfTI: NiftiSymMatrix5D or NiftiSixVolumes; NRRD: NrrdSymMatrix;
+  /// .mif, .mif.gz: MrtrixSixVolumes.
   TensorFileLayout layout = TensorFileLayout::NiftiSymMatrix5D;
-  /// The order of a NiftiSixVolumes file (the others fix their order).
+  /// The order of a NiftiSixVolumes or MrtrixSixVolumes file (the others
+  /// fix their order).
   TensorOrder order = TensorOrder::Fsl;
   /// Voxel: components along the index axes (NRRD: with the index axes as
   /// measurement frame); world: RAS for NIfTI, LPS for NRRD (identity

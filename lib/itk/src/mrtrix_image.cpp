@@ -1,0 +1,509 @@
+// MRtrix image files: our own parser and writer (see mrtrix_image.hpp).
+#include "stvd/itk/mrtrix_image.hpp"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "stvd/itk/image_io_error.hpp"
+
+namespace stvd::imaging {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A header longer than this is not a header (MRtrix's own are a few kB,
+/// long diffusion schemes included).
+constexpr std::size_t kMaxHeaderBytes = 16u << 20;
+/// At most this many axes (MRtrix's own limit is 16).
+constexpr std::size_t kMaxAxes = 16;
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+bool endsWith(const std::string& s, const std::string& suffix) {
+  return s.size() > suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::string trim(std::string_view s) {
+  std::size_t b = 0, e = s.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+  return std::string(s.substr(b, e - b));
+}
+
+std::vector<std::string> split(const std::string& s, char separator) {
+  std::vector<std::string> parts;
+  std::string part;
+  std::istringstream in(s);
+  while (std::getline(in, part, separator)) parts.push_back(trim(part));
+  if (!s.empty() && s.back() == separator) parts.emplace_back();
+  return parts;
+}
+
+bool parseUnsigned(const std::string& text, unsigned long long limit, unsigned long long& value) {
+  if (text.empty() || text.size() > 19 || !std::all_of(text.begin(), text.end(), [](char c) {
+        return std::isdigit(static_cast<unsigned char>(c));
+      }))
+    return false;
+  value = std::strtoull(text.c_str(), nullptr, 10);
+  return value <= limit;
+}
+
+bool parseFinite(const std::string& text, double& value) {
+  if (text.empty()) return false;
+  errno = 0;
+  char* end = nullptr;
+  value = std::strtod(text.c_str(), &end);
+  return *end == '\0' && errno != ERANGE && std::isfinite(value);
+}
+
+/// Bytes per element of an MRtrix datatype name (0 for Bit), and whether it
+/// is stored big-endian, floating point and signed. False for an unknown name.
+struct DataType {
+  int bytes = 0;
+  bool bigEndian = false, floating = false, isSigned = false;
+};
+
+bool parseDataType(const std::string& written, DataType& t) {
+  std::string name = lower(written);
+  if (name == "bit") return t = {0, false, false, false}, true;
+  if (name == "int8") return t = {1, false, false, true}, true;
+  if (name == "uint8") return t = {1, false, false, false}, true;
+  bool big = false;
+  if (endsWith(name, "le")) {
+    name.resize(name.size() - 2);
+  } else if (endsWith(name, "be")) {
+    name.resize(name.size() - 2);
+    big = true;
+  }  // without a suffix: the machine's order, little-endian on every machine stvd builds for
+  static const struct { const char* name; DataType type; } types[] = {
+      {"int16", {2, false, false, true}},  {"uint16", {2, false, false, false}},
+      {"int32", {4, false, false, true}},  {"uint32", {4, false, false, false}},
+      {"int64", {8, false, false, true}},  {"uint64", {8, false, false, false}},
+      {"float32", {4, false, true, true}}, {"float64", {8, false, true, true}},
+  };
+  for (const auto& entry : types)
+    if (name == entry.name) {
+      t = entry.type;
+      t.bigEndian = big;
+      return true;
+    }
+  return false;
+}
+
+bool hostIsLittleEndian() {
+  const std::uint16_t one = 1;
+  unsigned char first;
+  std::memcpy(&first, &one, 1);
+  return first == 1;
+}
+
+/// One element at element position `at` of the data, as a double.
+double element(const unsigned char* data, std::size_t at, const DataType& t, bool swap) {
+  if (t.bytes == 0) return (data[at / 8] >> (7 - at % 8)) & 1;  // Bit: the first element in the top bit
+  unsigned char b[8];
+  std::memcpy(b, data + at * t.bytes, t.bytes);
+  if (swap) std::reverse(b, b + t.bytes);
+  switch (t.bytes) {
+    case 1: return t.isSigned ? double(static_cast<std::int8_t>(b[0])) : double(b[0]);
+    case 2: {
+      std::uint16_t u;
+      std::memcpy(&u, b, 2);
+      return t.isSigned ? double(static_cast<std::int16_t>(u)) : double(u);
+    }
+    case 4: {
+      if (t.floating) {
+        float f;
+        std::memcpy(&f, b, 4);
+        return f;
+      }
+      std::uint32_t u;
+      std::memcpy(&u, b, 4);
+      return t.isSigned ? double(static_cast<std::int32_t>(u)) : double(u);
+    }
+    default: {
+      if (t.floating) {
+        double d;
+        std::memcpy(&d, b, 8);
+        return d;
+      }
+      std::uint64_t u;
+      std::memcpy(&u, b, 8);
+      return t.isSigned ? double(static_cast<std::int64_t>(u)) : double(u);
+    }
+  }
+}
+
+GridGeometry geometryOf(const MrtrixHeader& h, const std::string& name) {
+  GridGeometry g;
+  for (int a = 0; a < 3; ++a) {
+    g.size[a] = a < static_cast<int>(h.size.size()) ? h.size[a] : 1;
+    g.spacing[a] = h.spacing[a];
+    // RAS -> LPS: negate x and y of every column and of the translation.
+    for (int r = 0; r < 3; ++r) g.direction[3 * r + a] = (r < 2 ? -1.0 : 1.0) * h.transform[4 * r + a];
+    g.origin[a] = (a < 2 ? -1.0 : 1.0) * h.transform[4 * a + 3];
+  }
+  try {
+    g.validate();
+  } catch (const std::invalid_argument& e) {
+    throw ImageIoError(name, std::string("unusable image geometry: ") + e.what());
+  }
+  return g;
+}
+
+MrtrixImage decode(const MrtrixHeader& header, std::string_view data, const std::string& name) {
+  MrtrixImage image;
+  image.header = header;
+  image.geometry = geometryOf(header, name);
+  DataType type;
+  parseDataType(header.datatype, type);
+  const bool swap = type.bytes > 1 && type.bigEndian == hostIsLittleEndian();
+  const auto* bytes = reinterpret_cast<const unsigned char*>(data.data());
+  const std::size_t n = header.elementCount(), axes = header.size.size();
+  image.values.resize(n);
+  // Walk the elements in logical order (axis 0 fastest); the position in the
+  // file moves by each axis's stride, back by a whole axis when it wraps.
+  std::vector<std::size_t> index(axes, 0);
+  long long at = static_cast<long long>(header.firstElement);
+  for (std::size_t e = 0; e < n; ++e) {
+    const double raw = element(bytes, static_cast<std::size_t>(at), type, swap);
+    image.values[e] = static_cast<float>(header.scalingOffset + header.scalingMultiplier * raw);
+    for (std::size_t a = 0; a < axes; ++a) {
+      at += header.strides[a];
+      if (++index[a] < header.size[a]) break;
+      at -= header.strides[a] * static_cast<long long>(header.size[a]);
+      index[a] = 0;
+    }
+  }
+  return image;
+}
+
+/// The end of the header (the byte after "END" and its line break), or
+/// npos when `bytes` holds no complete header.
+std::size_t headerEnd(std::string_view bytes) {
+  std::size_t from = 0;
+  while (true) {
+    const std::size_t at = bytes.find("\nEND", from);
+    if (at == std::string_view::npos || at > kMaxHeaderBytes) return std::string_view::npos;
+    std::size_t after = at + 4;
+    if (after < bytes.size() && bytes[after] == '\r') ++after;
+    if (after < bytes.size() && bytes[after] == '\n') return after + 1;
+    if (after == bytes.size()) return after;
+    from = at + 1;
+  }
+}
+
+/// The file's first `limit` bytes (all of it when shorter): never more than
+/// the file holds, whatever a header says.
+std::string readFile(const std::string& path, std::size_t limit) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ImageIoError(path, std::string("cannot open: ") + std::strerror(errno));
+  std::error_code ec;
+  const auto size = fs::file_size(path, ec);
+  std::string content(ec ? 0 : std::min<std::uintmax_t>(size, limit), '\0');
+  in.read(content.data(), static_cast<std::streamsize>(content.size()));
+  content.resize(static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) throw ImageIoError(path, "cannot read the file");
+  return content;
+}
+
+/// A .mif.gz file decompressed as far as its header says, never further.
+std::string readCompressedMif(const std::string& path) {
+  gzFile file = gzopen(path.c_str(), "rb");
+  if (!file) throw ImageIoError(path, std::string("cannot open: ") + std::strerror(errno));
+  std::string content;
+  std::size_t needed = std::numeric_limits<std::size_t>::max();
+  bool damaged = false;
+  std::vector<char> chunk(1 << 20);
+  while (content.size() < needed) {
+    const std::size_t want = std::min<std::size_t>(chunk.size(), needed - content.size());
+    const int got = gzread(file, chunk.data(), static_cast<unsigned>(want));
+    if (got < 0) {
+      damaged = true;
+      break;
+    }
+    if (got == 0) break;
+    content.append(chunk.data(), static_cast<std::size_t>(got));
+    if (needed == std::numeric_limits<std::size_t>::max() && headerEnd(content) != std::string::npos) {
+      const MrtrixHeader header = parseMrtrixHeader(content, path);
+      if (header.dataFile != ".")
+        throw ImageIoError(path, "a .mif.gz file must hold its own data (file: . OFFSET)");
+      needed = header.dataOffset + header.dataBytes();
+    } else if (needed == std::numeric_limits<std::size_t>::max() && content.size() > kMaxHeaderBytes + 8) {
+      break;  // parseMrtrixImage reports the missing END
+    }
+  }
+  int error = Z_OK;
+  gzerror(file, &error);
+  gzclose(file);
+  if (damaged || (error != Z_OK && error != Z_STREAM_END))
+    throw ImageIoError(path, "the compressed data are damaged or cut short");
+  return content;
+}
+
+}  // namespace
+
+std::size_t MrtrixHeader::elementCount() const {
+  std::size_t n = 1;
+  for (std::size_t s : size) n *= s;
+  return n;
+}
+
+std::size_t MrtrixHeader::dataBytes() const {
+  const std::size_t n = elementCount();
+  return bytesPerElement == 0 ? (n + 7) / 8 : n * static_cast<std::size_t>(bytesPerElement);
+}
+
+bool isMrtrixImagePath(const std::string& path) {
+  const std::string l = lower(path);
+  const std::string name = fs::path(l).filename().string();
+  for (const char* ext : {".mif", ".mif.gz", ".mih"})
+    if (endsWith(name, ext)) return true;
+  return false;
+}
+
+MrtrixHeader parseMrtrixHeader(std::string_view bytes, const std::string& name, bool endsWithText) {
+  const std::string_view magic = "mrtrix image";
+  if (bytes.substr(0, magic.size()) != magic ||
+      (bytes.size() > magic.size() && bytes[magic.size()] != '\n' && bytes[magic.size()] != '\r'))
+    throw ImageIoError(name, "not an MRtrix image (it does not start with \"mrtrix image\")");
+  std::size_t end = headerEnd(bytes);
+  if (end == std::string_view::npos && endsWithText && bytes.size() <= kMaxHeaderBytes) end = bytes.size();
+  if (end == std::string_view::npos)
+    throw ImageIoError(name, "the MRtrix header has no END line" +
+                                 std::string(bytes.size() > kMaxHeaderBytes ? " in its first 16 MiB" : ""));
+  MrtrixHeader h;
+  std::string dim, vox, layout, datatype, scaling;
+  std::vector<std::string> transform, files;
+  std::size_t lineNumber = 1;
+  std::size_t at = bytes.find('\n') + 1;
+  while (at < end) {
+    std::size_t next = bytes.find('\n', at);
+    if (next == std::string_view::npos || next > end) next = end;
+    const std::string line = trim(bytes.substr(at, next - at));
+    at = next + 1;
+    ++lineNumber;
+    if (line.empty()) continue;
+    if (line == "END") break;
+    const std::size_t colon = line.find(':');
+    if (colon == std::string::npos)
+      throw ImageIoError(name, "header line " + std::to_string(lineNumber) + " is not \"key: value\"");
+    const std::string key = lower(trim(line.substr(0, colon))), value = trim(line.substr(colon + 1));
+    if (key == "dim") dim = value;
+    else if (key == "vox") vox = value;
+    else if (key == "layout") layout = value;
+    else if (key == "datatype") datatype = value;
+    else if (key == "scaling") scaling = value;
+    else if (key == "transform") transform.push_back(value);
+    else if (key == "file") files.push_back(value);
+  }
+  for (const auto& [key, value] : {std::pair<const char*, const std::string*>{"dim", &dim}, {"vox", &vox},
+                                   {"layout", &layout}, {"datatype", &datatype}})
+    if (value->empty()) throw ImageIoError(name, std::string("the MRtrix header has no ") + key + " entry");
+  if (files.empty()) throw ImageIoError(name, "the MRtrix header has no file entry");
+  if (files.size() > 1)
+    throw ImageIoError(name, "the image is split over " + std::to_string(files.size()) +
+                                 " data files, which stvd does not read (mrconvert makes one .mif of it)");
+
+  // dim: the sizes, and their product without overflow.
+  const std::vector<std::string> sizes = split(dim, ',');
+  if (sizes.size() > kMaxAxes) throw ImageIoError(name, "dim has " + std::to_string(sizes.size()) + " axes");
+  unsigned long long product = 1;
+  for (const std::string& s : sizes) {
+    unsigned long long n;
+    if (!parseUnsigned(s, std::numeric_limits<std::uint32_t>::max(), n) || n == 0)
+      throw ImageIoError(name, "dim: '" + dim + "' is not a list of positive sizes");
+    if (__builtin_mul_overflow(product, n, &product) || product > (1ull << 40))
+      throw ImageIoError(name, "dim: " + dim + " declares an absurd number of values");
+    h.size.push_back(static_cast<std::size_t>(n));
+  }
+
+  // vox: the first three spacings must be positive numbers.
+  const std::vector<std::string> spacings = split(vox, ',');
+  for (std::size_t a = 0; a < std::min<std::size_t>(3, h.size.size()); ++a) {
+    double s;
+    if (a >= spacings.size() || !parseFinite(spacings[a], s) || !(s > 0.0))
+      throw ImageIoError(name, "vox: '" + vox + "' does not give a positive voxel size for axis " + std::to_string(a));
+    h.spacing[a] = s;
+  }
+
+  // layout: a sign and a rank per axis, the ranks a permutation.
+  const std::vector<std::string> entries = split(layout, ',');
+  if (entries.size() != h.size.size())
+    throw ImageIoError(name, "layout: '" + layout + "' does not have one entry per axis of dim " + dim);
+  std::vector<int> rankOf(h.size.size());
+  std::vector<int> axisOfRank(h.size.size(), -1);
+  std::vector<bool> reversed(h.size.size());
+  for (std::size_t a = 0; a < entries.size(); ++a) {
+    const std::string& e = entries[a];
+    unsigned long long rank;
+    if (e.size() < 2 || (e[0] != '+' && e[0] != '-') || !parseUnsigned(e.substr(1), h.size.size() - 1, rank) ||
+        axisOfRank[rank] >= 0)
+      throw ImageIoError(name, "layout: '" + layout + "' is not a signed order of the axes (such as -0,+1,+2)");
+    rankOf[a] = static_cast<int>(rank);
+    axisOfRank[rank] = static_cast<int>(a);
+    reversed[a] = e[0] == '-';
+  }
+  h.strides.assign(h.size.size(), 0);
+  long long stride = 1;
+  for (std::size_t r = 0; r < axisOfRank.size(); ++r) {
+    const int a = axisOfRank[r];
+    h.strides[a] = reversed[a] ? -stride : stride;
+    if (reversed[a]) h.firstElement += static_cast<std::size_t>(stride) * (h.size[a] - 1);
+    stride *= static_cast<long long>(h.size[a]);  // bounded by product above
+  }
+
+  DataType type;
+  if (!parseDataType(datatype, type))
+    throw ImageIoError(name, "datatype " + datatype +
+                                 " is not one stvd reads (Bit, Int8, UInt8, [U]Int16/32/64, Float32, Float64; "
+                                 "LE or BE)");
+  h.datatype = datatype;
+  h.bytesPerElement = type.bytes;
+
+  if (!scaling.empty()) {
+    const std::vector<std::string> parts = split(scaling, ',');
+    if (parts.size() != 2 || !parseFinite(parts[0], h.scalingOffset) || !parseFinite(parts[1], h.scalingMultiplier))
+      throw ImageIoError(name, "scaling: '" + scaling + "' is not \"offset,multiplier\"");
+  }
+
+  if (!transform.empty()) {
+    if (transform.size() != 3)
+      throw ImageIoError(name, "the MRtrix header has " + std::to_string(transform.size()) +
+                                   " transform lines, not 3");
+    for (int r = 0; r < 3; ++r) {
+      const std::vector<std::string> row = split(transform[r], ',');
+      for (int c = 0; c < 4; ++c)
+        if (row.size() != 4 || !parseFinite(row[c], h.transform[4 * r + c]))
+          throw ImageIoError(name, "transform line " + std::to_string(r + 1) + " is not four numbers");
+    }
+  }
+
+  // file: NAME [OFFSET]
+  std::istringstream file(files.front());
+  std::string offset, rest;
+  file >> h.dataFile >> offset >> rest;
+  unsigned long long byteOffset = 0;
+  if (h.dataFile.empty() || !rest.empty() ||
+      (!offset.empty() && !parseUnsigned(offset, std::numeric_limits<long long>::max(), byteOffset)))
+    throw ImageIoError(name, "file: '" + files.front() + "' is not \"NAME [OFFSET]\"");
+  if (h.dataFile == "." && byteOffset < end)
+    throw ImageIoError(name, "file: the data offset " + offset + " lies inside the header");
+  h.dataOffset = static_cast<std::size_t>(byteOffset);
+  const std::size_t dataBytes = h.dataBytes();
+  if (h.dataOffset > std::numeric_limits<std::size_t>::max() - dataBytes)
+    throw ImageIoError(name, "file: the data offset " + offset + " is absurd");
+  geometryOf(h, name);  // an unusable grid fails here, before any data are read
+  return h;
+}
+
+MrtrixImage parseMrtrixImage(std::string_view bytes, const std::string& name) {
+  const MrtrixHeader header = parseMrtrixHeader(bytes, name);
+  if (header.dataFile != ".")
+    throw ImageIoError(name, "the data are in another file (" + header.dataFile + "), not after the header");
+  const std::size_t needed = header.dataOffset + header.dataBytes();
+  if (bytes.size() < needed)
+    throw ImageIoError(name, "the file is truncated: " + std::to_string(bytes.size()) +
+                                 " bytes where header and data need " + std::to_string(needed));
+  return decode(header, bytes.substr(header.dataOffset, header.dataBytes()), name);
+}
+
+MrtrixImage readMrtrixImage(const std::string& path) {
+  const std::string l = lower(path);
+  if (endsWith(l, ".mif.gz")) return parseMrtrixImage(readCompressedMif(path), path);
+  if (endsWith(l, ".mif")) return parseMrtrixImage(readFile(path, std::numeric_limits<std::size_t>::max()), path);
+
+  // .mih: the header alone, the data in the file it names (next to it).
+  const std::string text = readFile(path, kMaxHeaderBytes + 8);
+  const MrtrixHeader header = parseMrtrixHeader(text, path, /*endsWithText=*/true);
+  const std::string dataPath =
+      header.dataFile == "." ? path : (fs::path(path).parent_path() / header.dataFile).string();
+  std::error_code ec;
+  const auto size = fs::file_size(dataPath, ec);
+  if (ec) throw ImageIoError(path, "its data file " + dataPath + " cannot be read: " + ec.message());
+  const std::size_t needed = header.dataOffset + header.dataBytes();
+  if (size < needed)
+    throw ImageIoError(path, "its data file " + dataPath + " is truncated: " + std::to_string(size) +
+                                 " bytes where the data need " + std::to_string(needed));
+  std::ifstream in(dataPath, std::ios::binary);
+  std::string data(header.dataBytes(), '\0');
+  in.seekg(static_cast<std::streamoff>(header.dataOffset));
+  in.read(data.data(), static_cast<std::streamsize>(data.size()));
+  if (static_cast<std::size_t>(in.gcount()) != data.size())
+    throw ImageIoError(path, "cannot read its data file " + dataPath);
+  return decode(header, data, path);
+}
+
+void writeMrtrixImage(const std::string& path, const std::string& formatPath, const GridGeometry& g,
+                      const std::vector<float>& values, std::size_t volumes) {
+  if (volumes == 0 || values.size() != g.voxelCount() * volumes)
+    throw ImageIoError(formatPath, std::to_string(values.size()) + " values for " + std::to_string(volumes) +
+                                       " volume(s) of " + std::to_string(g.voxelCount()) + " voxels");
+  const std::string l = lower(formatPath);
+  const bool gzip = endsWith(l, ".mif.gz");
+  if (!gzip && !endsWith(l, ".mif"))
+    throw ImageIoError(formatPath, "MRtrix images are written as .mif or .mif.gz");
+  std::ostringstream head;
+  head.precision(17);
+  head << "mrtrix image\ndim: " << g.size[0] << "," << g.size[1] << "," << g.size[2];
+  if (volumes > 1) head << "," << volumes;
+  head << "\nvox: " << g.spacing[0] << "," << g.spacing[1] << "," << g.spacing[2] << (volumes > 1 ? ",1" : "");
+  head << "\nlayout: +0,+1,+2" << (volumes > 1 ? ",+3" : "") << "\ndatatype: Float32LE\n";
+  for (int r = 0; r < 3; ++r) {
+    const double flip = r < 2 ? -1.0 : 1.0;  // LPS -> RAS
+    head << "transform: " << flip * g.direction[3 * r] << "," << flip * g.direction[3 * r + 1] << ","
+         << flip * g.direction[3 * r + 2] << "," << flip * g.origin[r] << "\n";
+  }
+  // The data start on a 16-byte boundary after "file: . OFFSET\nEND\n";
+  // the offset's own digits count, hence the loop.
+  const std::string start = head.str();
+  std::size_t offset = 0;
+  std::string header;
+  do {
+    const std::size_t length = start.size() + std::string("file: . \nEND\n").size() + std::to_string(offset).size();
+    const std::size_t aligned = (length + 15) / 16 * 16;
+    if (aligned == offset) break;
+    offset = aligned;
+  } while (true);
+  header = start + "file: . " + std::to_string(offset) + "\nEND\n";
+  header.resize(offset, '\0');
+  std::string data(values.size() * 4, '\0');
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    unsigned char b[4];
+    std::memcpy(b, &values[i], 4);
+    if (!hostIsLittleEndian()) std::reverse(b, b + 4);
+    std::memcpy(&data[4 * i], b, 4);
+  }
+  if (gzip) {
+    gzFile file = gzopen(path.c_str(), "wb6");
+    if (!file) throw ImageIoError(formatPath, std::string("cannot create the file: ") + std::strerror(errno));
+    bool ok = gzwrite(file, header.data(), static_cast<unsigned>(header.size())) == int(header.size());
+    for (std::size_t at = 0; ok && at < data.size(); at += 1u << 26) {
+      const unsigned n = static_cast<unsigned>(std::min<std::size_t>(1u << 26, data.size() - at));
+      ok = gzwrite(file, data.data() + at, n) == int(n);
+    }
+    if (gzclose(file) != Z_OK || !ok) throw ImageIoError(formatPath, "cannot write the file");
+    return;
+  }
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw ImageIoError(formatPath, std::string("cannot create the file: ") + std::strerror(errno));
+  out.write(header.data(), static_cast<std::streamsize>(header.size()));
+  out.write(data.data(), static_cast<std::streamsize>(data.size()));
+  out.flush();
+  if (!out) throw ImageIoError(formatPath, "cannot write the file");
+}
+
+}  // namespace stvd::imaging
