@@ -5,11 +5,11 @@ set -euo pipefail
 
 # Compiler and build tools; GoogleTest and Google Benchmark; the libraries of
 # the adapters (ITK, Eigen, TetGen, OpenVDB; Debian's FindOpenVDB.cmake also
-# wants Boost.Iostreams); Python with NiBabel and NumPy for the tests that
+# wants Boost.Iostreams; zlib for .mif.gz and .nii.gz checks); Python with NiBabel and NumPy for the tests that
 # check written NIfTI files independently of ITK.
 packages=(
   g++ cmake make libgtest-dev libbenchmark-dev
-  libinsighttoolkit5-dev libeigen3-dev libtet1.5-dev libopenvdb-dev libboost-iostreams-dev
+  libinsighttoolkit5-dev libeigen3-dev libtet1.5-dev libopenvdb-dev libboost-iostreams-dev zlib1g-dev
   python3-nibabel python3-numpy
 )
 # Scripts with needs of their own name extra packages as arguments

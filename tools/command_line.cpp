@@ -201,6 +201,8 @@ std::string tensorInputHelp(bool withMetricOptions) {
       "    standard: lower), or six volumes X Y Z 6, whose order must be stated.\n"
       "  NRRD (.nrrd, .nhdr): kind 3D-symmetric-matrix, or 3D-masked-symmetric-matrix whose\n"
       "    confidence channel (>= 0.5) becomes a mask. Order fixed: xx,xy,xz,yy,yz,zz.\n"
+      "  MRtrix (.mif, .mif.gz, .mih): X Y Z 6 as dwi2tensor writes it (order mrtrix and the\n"
+      "    world frame unless stated).\n"
       "  --tensor-order ORDER    component order of a six-volume NIfTI file (no default):\n"
       "                          lower  = xx,xy,yy,xz,yz,zz (NIfTI standard, DIPY, ANTs; alias nifti)\n"
       "                          fsl    = xx,xy,xz,yy,yz,zz (FSL dtifit; alias upper)\n"

@@ -44,9 +44,9 @@ const char* kDistanceHelp =
     "       (polygon surfaces: stvd distance MESH.obj|off|ply --help)\n"
     "\n"
     "Anisotropic geodesic distance (millimetres) from seed voxels over a diffusion or metric\n"
-    "tensor volume. The output format follows the extension: .nii, .nii.gz, .nrrd or .nhdr give a\n"
-    "float32 image on exactly the input's grid (same size, spacing, origin and direction\n"
-    "cosines), in which voxels not reached (outside the domain, disconnected from the seeds, or\n"
+    "tensor volume. The output format follows the extension: .nii, .nii.gz, .nrrd, .nhdr, .mif or\n"
+    ".mif.gz give a float32 image on exactly the input's grid (same size, spacing, origin and\n"
+    "direction cosines), in which voxels not reached (outside the domain, disconnected from the seeds, or\n"
     "beyond --max-distance) hold the unreachable value, -1 unless --unreachable-value says\n"
     "otherwise; .vdb gives an OpenVDB FloatGrid named \"distance\" whose transform places the\n"
     "voxels in RAS millimetres and in which voxels not reached are inactive. All coordinates\n"
@@ -80,10 +80,12 @@ const char* kDistanceHelp =
     "%TENSOR%"
     "\n"
     "Output:\n"
-    "  -o, --output FILE       the distance map (required): .nii, .nii.gz, .nrrd, .nhdr or .vdb.\n"
+    "  -o, --output FILE       the distance map (required): .nii, .nii.gz, .nrrd, .nhdr, .mif,\n"
+    "                          .mif.gz or .vdb.\n"
     "                          Its folder must exist. Written under a temporary name in the same\n"
     "                          folder and renamed when complete.\n"
-    "  --unreachable-value V   value of voxels not reached: a number or nan (default -1).\n"
+    "  --unreachable-value V   value of voxels not reached: a number or nan (default -1; nan keeps\n"
+    "                          them out of mrstats and most viewers' statistics).\n"
     "  --stats FILE.json       parameters, counts, seconds per phase and peak memory as JSON.\n"
     "  -q, --quiet             no summary on stdout, no progress bar.\n"
     "  -h, --help              this text.\n"
@@ -139,10 +141,10 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   if (o.output.empty()) usageError("no output file: add -o OUTPUT");
   if (isVdbPath(o.output)) {
 #ifndef STVD_WITH_VDB_OUTPUT
-    usageError(o.output + ": this stvd was built without OpenVDB; use .nii, .nii.gz, .nrrd or .nhdr");
+    usageError(o.output + ": this stvd was built without OpenVDB; use .nii, .nii.gz, .nrrd, .nhdr, .mif or .mif.gz");
 #endif
   } else if (!imaging::hasImageExtension(o.output)) {
-    usageError(o.output + ": unsupported output format; use .nii, .nii.gz, .nrrd, .nhdr or .vdb");
+    usageError(o.output + ": unsupported output format; use .nii, .nii.gz, .nrrd, .nhdr, .mif, .mif.gz or .vdb");
   }
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
     usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");

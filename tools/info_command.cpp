@@ -7,7 +7,9 @@
 #include <sstream>
 
 #include "command_line.hpp"
+#include "geodesic_options.hpp"
 #include "stvd/itk/symmetric_eigen.hpp"
+#include "stvd/itk/mrtrix_image.hpp"
 #include "stvd/itk/tensor_frames.hpp"
 #include "stvd/itk/tensor_plausibility.hpp"
 #include "subcommands.hpp"
@@ -25,13 +27,23 @@ const char* kInfoHelp =
     "the physical LPS frame after the frame conversion; eigenvalues do not depend on the frame.\n"
     "\n"
     "%TENSOR%"
+    "  --voxel I,J,K           also describe this voxel (stvd's 0-based index, as the file stores\n"
+    "                          it): the index MRtrix shows for it and its RAS position.\n"
     "  -h, --help              this text.\n"
     "\n"
-    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable input.\n";
+    "Voxel indices: stvd's --seed-voxel and --target-voxel count the axes as the file stores\n"
+    "them (NIfTI, ITK, nibabel). MRtrix (mrview, mrconvert -coord) reorders the axes of every\n"
+    "image to point right, anterior, superior, so its indices can differ (the shipped brain's\n"
+    "voxel 55,54,15 is 56,54,15 in MRtrix); `Voxel indices:` says how. --seed-point X,Y,Z in\n"
+    "scanner millimetres is the same point in every tool.\n"
+    "\n"
+    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable input;\n"
+    "4 a --voxel outside the image.\n";
 
 struct InfoOptions {
   std::string input;
   TensorInputOptions tensor;
+  std::vector<std::array<int, 3>> voxels;  // --voxel
 };
 
 InfoOptions parseInfoOptions(int argc, char** argv) {
@@ -43,6 +55,8 @@ InfoOptions parseInfoOptions(int argc, char** argv) {
     if (a == "--tensor-order" || a == "--tensor-frame" || a == "--mask" || a == "--max-anisotropy" ||
         a == "--accept-implausible-tensors") {
       parseTensorInputOption(a, args, o.tensor);
+    } else if (a == "--voxel") {
+      o.voxels.push_back(parseIntegerTriple(a, args.value(a)));
     } else {
       usageError("unknown option '" + a + "' (see stvd info --help)");
     }
@@ -73,6 +87,32 @@ std::string matrixRows(const imaging::Matrix3& m) {
     s << "]\n";
   }
   return s.str();
+}
+
+/// How MRtrix numbers the voxels stvd numbers (i, j, k), and the voxels
+/// asked for with --voxel in both numberings.
+std::string voxelIndexReport(const InfoOptions& o, const GridGeometry& g) {
+  const imaging::MrtrixAxisOrder order = imaging::mrtrixAxisOrder(g);
+  std::ostringstream out;
+  out << "Voxel indices: stvd's (i, j, k) count the axes as stored; MRtrix (mrview, mrconvert -coord) shows (";
+  for (int r = 0; r < 3; ++r) {
+    const int a = order.axis[r];
+    out << (r ? ", " : "") << (order.reversed[r] ? std::to_string(g.size[a] - 1) + " - " : std::string())
+        << "ijk"[a];
+  }
+  out << ")\n";
+  for (const auto& v : o.voxels) {
+    for (int a = 0; a < 3; ++a)
+      if (v[a] < 0 || v[a] >= static_cast<long>(g.size[a]))
+        throw ToolError(kExitDomain, o.input + ": voxel " + voxelText({v[0], v[1], v[2]}) +
+                                         " lies outside the image (indices from 0)");
+    const auto shown = imaging::mrtrixVoxelIndex(g, {v[0], v[1], v[2]});
+    const Vec3d lps = g.indexToPhysicalPoint(v[0], v[1], v[2]);
+    out << "Voxel:       " << voxelText({v[0], v[1], v[2]}) << " in stvd = (" << shown[0] << ", " << shown[1]
+        << ", " << shown[2] << ") in MRtrix, at RAS (" << fixed(-lps.x, 2) << ", " << fixed(-lps.y, 2) << ", "
+        << fixed(lps.z, 2) << ") mm\n";
+  }
+  return out.str();
 }
 
 /// The three component orders tried on the file, and what the order as
@@ -156,6 +196,7 @@ int runInfo(int argc, char** argv) {
       << fixed(g.origin[2], 3) << ") mm = RAS (" << fixed(-g.origin[0], 3) << ", " << fixed(-g.origin[1], 3)
       << ", " << fixed(g.origin[2], 3) << ") mm\n";
   out << "Direction cosines in LPS (columns are the i, j, k axes):\n" << matrixRows(g.direction);
+  out << voxelIndexReport(o, g);
   if (!input.maskDescription.empty()) out << "Mask:        " << input.maskDescription << "\n";
 
   std::size_t masked = 0, zero = 0, nonFinite = 0, considered = 0;

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/mrtrix_image.hpp"
@@ -224,6 +225,94 @@ TEST(MrtrixHostileHeaders, AbsurdOrInconsistentSizesFailWithOneLineBeforeAnyLarg
   expectRefused("mrtrix imagX\n", "not an MRtrix image");
   expectRefused("", "not an MRtrix image");
   expectRefused("mrtrix image\ndim 2,2,2\nEND\n", "line 2");
+}
+
+}  // namespace
+}  // namespace stvd::testing
+
+namespace stvd::testing {
+namespace {
+
+// MRtrix shows voxels in its own axis order (axes reordered and flipped to
+// point right, anterior, superior); stvd says which voxel that is.
+TEST(MrtrixVoxelIndex, FollowsMrtrixsReorderingOfTheAxes) {
+  // LAS storage, as the shipped brain: i points left, so MRtrix counts it backwards.
+  HandGeometry las;
+  las.size = {112, 112, 32};
+  las.directionLps = {1, 0, 0, 0, -1, 0, 0, 0, 1};  // i -> L, j -> A, k -> S
+  EXPECT_EQ(imaging::mrtrixVoxelIndex(las.grid(), {55, 54, 15}), (std::array<long, 3>{56, 54, 15}));
+  // Sagittal storage: i -> S, j -> P, k -> R; MRtrix's axes are (k, 9 - j, i).
+  HandGeometry sagittal;
+  sagittal.size = {8, 10, 12};
+  sagittal.directionLps = {0, 0, -1, 0, 1, 0, 1, 0, 0};  // columns: (0,0,1), (0,1,0), (-1,0,0) in LPS
+  const imaging::MrtrixAxisOrder order = imaging::mrtrixAxisOrder(sagittal.grid());
+  EXPECT_EQ(order.axis, (std::array<int, 3>{2, 1, 0}));
+  EXPECT_EQ(order.reversed, (std::array<bool, 3>{false, true, false}));
+  EXPECT_EQ(imaging::mrtrixVoxelIndex(sagittal.grid(), {1, 2, 3}), (std::array<long, 3>{3, 7, 1}));
+}
+
+TEST(ToolInfoVoxel, PrintsTheIndexMrtrixShowsNextToStvds) {
+  const ToolRun run = runTool({"info", sampleFile("dti_tensor_dipy5d.nii.gz"), "--voxel", "55,54,15"});
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  EXPECT_NE(run.out.find("MRtrix (mrview, mrconvert -coord) shows (111 - i, j, k)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("(55, 54, 15) in stvd = (56, 54, 15) in MRtrix, at RAS (6.39, 11.57, 76.31) mm"),
+            std::string::npos)
+      << run.out;
+  const ToolRun outside = runTool({"info", sampleFile("dti_tensor_dipy5d.nii.gz"), "--voxel", "112,0,0"});
+  EXPECT_EQ(outside.exitCode, 4) << outside.err;
+}
+
+}  // namespace
+}  // namespace stvd::testing
+
+namespace stvd::testing {
+namespace {
+
+class ToolMrtrix : public ScratchFolderTest {};
+
+// The shipped tensors rewritten by hand as MRtrix stores dwi2tensor output
+// (D11 D22 D33 D12 D13 D23 along the scanner's RAS axes, one volume per
+// component, the first axis stored backwards) give the same distance map as
+// the NIfTI file, and the map can be written as .mif.
+TEST_F(ToolMrtrix, AMifTensorImageGivesTheSameDistancesAsTheNiftiItWasMadeFrom) {
+  const imaging::TensorReadResult nifti = imaging::readTensorVolume(sampleFile("dti_tensor_dipy5d.nii.gz"));
+  const GridGeometry& g = nifti.volume.geometry;
+  const std::size_t n = g.voxelCount();
+  std::vector<float> stored(6 * n);
+  for (std::size_t k = 0, at = 0; k < g.size[2]; ++k)
+    for (std::size_t j = 0; j < g.size[1]; ++j)
+      for (std::size_t s = 0; s < g.size[0]; ++s, ++at) {
+        const std::size_t i = g.size[0] - 1 - s;  // layout -0: the first axis backwards
+        const SymTensor3 t = nifti.volume.tensors[i + g.size[0] * (j + g.size[1] * k)];
+        // LPS -> RAS: x and y flip, so xz and yz change sign, xy does not.
+        const float ras[6] = {t.xx, t.yy, t.zz, t.xy, -t.xz, -t.yz};
+        for (int q = 0; q < 6; ++q) stored[at + n * q] = ras[q];
+      }
+  std::ostringstream lines;
+  lines.precision(17);
+  lines << "dim: " << g.size[0] << "," << g.size[1] << "," << g.size[2] << ",6\nvox: " << g.spacing[0] << ","
+        << g.spacing[1] << "," << g.spacing[2] << ",1\nlayout: -0,+1,+2,+3\ndatatype: Float32LE\n";
+  for (int r = 0; r < 3; ++r) {
+    const double flip = r < 2 ? -1.0 : 1.0;
+    lines << "transform: " << flip * g.direction[3 * r] << "," << flip * g.direction[3 * r + 1] << ","
+          << flip * g.direction[3 * r + 2] << "," << flip * g.origin[r] << "\n";
+  }
+  writeBytes(path("dt.mif"), mifBytes(lines.str(), bytesOf(stored, false)));
+
+  for (const std::string& input : {path("dt.mif"), sampleFile("dti_tensor_dipy5d.nii.gz")}) {
+    const std::string output = input == path("dt.mif") ? path("from_mif.mif") : path("from_nifti.nii.gz");
+    const ToolRun run =
+        runTool({"distance", input, "--seed-voxel", "55,54,15", "--method", "dijkstra", "-o", output, "-q"});
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+  }
+  const imaging::ScalarImage a = imaging::readScalarImage(path("from_mif.mif"));
+  const imaging::ScalarImage b = imaging::readScalarImage(path("from_nifti.nii.gz"));
+  EXPECT_EQ(imaging::geometryMismatch(a.geometry, b.geometry), "");
+  ASSERT_EQ(a.values.size(), b.values.size());
+  double worst = 0.0;
+  for (std::size_t v = 0; v < a.values.size(); ++v) worst = std::max(worst, double(std::abs(a.values[v] - b.values[v])));
+  EXPECT_LT(worst, 1e-4);  // mm: float rounding of the frame change only
+  EXPECT_EQ(b.values[55 + 112 * (54 + 112 * 15)], 0.f);
 }
 
 }  // namespace

@@ -447,6 +447,43 @@ MrtrixImage readMrtrixImage(const std::string& path) {
   return decode(header, data, path);
 }
 
+MrtrixAxisOrder mrtrixAxisOrder(const GridGeometry& g) {
+  // The image axes in RAS: columns of the direction matrix with x and y negated.
+  double ras[3][3];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) ras[r][c] = (r < 2 ? -1.0 : 1.0) * g.direction[3 * r + c];
+  // For each scanner axis (row), the image axis closest to it; ties and
+  // repeats resolved to a permutation the way MRtrix does.
+  MrtrixAxisOrder order;
+  for (int r = 0; r < 3; ++r) {
+    int best = 0;
+    for (int c = 1; c < 3; ++c)
+      if (std::abs(ras[r][c]) > std::abs(ras[r][best])) best = c;
+    order.axis[r] = best;
+  }
+  const auto other = [](int a, int b) {
+    for (int i = 0; i < 3; ++i)
+      if (i != a && i != b) return i;
+    return 0;
+  };
+  auto& p = order.axis;
+  if (p[0] == p[1]) p[1] = other(p[0], p[2]);
+  if (p[0] == p[2]) p[2] = other(p[0], p[1]);
+  if (p[1] == p[2]) p[2] = other(p[0], p[1]);
+  for (int r = 0; r < 3; ++r) order.reversed[r] = ras[r][p[r]] < 0.0;
+  return order;
+}
+
+std::array<long, 3> mrtrixVoxelIndex(const GridGeometry& g, const std::array<long, 3>& index) {
+  const MrtrixAxisOrder order = mrtrixAxisOrder(g);
+  std::array<long, 3> shown{};
+  for (int r = 0; r < 3; ++r) {
+    const int a = order.axis[r];
+    shown[r] = order.reversed[r] ? static_cast<long>(g.size[a]) - 1 - index[a] : index[a];
+  }
+  return shown;
+}
+
 void writeMrtrixImage(const std::string& path, const std::string& formatPath, const GridGeometry& g,
                       const std::vector<float>& values, std::size_t volumes) {
   if (volumes == 0 || values.size() != g.voxelCount() * volumes)

@@ -84,6 +84,20 @@ MrtrixImage parseMrtrixImage(std::string_view bytes, const std::string& name);
 /// ImageIoError with one line naming the file.
 MrtrixImage readMrtrixImage(const std::string& path);
 
+/// How MRtrix numbers the voxels of an image. MRtrix reorders the axes of
+/// every image it opens (NIfTI, NRRD or its own) so that the first, second
+/// and third point as nearly as possible to right, anterior and superior:
+/// MRtrix axis r is image axis `axis[r]`, counted backwards when
+/// `reversed[r]`. mrview, mrconvert -coord and mrinfo count voxels in that
+/// order; stvd counts them as the file stores them.
+struct MrtrixAxisOrder {
+  std::array<int, 3> axis{0, 1, 2};
+  std::array<bool, 3> reversed{false, false, false};
+};
+MrtrixAxisOrder mrtrixAxisOrder(const GridGeometry& geometryLps);
+/// The index MRtrix shows for the voxel stvd calls `index`.
+std::array<long, 3> mrtrixVoxelIndex(const GridGeometry& geometryLps, const std::array<long, 3>& index);
+
 /// Writes `values` (volumes of geometry.voxelCount() values each, the
 /// first volume first) as float32 .mif, or .mif.gz when `formatPath` ends
 /// so, to `path`: axes 0, 1, 2 (and 3 for several volumes) stored in that
