@@ -3,6 +3,7 @@
 // region, the regions spread over threads.
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <exception>
 #include <fstream>
@@ -44,6 +45,13 @@ const char* kConnectivityHelp =
     "\n"
     "  --labels LABELS         the region image (required).\n"
     "  -o, --output FILE       the table (required); written atomically.\n"
+    "  --matrix FILE.csv       also the square N x N matrix of geodesic distances (mm): row A,\n"
+    "                          column B holds d(A, B); rows and columns in label order, the labels\n"
+    "                          in a '# labels:' header line; 0 on the diagonal, inf where B is not\n"
+    "                          reachable from A (numpy.loadtxt(FILE, delimiter=',') and MRtrix's\n"
+    "                          matrix readers skip the '#' lines, as for tck2connectome output).\n"
+    "  --matrix-index FILE.csv the same matrix of the connectivity index; 0 on the diagonal and\n"
+    "                          where B is not reachable.\n"
     "  --threads N             regions propagated in parallel (default: the number of cores);\n"
     "                          the table does not depend on N.\n"
     "  --method, --k, --chain-measure, --stencil   as in stvd distance (defaults stvd, 8,\n"
@@ -60,6 +68,8 @@ struct ConnectivityOptions : PropagationChoice {
   std::string input;
   std::string labels;
   std::string output;
+  std::string matrix;       // --matrix
+  std::string matrixIndex;  // --matrix-index
   TensorInputOptions tensor;
   unsigned threads = 0;
   bool quiet = false;
@@ -75,6 +85,10 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
       o.output = args.value(a);
     } else if (a == "--labels") {
       o.labels = args.value(a);
+    } else if (a == "--matrix") {
+      o.matrix = args.value(a);
+    } else if (a == "--matrix-index") {
+      o.matrixIndex = args.value(a);
     } else if (a == "--threads") {
       const int n = parseInteger(a, args.value(a));
       if (n < 1 || n > 1024) usageError("--threads must be between 1 and 1024");
@@ -90,6 +104,9 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
   if (o.input.empty()) usageError("no input file (see stvd connectivity --help)");
   if (o.labels.empty()) usageError("no regions: add --labels LABELS");
   if (o.output.empty()) usageError("no output file: add -o TABLE.tsv");
+  for (const std::string* other : {&o.matrix, &o.matrixIndex})
+    if (*other == o.output) usageError(*other + " is named twice as an output");
+  if (!o.matrix.empty() && o.matrix == o.matrixIndex) usageError(o.matrix + " is named twice as an output");
   checkPropagationChoice(o, /*lanthierAllowed=*/false);
   return o;
 }
@@ -108,6 +125,43 @@ struct PairResult {
 
 std::string number(double x) { return std::isfinite(x) ? fixed(x, 4) : "n/a"; }
 
+/// The connectivity index of a pair: path length over geodesic length.
+double connectivityIndex(const PairResult& r) {
+  return std::isfinite(r.geodesic) && r.geodesic > 0.0 ? r.pathLength / r.geodesic
+                                                         : std::numeric_limits<double>::quiet_NaN();
+}
+
+/// One square matrix as CSV: '#' header lines, then row a, column b.
+std::string matrixCsv(const std::string& what, const std::vector<Region>& regions,
+                      const std::vector<PairResult>& table, bool index) {
+  const std::size_t n = regions.size();
+  std::ostringstream csv;
+  csv << "# stvd connectivity: " << what << " from the region of the row to the region of the column\n# labels: ";
+  for (std::size_t a = 0; a < n; ++a) csv << (a ? "," : "") << regions[a].label;
+  csv << "\n";
+  for (std::size_t a = 0; a < n; ++a) {
+    for (std::size_t b = 0; b < n; ++b) {
+      const PairResult& r = table[a * n + b];
+      csv << (b ? "," : "");
+      if (a == b) csv << "0";
+      else if (index) csv << (std::isfinite(connectivityIndex(r)) ? fixed(connectivityIndex(r), 6) : "0");
+      else csv << (std::isfinite(r.geodesic) ? fixed(r.geodesic, 4) : "inf");
+    }
+    csv << "\n";
+  }
+  return csv.str();
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  imaging::AtomicOutput output(path);
+  {
+    std::ofstream file(output.stagingPath());
+    file << text;
+    if (!file.flush()) throw imaging::ImageIoError(path, "cannot write the file");
+  }
+  output.commit();
+}
+
 }  // namespace
 
 int runConnectivity(int argc, char** argv) {
@@ -116,6 +170,8 @@ int runConnectivity(int argc, char** argv) {
   const ConnectivityOptions o = parseConnectivityOptions(argc, argv);
   try {
     imaging::checkOutputPath(o.output);
+    if (!o.matrix.empty()) imaging::checkOutputPath(o.matrix);
+    if (!o.matrixIndex.empty()) imaging::checkOutputPath(o.matrixIndex);
   } catch (const imaging::ImageIoError& e) {
     throw ToolError(kExitOutput, e.what());
   }
@@ -186,21 +242,25 @@ int runConnectivity(int argc, char** argv) {
     for (std::size_t b = 0; b < n; ++b) {
       if (a == b) continue;
       const PairResult& r = table[a * n + b];
-      const double index = std::isfinite(r.geodesic) && r.geodesic > 0.0 ? r.pathLength / r.geodesic
-                                                                          : std::numeric_limits<double>::quiet_NaN();
+      const double index = connectivityIndex(r);
       tsv << regions[a].label << "\t" << regions[b].label << "\t" << number(r.geodesic) << "\t" << number(r.pathLength)
           << "\t" << number(r.straight) << "\t" << number(index) << "\t" << regions[a].voxels.size() << "\t"
           << regions[b].voxels.size() << "\n";
     }
+  // Each file appears whole or not at all; when a later one fails, the
+  // earlier ones are removed again, so no half result stays behind.
+  std::vector<std::pair<std::string, std::string>> files{{o.output, tsv.str()}};
+  if (!o.matrix.empty()) files.emplace_back(o.matrix, matrixCsv("geodesic distance (mm)", regions, table, false));
+  if (!o.matrixIndex.empty())
+    files.emplace_back(o.matrixIndex, matrixCsv("connectivity index (path_mm / geodesic_mm)", regions, table, true));
+  std::vector<std::string> written;
   try {
-    imaging::AtomicOutput output(o.output);
-    {
-      std::ofstream file(output.stagingPath());
-      file << tsv.str();
-      if (!file.flush()) throw imaging::ImageIoError(o.output, "cannot write the table");
+    for (const auto& [path, text] : files) {
+      writeText(path, text);
+      written.push_back(path);
     }
-    output.commit();
   } catch (const imaging::ImageIoError& e) {
+    for (const std::string& path : written) std::remove(path.c_str());
     throw ToolError(kExitOutput, e.what());
   }
   if (!o.quiet)
@@ -209,6 +269,7 @@ int runConnectivity(int argc, char** argv) {
               << ": " << n * (n - 1) << " ordered pairs, " << methodText(o) << " on the " << o.stencil
               << "-neighbour stencil, " << threadCount << (threadCount == 1 ? " thread" : " threads") << ". Took "
               << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s. Wrote " << o.output
+              << (o.matrix.empty() ? "" : ", " + o.matrix) << (o.matrixIndex.empty() ? "" : ", " + o.matrixIndex)
               << "." << std::endl;
   return kExitOk;
 }
