@@ -121,5 +121,11 @@ bool takeInputOrHelp(const std::string& argument, const ArgumentReader& args, st
 std::string withThousands(unsigned long long n);
 /// Fixed-point with `decimals` digits.
 std::string fixed(double x, int decimals);
+/// A JSON string literal (quotes and control characters escaped).
+std::string jsonString(const std::string& s);
+/// A JSON number with 10 significant digits; null for NaN and infinities.
+std::string jsonNumber(double x);
+/// The peak resident set size of the process (getrusage), in bytes.
+std::uint64_t peakMemoryBytes();
 
 }  // namespace stvd::tool

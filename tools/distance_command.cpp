@@ -1,6 +1,5 @@
 // `stvd distance`: the anisotropic geodesic distance from seeds over a
 // tensor volume, written as a float32 image on the input's grid.
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -41,7 +40,8 @@ double secondsSince(Clock::time_point start) {
 
 const char* kDistanceHelp =
     "Usage: stvd distance INPUT -o OUTPUT [options]\n"
-    "       (polygon surfaces: stvd distance MESH.obj|off|ply --help)\n"
+    "       stvd distance MESH.obj|off|ply|stl -o OUT.ply|vtk|csv --seed-vertex N|--seed-point X,Y,Z\n"
+    "       stvd distance MESH.node -o OUT.vtk|vtu|csv|nii.gz --seed-vertex N|--seed-point X,Y,Z\n"
     "\n"
     "Anisotropic geodesic distance (millimetres) from seed voxels over a diffusion or metric\n"
     "tensor volume. The output format follows the extension: .nii, .nii.gz, .nrrd, .nhdr, .mif or\n"
@@ -51,8 +51,8 @@ const char* kDistanceHelp =
     "otherwise; .vdb gives an OpenVDB FloatGrid named \"distance\" whose transform places the\n"
     "voxels in RAS millimetres and in which voxels not reached are inactive. All coordinates\n"
     "are millimetres; distances are measured in physical space (spacing and direction cosines\n"
-    "applied). A TetGen tetrahedral mesh (INPUT ending in .node or .ele) has options of its own:\n"
-    "see stvd distance MESH.node --help and docs/tet_meshes.md.\n"
+    "applied). Polygon surfaces (.obj, .off, .ply, .stl) and TetGen tetrahedral meshes (.node,\n"
+    ".ele) take the options of their own sections below.\n"
     "\n"
     "Seeds (at least one; all given seeds are sources at distance 0):\n"
     "  --seed-voxel I,J,K      0-based voxel index (repeatable).\n"
@@ -98,6 +98,18 @@ const char* kDistanceHelp =
     "seed outside the image or the domain); 5 output cannot be written. On failure one line on\n"
     "stderr names the file and the problem, and no output file is left behind.\n";
 
+/// The whole help: volumes, then surfaces and tetrahedral meshes in
+/// sections of their own.
+const std::string& distanceHelp() {
+  static const std::string help =
+      std::string(kDistanceHelp) +
+      "\n=== Polygon surfaces: stvd distance MESH.obj|off|ply|stl -o OUT.ply|vtk|csv (docs/surfaces.md) ===\n\n" +
+      surfaceOptionsHelp() +
+      "\n=== Tetrahedral meshes: stvd distance MESH.node -o OUT.vtk|vtu|csv|nii.gz (docs/tet_meshes.md) ===\n\n" +
+      tetMeshOptionsHelp();
+  return help;
+}
+
 struct DistanceOptions : SeedOptions, PropagationChoice {
   std::string input;
   std::string output;
@@ -117,7 +129,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   ArgumentReader args(argc, argv, 2);
   while (!args.done()) {
     const std::string a = args.take();
-    if (takeInputOrHelp(a, args, o.input, kDistanceHelp, true)) continue;
+    if (takeInputOrHelp(a, args, o.input, distanceHelp().c_str(), true)) continue;
     if (a == "-o" || a == "--output") {
       o.output = args.value(a);
     } else if (parseSeedOption(a, args, o) || parsePropagationOption(a, args, o)) {
@@ -185,31 +197,6 @@ class ProgressBar {
 };
 
 
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
-      out += buffer;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
-std::string jsonNumber(double x) {
-  if (!std::isfinite(x)) return "null";
-  std::ostringstream s;
-  s.precision(10);
-  s << x;
-  return s.str();
-}
-
 struct DistanceStatistics {
   std::size_t reached = 0;
   double maximum = 0.0;
@@ -233,12 +220,6 @@ DistanceStatistics summarise(const std::vector<double>& distance) {
     s.median = 0.5 * (s.median + below);
   }
   return s;
-}
-
-std::uint64_t peakMemoryBytes() {
-  rusage usage{};
-  ::getrusage(RUSAGE_SELF, &usage);
-  return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
 }
 
 std::string terminationName(Termination t) {

@@ -286,6 +286,11 @@ VertexTensors tensorsFromImage(const TetDistanceOptions& o, const tetmesh::TetMe
 
 }  // namespace
 
+std::string tetMeshOptionsHelp() {
+  const std::string help = kTetDistanceHelp;
+  return help.substr(help.find("Seeds ("));
+}
+
 bool isTetMeshInput(const std::string& input) {
   auto ends = [&](const char* suffix) {
     const std::size_t n = std::char_traits<char>::length(suffix);

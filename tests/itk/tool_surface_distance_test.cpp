@@ -171,15 +171,17 @@ TEST_F(ToolSurfaceDistance, ConstantFaceTensorsGiveTheTensorNormInPly) {
                                "--metric", "face-tensors:" + path("faces.txt"), "-q", "-o",
                                path("d.ply")});
   ASSERT_EQ(run.exitCode, 0) << run.err;
-  // The .ply body: per vertex x y z (float) and distance (double), little-endian.
+  // The .ply body: per vertex x y z (double, as the .off's text) and
+  // distance (float), little-endian.
   std::ifstream in(path("d.ply"), std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::size_t body = bytes.find("end_header\n") + 11;
-  ASSERT_NE(bytes.find("property double distance\n"), std::string::npos);
+  ASSERT_NE(bytes.find("property double x\n"), std::string::npos);
+  ASSERT_NE(bytes.find("property float distance\n"), std::string::npos);
   double sum = 0.0;
   for (VertexId v = 0; v < s.points.size(); ++v) {
-    double d;
-    std::memcpy(&d, bytes.data() + body + v * 20 + 12, 8);
+    float d;
+    std::memcpy(&d, bytes.data() + body + v * 28 + 24, 4);
     if (v == seed) continue;
     const double dx = s.flat[v][0] - s.flat[seed][0], dy = s.flat[v][1] - s.flat[seed][1];
     const double exact = std::sqrt(9.0 * dx * dx + dy * dy);
