@@ -52,8 +52,7 @@ InfoOptions parseInfoOptions(int argc, char** argv) {
   while (!args.done()) {
     const std::string a = args.take();
     if (takeInputOrHelp(a, args, o.input, kInfoHelp, false)) continue;
-    if (a == "--tensor-order" || a == "--tensor-frame" || a == "--mask" || a == "--max-anisotropy" ||
-        a == "--accept-implausible-tensors") {
+    if (a == "--tensor-order" || a == "--tensor-frame" || a == "--mask" || a == "--max-anisotropy") {
       parseTensorInputOption(a, args, o.tensor);
     } else if (a == "--voxel") {
       o.voxels.push_back(parseIntegerTriple(a, args.value(a)));
@@ -123,7 +122,7 @@ std::string componentOrderReport(const TensorInput& input, std::size_t considere
   out << "Component orders tried (tensors positive definite, of the " << withThousands(considered)
       << " with a value):\n";
   const imaging::TensorOrder* best = nullptr;
-  std::uint64_t bestCount = 0, asRead = 0;
+  std::uint64_t bestCount = 0, notPositiveDefinite = 0;
   const auto trials = imaging::tryComponentOrders(input.read, input.mask);
   for (const imaging::ComponentOrderTrial& t : trials) {
     const std::string name = imaging::tensorOrderName(t.order);
@@ -131,16 +130,15 @@ std::string componentOrderReport(const TensorInput& input, std::size_t considere
         << withThousands(t.positiveDefinite) << " ("
         << fixed(t.tensors ? 100.0 * double(t.positiveDefinite) / double(t.tensors) : 0.0, 1) << " %), FA above 1 in "
         << withThousands(t.faAboveOne) << (t.order == info.order ? "   <- as read" : "") << "\n";
-    if (t.order == info.order) asRead = t.positiveDefinite;
+    if (t.order == info.order) notPositiveDefinite = t.tensors - t.positiveDefinite;
     if (!best || t.positiveDefinite > bestCount) {
       best = &t.order;
       bestCount = t.positiveDefinite;
     }
   }
-  if (considered > 0 &&
-      double(considered - asRead) > imaging::kMaxNotPositiveDefiniteShare * double(considered)) {
+  if (considered > 0 && double(notPositiveDefinite) > imaging::kMaxNotPositiveDefiniteShare * double(considered)) {
     out << "Warning: read as " << imaging::tensorOrderName(info.order) << ", "
-        << fixed(100.0 * double(considered - asRead) / double(considered), 1)
+        << fixed(100.0 * double(notPositiveDefinite) / double(considered), 1)
         << " % of the tensors are not positive definite; stvd distance, path and connectivity stop on such a file"
            " (exit 3) unless --accept-implausible-tensors is given.";
     if (best && *best != info.order)

@@ -279,8 +279,9 @@ std::string methodName(const SurfaceOptions& o) {
                                         : "STVD k=" + std::to_string(o.k);
 }
 
+/// What --stats reports besides the options and the file's mesh.
 struct SurfaceRun {
-  std::size_t vertices = 0, faces = 0, components = 0;
+  std::size_t components = 0;
   const SurfaceSeeds* seeds = nullptr;
   const PropagationResult* result = nullptr;
   std::vector<double> distance;  // the file's vertices
