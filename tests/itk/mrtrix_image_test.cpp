@@ -135,6 +135,33 @@ TEST_F(MrtrixFiles, AHeaderWithADataFileAndACompressedMifRead) {
   EXPECT_EQ(imaging::readScalarImage(path("c.mif.gz")).values, values);
 }
 
+// A compressed file is checked against its header before its data are
+// kept: a few kB of zeros that expand to megabytes, under a header that
+// declares gigabytes, fail without the megabytes being allocated; so does
+// a stream cut short.
+TEST_F(MrtrixFiles, CompressedFilesThatHoldLessThanTheirHeaderDeclaresFailWithOneLine) {
+  const std::string bomb = mifBytes("dim: 1000,1000,1000\nvox: 1,1,1\nlayout: +0,+1,+2\ndatatype: Float32LE\n",
+                                    std::string(8 << 20, '\0'));
+  gzFile gz = gzopen(path("bomb.mif.gz").c_str(), "wb9");
+  gzwrite(gz, bomb.data(), static_cast<unsigned>(bomb.size()));
+  gzclose(gz);
+  try {
+    imaging::readScalarImage(path("bomb.mif.gz"));
+    ADD_FAILURE() << "accepted";
+  } catch (const ImageIoError& e) {
+    EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
+  }
+  std::ifstream in(path("bomb.mif.gz"), std::ios::binary);
+  std::string compressed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  writeBytes(path("cut.mif.gz"), compressed.substr(0, compressed.size() / 2));
+  try {
+    imaging::readScalarImage(path("cut.mif.gz"));
+    ADD_FAILURE() << "accepted";
+  } catch (const ImageIoError& e) {
+    EXPECT_NE(std::string(e.what()).find("cut short"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(MrtrixFiles, TensorsAreReadInMrtrixOrderAlongTheScannerAxes) {
   // One voxel, D11 D22 D33 D12 D13 D23 = 3 2 1 0.5 0.25 0.125 in RAS; in LPS
   // the xy and xz couplings change sign (x and y flip), yz does not.

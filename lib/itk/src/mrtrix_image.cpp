@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include "stvd/itk/image_io_error.hpp"
@@ -220,37 +221,61 @@ std::string readFile(const std::string& path, std::size_t limit) {
   return content;
 }
 
-/// A .mif.gz file decompressed as far as its header says, never further.
-std::string readCompressedMif(const std::string& path) {
-  gzFile file = gzopen(path.c_str(), "rb");
-  if (!file) throw ImageIoError(path, std::string("cannot open: ") + std::strerror(errno));
-  std::string content;
-  std::size_t needed = std::numeric_limits<std::size_t>::max();
-  bool damaged = false;
-  std::vector<char> chunk(1 << 20);
-  while (content.size() < needed) {
-    const std::size_t want = std::min<std::size_t>(chunk.size(), needed - content.size());
-    const int got = gzread(file, chunk.data(), static_cast<unsigned>(want));
-    if (got < 0) {
-      damaged = true;
-      break;
-    }
+/// Reads up to `size` decompressed bytes into `into` (nullptr: counts them
+/// only); the count read. Throws ImageIoError for a damaged stream.
+std::size_t gzipRead(gzFile file, const std::string& path, char* into, std::size_t size) {
+  std::vector<char> scratch(into ? 0 : std::min<std::size_t>(size, 1u << 20));
+  std::size_t done = 0;
+  while (done < size) {
+    const unsigned want = static_cast<unsigned>(std::min<std::size_t>(size - done, 1u << 20));
+    const int got = gzread(file, into ? into + done : scratch.data(), want);
+    int error = Z_OK;
+    if (got <= 0) gzerror(file, &error);
+    if (got < 0 || (error != Z_OK && error != Z_STREAM_END))
+      throw ImageIoError(path, "the compressed data are damaged or cut short");
     if (got == 0) break;
-    content.append(chunk.data(), static_cast<std::size_t>(got));
-    if (needed == std::numeric_limits<std::size_t>::max() && headerEnd(content) != std::string::npos) {
-      const MrtrixHeader header = parseMrtrixHeader(content, path);
-      if (header.dataFile != ".")
-        throw ImageIoError(path, "a .mif.gz file must hold its own data (file: . OFFSET)");
-      needed = header.dataOffset + header.dataBytes();
-    } else if (needed == std::numeric_limits<std::size_t>::max() && content.size() > kMaxHeaderBytes + 8) {
-      break;  // parseMrtrixImage reports the missing END
-    }
+    done += static_cast<std::size_t>(got);
   }
-  int error = Z_OK;
-  gzerror(file, &error);
-  gzclose(file);
-  if (damaged || (error != Z_OK && error != Z_STREAM_END))
-    throw ImageIoError(path, "the compressed data are damaged or cut short");
+  return done;
+}
+
+/// A .mif.gz file decompressed as far as its header says, never further.
+/// The stream is decompressed twice: once to find the header and to count
+/// how far the data go (nothing stored), then into memory, so that a
+/// header that declares more data than the stream holds fails before the
+/// data are allocated (a few hundred kB of zeros can expand to gigabytes).
+std::string readCompressedMif(const std::string& path) {
+  struct Closer {
+    void operator()(gzFile_s* f) const { gzclose(f); }
+  };
+  const auto open = [&path] {
+    std::unique_ptr<gzFile_s, Closer> file(gzopen(path.c_str(), "rb"));
+    if (!file) throw ImageIoError(path, std::string("cannot open: ") + std::strerror(errno));
+    return file;
+  };
+  auto first = open();
+  std::string head;
+  std::size_t end = std::string::npos;
+  std::vector<char> chunk(4096);
+  while (end == std::string::npos && head.size() <= kMaxHeaderBytes) {
+    const std::size_t got = gzipRead(first.get(), path, chunk.data(), chunk.size());
+    if (got == 0) break;
+    head.append(chunk.data(), got);
+    end = headerEnd(head);
+  }
+  if (end == std::string::npos) return head;  // parseMrtrixImage names what is missing
+  const MrtrixHeader header = parseMrtrixHeader(head, path);
+  if (header.dataFile != ".") throw ImageIoError(path, "a .mif.gz file must hold its own data (file: . OFFSET)");
+  const std::size_t needed = header.dataOffset + header.dataBytes();
+  const std::size_t available =
+      head.size() >= needed ? needed : head.size() + gzipRead(first.get(), path, nullptr, needed - head.size());
+  if (available < needed)
+    throw ImageIoError(path, "the file is truncated: " + std::to_string(available) +
+                                 " decompressed bytes where header and data need " + std::to_string(needed));
+  auto second = open();
+  std::string content(needed, '\0');
+  if (gzipRead(second.get(), path, content.data(), needed) != needed)
+    throw ImageIoError(path, "the compressed data changed while being read");
   return content;
 }
 
