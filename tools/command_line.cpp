@@ -216,10 +216,7 @@ std::string tensorInputHelp(bool withMetricOptions) {
       "                                  NRRD: the measurement frame, in the NRRD space\n"
       "                          default: voxel for NIfTI in the lower and fsl orders, world for\n"
       "                          NIfTI in the mrtrix order and for NRRD.\n"
-      "  --mask FILE             only voxels where FILE is non-zero (same grid as the tensors).\n"
-      "  --accept-implausible-tensors\n"
-      "                          go on although more than 10 % of the tensors are not positive\n"
-      "                          definite, which a wrong --tensor-order gives (default: exit 3).\n";
+      "  --mask FILE             only voxels where FILE is non-zero (same grid as the tensors).\n";
   if (withMetricOptions)
     text +=
         "Metric:\n"
@@ -233,6 +230,10 @@ std::string tensorInputHelp(bool withMetricOptions) {
         "  --max-anisotropy A      raise eigenvalues below lambda_max/A to it (default 100), which\n"
         "                          also repairs zero and negative eigenvalues.\n"
         "  --fa-threshold T        only voxels whose tensor has FA >= T (diffusion tensors).\n"
+        "  --accept-implausible-tensors\n"
+        "                          go on although more than 10 % of the tensors are not positive\n"
+        "                          definite, which a wrong --tensor-order gives (default: exit 3;\n"
+        "                          stvd info tries each order).\n"
         "  Voxels with a zero, NaN or infinite tensor, or no positive eigenvalue, are outside.\n";
   else
     text += "  --max-anisotropy A      count tensors with lambda_max/lambda_min above A (default 100).\n";
