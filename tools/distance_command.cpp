@@ -270,8 +270,7 @@ void writeStats(const std::string& path, const DistanceOptions& o, const TensorI
   j << "    \"k\": " << (o.lanthier ? std::string("null") : std::to_string(o.method == Method::Dijkstra ? 1 : o.k))
     << ",\n";
   if (!o.lanthier) {  // lanthier measures cells, not stencil edges or chains
-    j << "    \"chain_measure\": \""
-      << (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? "largest" : "projection") << "\",\n";
+    j << "    \"chain_measure\": \"" << chainMeasureName(o.chainMeasure) << "\",\n";
     j << "    \"stencil\": " << jsonString(o.stencil) << ",\n";
   }
   j << "    \"max_distance_mm\": " << jsonNumber(o.maxDistance) << ",\n";
@@ -313,7 +312,8 @@ void writeStats(const std::string& path, const DistanceOptions& o, const TensorI
     << ", \"repaired_anisotropy\": " << counts.repairedAnisotropy << "},\n";
   j << "  \"propagation\": {\"vertices\": " << g.voxelCount() << ", \"domain_vertices\": " << counts.domain
     << ", \"finalized_vertices\": " << result.finalizedVertices << ", \"relaxed_edges\": " << result.relaxedEdges
-    << ", \"termination\": " << jsonString(terminationName(result.termination))
+    << ", \"measured_candidates\": " << result.measuredCandidates
+    << ", \"refused_candidates\": " << result.refusedCandidates << ", \"termination\": " << jsonString(terminationName(result.termination))
     << ", \"peak_state_bytes\": " << result.peakStateBytes << "},\n";
   j << "  \"distance_mm\": {\"reached\": " << stats.reached << ", \"min\": " << (stats.reached ? "0" : "null")
     << ", \"median\": " << (stats.reached ? jsonNumber(stats.median) : "null")

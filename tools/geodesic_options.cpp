@@ -47,12 +47,14 @@ bool parsePropagationOption(const std::string& a, ArgumentReader& args, Propagat
       usageError("--k must be between 1 and " + std::to_string(kMaxMemoryDepth));
   } else if (a == "--chain-measure") {
     const std::string m = args.value(a);
-    if (m == "projection")
+    if (m == "segment")
+      o.chainMeasure = ChainMeasure::Segment;
+    else if (m == "projection")
       o.chainMeasure = ChainMeasure::ProjectionWeighted;
     else if (m == "largest")
       o.chainMeasure = ChainMeasure::LargestEdgeNorm;
     else
-      usageError("--chain-measure: '" + m + "' is not one of projection, largest");
+      usageError("--chain-measure: '" + m + "' is not one of segment, projection, largest");
     o.chainMeasureGiven = true;
   } else if (a == "--stencil") {
     o.stencil = args.value(a);
@@ -109,9 +111,10 @@ std::string methodText(const PropagationChoice& o) {
   if (o.lanthier)
     return "Lanthier Steiner-point propagation with M = " + std::to_string(o.steinerPoints) + " points per cube edge";
   if (o.method == Method::Dijkstra) return "Dijkstra";
-  return "STVD with k = " + std::to_string(o.k) +
-         (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? " (largest-norm chain measure)"
-                                                          : " (projection chain measure)");
+  const char* measure = o.chainMeasure == ChainMeasure::Segment            ? " (segment measure)"
+                        : o.chainMeasure == ChainMeasure::LargestEdgeNorm ? " (largest-norm chain measure)"
+                                                                          : " (projection chain measure)";
+  return "STVD with k = " + std::to_string(o.k) + measure;
 }
 
 std::string voxelText(const VoxelIndex& v) {
