@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -13,8 +12,10 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
+#include "run_files.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/geodesic_path.hpp"
-#include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/parallel_tasks.hpp"
@@ -114,11 +115,12 @@ int runConnectivity(int argc, char** argv) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   const ConnectivityOptions o = parseConnectivityOptions(argc, argv);
-  try {
-    imaging::checkOutputPath(o.output);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputImage("tensor input", o.input);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("label image", o.labels);
+  files.outputFile("connectivity table", o.output);
+  files.check();
   const TensorInput input = readTensorInput(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
   imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
@@ -193,14 +195,9 @@ int runConnectivity(int argc, char** argv) {
           << regions[b].voxels.size() << "\n";
     }
   try {
-    imaging::AtomicOutput output(o.output);
-    {
-      std::ofstream file(output.stagingPath());
-      file << tsv.str();
-      if (!file.flush()) throw imaging::ImageIoError(o.output, "cannot write the table");
-    }
-    output.commit();
-  } catch (const imaging::ImageIoError& e) {
+    const std::string table = tsv.str();
+    files::writeAtomically(o.output, [&](const std::string& staging) { files::writeFileContents(staging, table); });
+  } catch (const files::OutputError& e) {
     throw ToolError(kExitOutput, e.what());
   }
   if (!o.quiet)

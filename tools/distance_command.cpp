@@ -6,15 +6,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <sstream>
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
-#include "stvd/itk/atomic_output.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "run_files.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/symmetric_eigen.hpp"
 #include "stvd/itk/tensor_frames.hpp"
@@ -253,10 +253,9 @@ struct Timings {
   double read = 0, metric = 0, propagate = 0, write = 0, total = 0;
 };
 
-void writeStats(const std::string& path, const DistanceOptions& o, const TensorInput& input,
-                const imaging::MetricVoxelCounts& counts, const std::vector<Seed>& seeds,
-                std::size_t labelSeedsLeftOut, const PropagationResult& result, const DistanceStatistics& stats,
-                const Timings& t) {
+std::string statsJson(const DistanceOptions& o, const TensorInput& input, const imaging::MetricVoxelCounts& counts,
+                      const std::vector<Seed>& seeds, std::size_t labelSeedsLeftOut, const PropagationResult& result,
+                      const DistanceStatistics& stats, const Timings& t) {
   const GridGeometry& g = input.read.volume.geometry;
   const imaging::TensorFileInfo& info = input.read.info;
   std::ostringstream j;
@@ -323,14 +322,7 @@ void writeStats(const std::string& path, const DistanceOptions& o, const TensorI
     << ", \"total\": " << jsonNumber(t.total) << "},\n";
   j << "  \"peak_memory_bytes\": " << peakMemoryBytes() << "\n";
   j << "}\n";
-
-  imaging::AtomicOutput output(path);
-  {
-    std::ofstream file(output.stagingPath());
-    file << j.str();
-    if (!file.flush()) throw imaging::ImageIoError(path, "cannot write the statistics file");
-  }
-  output.commit();
+  return j.str();
 }
 
 std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
@@ -406,12 +398,16 @@ int runDistance(int argc, char** argv) {
   Timings t;
 
   // Output problems are found before the work, not after it.
-  try {
-    imaging::checkOutputPath(o.output);
-    if (!o.statsPath.empty()) imaging::checkOutputPath(o.statsPath);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputImage("tensor input", o.input);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("seed labels", o.seedLabels);
+  if (isVdbPath(o.output))
+    files.outputFile("distance map", o.output);
+  else
+    files.outputImage("distance map", o.output);
+  files.outputFile("statistics file", o.statsPath);
+  files.check();
 
   Clock::time_point phase = Clock::now();
   const TensorInput input = readTensorInput(o.input, o.tensor);
@@ -471,27 +467,27 @@ int runDistance(int argc, char** argv) {
   for (std::size_t v = 0; v < values.size(); ++v)
     values[v] = std::isfinite(result.distance[v]) ? static_cast<float>(result.distance[v]) : o.unreachableValue;
   const DistanceStatistics stats = summarise(result.distance);
+  // The map and the statistics appear together or not at all.
+  files::OutputTransaction outputs;
   try {
     if (isVdbPath(o.output)) {
 #ifdef STVD_WITH_VDB_OUTPUT
       vdb::DistanceGridOptions grid;
       grid.background = std::isfinite(o.unreachableValue) ? o.unreachableValue : -1.f;
-      vdb::writeDistanceGrid(o.output, g, result.distance, grid);
+      vdb::writeDistanceGrid(outputs, o.output, g, result.distance, grid);
 #endif
     } else {
-      imaging::writeScalarImage(o.output, g, values);
+      imaging::writeScalarImage(outputs, o.output, g, values);
     }
-  } catch (const std::runtime_error& e) {
+    t.write = secondsSince(phase);
+    t.total = secondsSince(start);
+    if (!o.statsPath.empty()) {
+      const std::string json = statsJson(o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, t);
+      outputs.write(o.statsPath, [&](const std::string& staging) { files::writeFileContents(staging, json); });
+    }
+    outputs.commit();
+  } catch (const files::OutputError& e) {
     throw ToolError(kExitOutput, e.what());
-  }
-  t.write = secondsSince(phase);
-  t.total = secondsSince(start);
-  if (!o.statsPath.empty()) {
-    try {
-      writeStats(o.statsPath, o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, t);
-    } catch (const imaging::ImageIoError& e) {
-      throw ToolError(kExitOutput, e.what());
-    }
   }
   if (!o.quiet)
     std::cout << summaryParagraph(o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, t) << std::endl;

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -12,8 +10,10 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
+#include "run_files.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/geodesic_path.hpp"
-#include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/streamline_io.hpp"
@@ -147,7 +147,6 @@ PathOptions parsePathOptions(int argc, char** argv) {
   if (!imaging::streamlineFormatOf(o.output))
     usageError(o.output + ": unsupported output format; use .tck, .trk or .vtk");
   if (o.tsvPath.empty()) o.tsvPath = replaceExtension(o.output, ".tsv");
-  if (o.tsvPath == o.output) usageError("--tsv names the paths file itself");
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
     usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
   if (o.targetVoxels.empty() && o.targetPoints.empty() && o.targetLabels.empty())
@@ -213,27 +212,19 @@ double lengthWeightedMean(const std::vector<Vec3d>& points, const std::vector<fl
 
 std::string tsvNumber(double x, int decimals) { return std::isfinite(x) ? fixed(x, decimals) : "n/a"; }
 
-void writeTextAtomically(const std::string& path, const std::string& text) {
-  imaging::AtomicOutput output(path);
-  {
-    std::ofstream file(output.stagingPath());
-    file << text;
-    if (!file.flush()) throw imaging::ImageIoError(path, "cannot write the file");
-  }
-  output.commit();
-}
-
 }  // namespace
 
 int runPath(int argc, char** argv) {
   const Clock::time_point start = Clock::now();
   const PathOptions o = parsePathOptions(argc, argv);
-  try {
-    imaging::checkOutputPath(o.output);
-    imaging::checkOutputPath(o.tsvPath);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputImage("tensor input", o.input);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("seed labels", o.seedLabels);
+  files.inputImage("target labels", o.targetLabels);
+  files.outputFile("paths file", o.output);
+  files.outputFile("path table", o.tsvPath);
+  files.check();
 
   const TensorInput input = readTensorInput(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
@@ -349,17 +340,14 @@ int runPath(int argc, char** argv) {
   }
   const double tracingSeconds = std::chrono::duration<double>(Clock::now() - tracingStart).count();
 
+  // The paths and their table appear together or not at all.
+  files::OutputTransaction outputs;
   try {
-    // The table first: when the paths file then fails, the table is removed
-    // again, so no half result stays behind.
-    writeTextAtomically(o.tsvPath, tsv.str());
-    try {
-      imaging::writeStreamlines(o.output, set);
-    } catch (...) {
-      std::remove(o.tsvPath.c_str());
-      throw;
-    }
-  } catch (const imaging::ImageIoError& e) {
+    imaging::writeStreamlines(outputs, o.output, set);
+    const std::string table = tsv.str();
+    outputs.write(o.tsvPath, [&](const std::string& staging) { files::writeFileContents(staging, table); });
+    outputs.commit();
+  } catch (const std::runtime_error& e) {  // files::OutputError, imaging::ImageIoError
     throw ToolError(kExitOutput, e.what());
   }
   if (!o.quiet) {

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "command_line.hpp"
+#include "stvd/files/termination_signals.hpp"
 #include "subcommands.hpp"
 #include "tet_mesh_commands.hpp"
 
@@ -67,6 +68,9 @@ int dispatch(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   using namespace stvd::tool;
+  // Before any other thread exists: Ctrl-C, SIGTERM and SIGHUP remove the
+  // outputs staged so far and end the tool by the signal.
+  stvd::files::removeStagedOutputsOnTerminationSignals("stvd");
   try {
     return dispatch(argc, argv);
   } catch (const ToolError& e) {

@@ -11,8 +11,8 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
-#include "stvd/itk/atomic_output.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "run_files.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/propagation.hpp"
 #include "stvd/steiner_propagation.hpp"
 #include "stvd/surface_domain.hpp"
@@ -189,11 +189,11 @@ int runSurfaceDistance(int argc, char** argv) {
     if (e.exitCode() == kExitOk) return kExitOk;  // --help
     throw;
   }
-  try {
-    imaging::checkOutputPath(o.output);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputFile("surface mesh", o.input);
+  if (o.metric.find(':') != std::string::npos) files.inputFile("metric file", o.metric.substr(o.metric.find(':') + 1));
+  files.outputFile("distance output", o.output);
+  files.check();
   surface_io::SurfaceMesh mesh;
   std::optional<SurfaceDomain> surface;
   std::optional<RiemannianMetric> metric;
@@ -230,10 +230,10 @@ int runSurfaceDistance(int argc, char** argv) {
   }
 
   try {
-    imaging::AtomicOutput out(o.output);
-    surface_io::writeSurfaceDistances(out.stagingPath(), o.output, mesh, result.distance);
-    out.commit();
-  } catch (const std::runtime_error& e) {
+    files::writeAtomically(o.output, [&](const std::string& staging) {
+      surface_io::writeSurfaceDistances(staging, o.output, mesh, result.distance);
+    });
+  } catch (const files::OutputError& e) {
     throw ToolError(kExitOutput, e.what());
   }
 

@@ -11,7 +11,8 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
-#include "stvd/itk/atomic_output.hpp"
+#include "run_files.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/metric_sampling.hpp"
 #include "stvd/itk/scalar_image.hpp"
@@ -298,11 +299,16 @@ bool isTetMeshInput(const std::string& input) {
 int runTetMeshDistance(int argc, char** argv) {
   const Clock::time_point start = Clock::now();
   const TetDistanceOptions o = parseOptions(argc, argv);
-  try {
-    imaging::checkOutputPath(o.output);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputTetMesh("mesh", o.input);
+  if (o.tensors != "node" && o.tensors != "ele") files.inputImage("tensor image", o.tensors);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("reference image", o.reference);
+  if (o.reference.empty())
+    files.outputFile("distance output", o.output);
+  else
+    files.outputImage("distance output", o.output);
+  files.check();
 
   const std::string base = tetmesh::tetGenBaseName(o.input);
   const std::string nodeFile = base + ".node", eleFile = base + ".ele";
@@ -475,23 +481,19 @@ int runTetMeshDistance(int argc, char** argv) {
     }
   }
   tetmesh::TetMeshOutputFormat format;
-  if (!o.reference.empty()) {
-    const std::vector<double> resampled = tetmesh::resampleOntoGrid(
-        mesh, result.distance, reference.geometry, o.lps ? tetmesh::MeshFrame::Lps : tetmesh::MeshFrame::Ras,
-        o.unreachableValue);
-    try {
+  try {
+    if (!o.reference.empty()) {
+      const std::vector<double> resampled = tetmesh::resampleOntoGrid(
+          mesh, result.distance, reference.geometry, o.lps ? tetmesh::MeshFrame::Lps : tetmesh::MeshFrame::Ras,
+          o.unreachableValue);
       imaging::writeScalarImage(o.output, reference.geometry, std::vector<float>(resampled.begin(), resampled.end()));
-    } catch (const imaging::ImageIoError& e) {
-      throw ToolError(kExitOutput, e.what());
+    } else if (tetmesh::outputFormatOf(o.output, format)) {
+      files::writeAtomically(o.output, [&](const std::string& staging) {
+        tetmesh::writeTetMeshOutput(staging, format, mesh, {{"distance", std::move(values)}});
+      });
     }
-  } else if (tetmesh::outputFormatOf(o.output, format)) {
-    try {
-      imaging::AtomicOutput output(o.output);
-      tetmesh::writeTetMeshOutput(output.stagingPath(), format, mesh, {{"distance", std::move(values)}});
-      output.commit();
-    } catch (const std::runtime_error& e) {
-      throw ToolError(kExitOutput, e.what());
-    }
+  } catch (const std::runtime_error& e) {  // files::OutputError, imaging::ImageIoError
+    throw ToolError(kExitOutput, e.what());
   }
 
   if (!o.quiet) {
