@@ -103,9 +103,9 @@ std::string toolExecutable();
 ToolRun runTool(const std::vector<std::string>& arguments);
 
 /// Runs a bash script in which "$0" is `stvd` and "$@" these arguments, for
-/// example "ulimit -f 0; trap '' XFSZ; exec \"$0\" \"$@\"", which makes
-/// every write beyond the limit fail with EFBIG instead of ending the tool.
-/// The exit code is the script's.
+/// example one that runs the tool under "ulimit -f 0; trap '' XFSZ", which
+/// makes every write beyond the limit fail with EFBIG instead of ending the
+/// tool. The exit code is the script's; stdout and stderr are captured.
 ToolRun runToolInBash(const std::string& script, const std::vector<std::string>& arguments);
 
 }  // namespace stvd::testing
