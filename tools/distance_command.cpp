@@ -12,6 +12,7 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
+#include "memory_check.hpp"
 #include "run_files.hpp"
 #include "stvd/files/file_contents.hpp"
 #include "stvd/files/output_transaction.hpp"
@@ -76,13 +77,16 @@ const char* kDistanceHelp =
     "                          DTI data for k > 3; see docs/cli.md).\n"
     "  --stencil S             neighbourhood: 6, 18, 26 (default), 98 (5x5x5) or 290 (7x7x7).\n"
     "  --max-distance D        stop at D mm; farther voxels are unreachable.\n"
+    "  --no-memory-check       run even when the estimate of the memory the propagation needs\n"
+    "                          exceeds the memory available (exit code 6 otherwise).\n"
     "\n"
     "%TENSOR%"
     "\n"
     "Output:\n"
     "  -o, --output FILE       the distance map (required): .nii, .nii.gz, .nrrd, .nhdr or .vdb.\n"
-    "                          Its folder must exist. Written under a temporary name in the same\n"
-    "                          folder and renamed when complete.\n"
+    "                          Its folder must exist; it must not be an input. Written with the\n"
+    "                          statistics into a staging folder next to it and moved into place\n"
+    "                          when both are complete.\n"
     "  --unreachable-value V   value of voxels not reached: a number or nan (default -1).\n"
     "  --stats FILE.json       parameters, counts, seconds per phase and peak memory as JSON.\n"
     "  -q, --quiet             no summary on stdout, no progress bar.\n"
@@ -93,8 +97,9 @@ const char* kDistanceHelp =
     "\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
     "input (format, layout, geometry of mask or labels); 4 nothing to compute (empty domain, a\n"
-    "seed outside the image or the domain); 5 output cannot be written. On failure one line on\n"
-    "stderr names the file and the problem, and no output file is left behind.\n";
+    "seed outside the image or the domain); 5 output cannot be written; 6 not enough memory for\n"
+    "the run. On failure one line on stderr names the file and the problem, and no output file\n"
+    "is left behind.\n";
 
 struct DistanceOptions : SeedOptions, PropagationChoice {
   std::string input;
@@ -255,7 +260,7 @@ struct Timings {
 
 std::string statsJson(const DistanceOptions& o, const TensorInput& input, const imaging::MetricVoxelCounts& counts,
                       const std::vector<Seed>& seeds, std::size_t labelSeedsLeftOut, const PropagationResult& result,
-                      const DistanceStatistics& stats, const Timings& t) {
+                      const DistanceStatistics& stats, const MemoryCheck& memory, const Timings& t) {
   const GridGeometry& g = input.read.volume.geometry;
   const imaging::TensorFileInfo& info = input.read.info;
   std::ostringstream j;
@@ -320,6 +325,12 @@ std::string statsJson(const DistanceOptions& o, const TensorInput& input, const 
   j << "  \"seconds\": {\"read\": " << jsonNumber(t.read) << ", \"metric\": " << jsonNumber(t.metric)
     << ", \"propagate\": " << jsonNumber(t.propagate) << ", \"write\": " << jsonNumber(t.write)
     << ", \"total\": " << jsonNumber(t.total) << "},\n";
+  j << "  \"memory\": {\"needed_bytes\": " << memory.neededBytes << ", \"resident_bytes\": " << memory.residentBytes
+    << ", \"available_bytes\": " << (memory.available ? std::to_string(memory.available->bytes) : "null")
+    << ", \"limited_by\": " << (memory.available ? jsonString(memory.available->limitedBy) : "null")
+    << ", \"check\": "
+    << jsonString(memory.skipped ? "skipped" : memory.available ? "passed" : "not made (available memory unknown)")
+    << "},\n";
   j << "  \"peak_memory_bytes\": " << peakMemoryBytes() << "\n";
   j << "}\n";
   return j.str();
@@ -427,6 +438,16 @@ int runDistance(int argc, char** argv) {
   const std::vector<Seed> seeds = resolveSeeds(o.input, o, input, o.tensor.metric, built.inDomain, labelSeedsLeftOut);
   t.read += secondsSince(phase);
 
+  const std::uint64_t voxels = g.voxelCount(), domainVoxels = built.counts.domain;
+  const std::uint64_t needed =
+      (o.lanthier ? steinerMemoryEstimate(steinerGridPointCount(domainVoxels, o.steinerPoints), voxels) +
+                        2 * sizeof(VertexId) * voxels  // the grid cells' numbering of domain voxels
+                  : propagationMemoryEstimate(voxels, domainVoxels)) +
+      kOutputBytesPerVoxel * voxels;
+  const MemoryCheck memory =
+      checkMemory(o.input, needed, methodText(o) + " on " + withThousands(domainVoxels) + " domain voxels",
+                  !o.memoryCheck);
+
   phase = Clock::now();
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
@@ -482,7 +503,7 @@ int runDistance(int argc, char** argv) {
     t.write = secondsSince(phase);
     t.total = secondsSince(start);
     if (!o.statsPath.empty()) {
-      const std::string json = statsJson(o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, t);
+      const std::string json = statsJson(o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, memory, t);
       outputs.write(o.statsPath, [&](const std::string& staging) { files::writeFileContents(staging, json); });
     }
     outputs.commit();

@@ -54,6 +54,9 @@ bool parsePropagationOption(const std::string& a, ArgumentReader& args, Propagat
     else
       usageError("--chain-measure: '" + m + "' is not one of projection, largest");
     o.chainMeasureGiven = true;
+  } else if (a == "--no-memory-check") {
+    args.noValue(a);
+    o.memoryCheck = false;
   } else if (a == "--stencil") {
     o.stencil = args.value(a);
     o.stencilGiven = true;

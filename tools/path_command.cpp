@@ -10,6 +10,7 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
+#include "memory_check.hpp"
 #include "run_files.hpp"
 #include "stvd/files/file_contents.hpp"
 #include "stvd/files/output_transaction.hpp"
@@ -56,6 +57,8 @@ const char* kPathHelp =
     "  --k N                   STVD memory depth, 1..16 (default 8).\n"
     "  --chain-measure R       largest (default) or projection.\n"
     "  --stencil S             6, 18, 26 (default), 98 or 290.\n"
+    "  --no-memory-check       run even when the estimate of the memory needed exceeds the\n"
+    "                          memory available.\n"
     "\n"
     "%TENSOR%"
     "\n"
@@ -82,8 +85,8 @@ const char* kPathHelp =
     "\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
     "input; 4 nothing to compute (empty domain, a seed or target outside the image or domain, a\n"
-    "target not reachable from the seeds); 5 output cannot be written. No output file is left\n"
-    "behind on failure.\n";
+    "target not reachable from the seeds); 5 output cannot be written; 6 not enough memory for\n"
+    "the run. No output file is left behind on failure.\n";
 
 struct PathOptions : SeedOptions, PropagationChoice {
   std::string input;
@@ -241,6 +244,10 @@ int runPath(int argc, char** argv) {
   const std::vector<Seed> targetSeeds =
       resolveSeeds(o.input, targetGiven, input, o.tensor.metric, built.inDomain, unused, "target");
 
+  // The propagation, FA per voxel and the paths.
+  checkMemory(o.input,
+              propagationMemoryEstimate(g.voxelCount(), built.counts.domain) + 2 * sizeof(float) * g.voxelCount(),
+              methodText(o) + " on " + withThousands(built.counts.domain) + " domain voxels", !o.memoryCheck);
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   std::vector<VertexId> sources;

@@ -11,6 +11,7 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
+#include "memory_check.hpp"
 #include "run_files.hpp"
 #include "stvd/files/output_transaction.hpp"
 #include "stvd/propagation.hpp"
@@ -53,6 +54,8 @@ const char* kSurfaceDistanceHelp =
     "                          memory like M.\n"
     "  --k N                   STVD memory depth, 1..16 (default 8).\n"
     "  --chain-measure R       projection (default on surfaces: the paper's rule) or largest.\n"
+    "  --no-memory-check       run even when the estimate of the memory needed exceeds the\n"
+    "                          memory available (exit code 6 otherwise).\n"
     "\n"
     "Output:\n"
     "  -o, --output FILE       .ply (binary, the mesh with a double vertex property distance),\n"
@@ -215,6 +218,14 @@ int runSurfaceDistance(int argc, char** argv) {
                                        " does not exist (the mesh has " +
                                        std::to_string(surface->vertexCount()) + " vertices)");
     sources.push_back(static_cast<VertexId>(s));
+  }
+  {
+    // The propagation or the Steiner graph (M points on each face edge), and the output.
+    const std::uint64_t v = surface->vertexCount(), corners = mesh.faces.faceVertex.size();
+    const std::uint64_t needed =
+        64 * v + (o.lanthier ? steinerMemoryEstimate(v + static_cast<std::uint64_t>(o.steinerPoints) * corners, v)
+                             : propagationMemoryEstimate(v, v));
+    checkMemory(o.input, needed, withThousands(v) + " vertices", !o.memoryCheck);
   }
   PropagationResult result;
   if (o.lanthier) {

@@ -30,7 +30,8 @@ class ToolDeterminism : public SmallInputsTest {
     return files;
   }
   static std::string withoutMeasurements(const std::string& json) {
-    static const std::regex measured(R"re(("seconds"|"peak_memory_bytes"|"available_bytes"): (\{[^}]*\}|[0-9]+))re");
+    static const std::regex measured(
+        R"re(("seconds"|"peak_memory_bytes"|"resident_bytes"|"available_bytes"|"limited_by"): (\{[^}]*\}|[0-9]+|"[^"]*"|null))re");
     return std::regex_replace(json, measured, "$1: (measured)");
   }
   void expectSameBytesTwice(const std::vector<std::string>& arguments) {
@@ -53,6 +54,9 @@ TEST_F(ToolDeterminism, TheStatisticsDifferOnlyInWhatTheyMeasure) {
   const std::string& json = files.at("d.json");
   EXPECT_NE(json.find("\"seconds\": (measured)"), std::string::npos) << json;
   EXPECT_NE(json.find("\"peak_memory_bytes\": (measured)"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"resident_bytes\": (measured), \"available_bytes\": (measured), \"limited_by\": (measured)"),
+            std::string::npos)
+      << json;
 }
 
 TEST_F(ToolDeterminism, PathsAndTheirTables) {
