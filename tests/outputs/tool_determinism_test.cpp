@@ -49,6 +49,20 @@ TEST_F(ToolDeterminism, DistanceMapsAndStatisticsInEveryFormat) {
   expectSameBytesTwice(lanthier);
 }
 
+TEST_F(ToolDeterminism, CompressedOutputsCarryNoTimeStamp) {
+  // Two runs within one second would agree even with a time stamp in the
+  // gzip header (bytes 4 to 7, seconds since 1970); it must be zero.
+  FolderSnapshot files;
+  for (const std::string name : {"d.nii.gz", "d.nrrd", "d.nhdr"}) files.merge(outputsOf(distanceRun(out(name))));
+  const std::string nrrd = files.at("d.nrrd");
+  const std::size_t data = nrrd.find("\n\n") + 2;
+  for (const std::string& gzip : {files.at("d.nii.gz"), files.at("d.raw.gz"), nrrd.substr(data)}) {
+    ASSERT_GE(gzip.size(), 10u);
+    EXPECT_EQ(gzip.substr(0, 2), "\x1f\x8b");
+    EXPECT_EQ(gzip.substr(4, 4), std::string(4, '\0'));
+  }
+}
+
 TEST_F(ToolDeterminism, TheStatisticsDifferOnlyInWhatTheyMeasure) {
   const FolderSnapshot files = outputsOf(distanceRun(out("d.nii"), out("d.json")));
   const std::string& json = files.at("d.json");

@@ -68,8 +68,9 @@ void checkReadsBack(const std::string& file, const std::string& path, const open
     back = openvdb::gridPtrCast<openvdb::FloatGrid>(reader.readGrid(written.getName()));
     reader.close();
   } catch (const std::exception& e) {
-    throw failure(path, std::string("the written file does not read back (disk full or file size limit?): ") +
-                            e.what());
+    std::string reason = e.what();
+    while (!reason.empty() && std::isspace(static_cast<unsigned char>(reason.back()))) reason.pop_back();
+    throw failure(path, "the written file does not read back (disk full or file size limit?): " + reason);
   }
   bool same = back && back->activeVoxelCount() == written.activeVoxelCount() &&
               back->background() == written.background();
