@@ -59,7 +59,7 @@ int runTetrahedralize(int argc, char** argv) {
   ::posix_spawnattr_init(&attributes);
   sigset_t none, termination;
   sigemptyset(&none);
-  files::terminationSignals(termination);
+  files::handledTerminationSignals(termination);
   ::posix_spawnattr_setsigmask(&attributes, &none);
   ::posix_spawnattr_setsigdefault(&attributes, &termination);
   ::posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);

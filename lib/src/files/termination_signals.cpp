@@ -24,6 +24,16 @@ std::string& programNameForMessages() {
   return name;
 }
 
+/// The signals the waiting thread handles (blocked in every thread).
+sigset_t& handledSignals() {
+  static sigset_t handled = [] {
+    sigset_t none;
+    sigemptyset(&none);
+    return none;
+  }();
+  return handled;
+}
+
 /// With the registry locked: the children are told to stop and waited for
 /// (without reaping them: the thread that started a child still owns it),
 /// and the staging folders are removed.
@@ -61,10 +71,7 @@ void cleanUp(detail::ProcessRegistry& registry, int signal) {
 
 }  // namespace
 
-void terminationSignals(sigset_t& signals) {
-  sigemptyset(&signals);
-  for (const int s : kTerminationSignals) sigaddset(&signals, s);
-}
+void handledTerminationSignals(sigset_t& signals) { signals = handledSignals(); }
 
 void removeStagedOutputsOnTerminationSignals(const std::string& programName) {
   static std::once_flag once;
@@ -78,6 +85,7 @@ void removeStagedOutputsOnTerminationSignals(const std::string& programName) {
       sigaddset(&handled, s);
     }
     if (sigisemptyset(&handled)) return;
+    handledSignals() = handled;
     ::pthread_sigmask(SIG_BLOCK, &handled, nullptr);
     std::thread([handled] {
       int signal = 0;

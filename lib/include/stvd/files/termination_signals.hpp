@@ -25,10 +25,11 @@ namespace stvd::files {
 /// Calling it again does nothing.
 void removeStagedOutputsOnTerminationSignals(const std::string& programName);
 
-/// The signal mask and dispositions a child process should start with:
-/// nothing blocked, the three signals at their defaults. For
-/// posix_spawnattr_setsigmask / setsigdefault.
-void terminationSignals(sigset_t& signals);
+/// The signals removeStagedOutputsOnTerminationSignals() handles (empty
+/// before it is called): a child process should start with them unblocked
+/// and at their default action (posix_spawnattr_setsigmask, setsigdefault),
+/// so that it can handle them itself.
+void handledTerminationSignals(sigset_t& signals);
 
 /// While it lives, the child process `child` is sent the termination
 /// signal the program receives, and waited for, before the program ends.
