@@ -78,6 +78,4 @@ std::optional<AvailableMemory> availableMemory() {
 
 std::uint64_t residentMemoryBytes() { return procField("/proc/self/status", "VmRSS"); }
 
-std::uint64_t peakResidentMemoryBytes() { return procField("/proc/self/status", "VmHWM"); }
-
 }  // namespace stvd

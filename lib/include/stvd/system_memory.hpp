@@ -25,9 +25,8 @@ struct AvailableMemory {
 /// none of them can be read.
 std::optional<AvailableMemory> availableMemory();
 
-/// Resident memory of this process now, and its peak so far (VmRSS and
-/// VmHWM of /proc/self/status); 0 when unknown.
+/// Resident memory of this process now (VmRSS of /proc/self/status); 0
+/// when unknown.
 std::uint64_t residentMemoryBytes();
-std::uint64_t peakResidentMemoryBytes();
 
 }  // namespace stvd

@@ -72,16 +72,22 @@ struct NamePattern {
 /// field, as written there: one name, the names after "LIST", or the names
 /// a "<pattern> <min> <max> <step>" field generates.
 std::vector<std::string> nrrdDataFileNames(const std::string& path) {
-  // Headers are text up to the first empty line; no header needs a megabyte.
+  // Headers are text up to the first empty line; no header needs a
+  // megabyte, and no more is read (the file is not checked yet).
   constexpr std::size_t kMaxHeaderBytes = 1 << 20;
   constexpr long kMaxGeneratedNames = 100000;
-  std::ifstream in(path, std::ios::binary);
+  std::string head(kMaxHeaderBytes, '\0');
+  {
+    std::ifstream file(path, std::ios::binary);
+    file.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(file.gcount()));
+  }
+  std::istringstream in(head);
   std::string line;
   if (!std::getline(in, line) || line.rfind("NRRD000", 0) != 0) return {};
   std::vector<std::string> names;
-  std::size_t bytes = line.size();
   bool listFollows = false;
-  while (std::getline(in, line) && (bytes += line.size() + 1) < kMaxHeaderBytes) {
+  while (std::getline(in, line)) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) break;
     if (listFollows) {

@@ -122,6 +122,12 @@ void OutputTransaction::write(const std::string& path, const Writer& writer) {
     if (sameFile(s->path, path)) throw OutputError(path, "the run writes this file twice (also as " + s->path + ")");
   staged_.push_back(std::make_unique<Staged>(path));
   const Staged& s = *staged_.back();
+  // A failed output is removed at once: a later commit() moves only the
+  // outputs that were written completely (callers normally give up).
+  auto fail = [&](const std::string& problem) {
+    staged_.pop_back();
+    throw OutputError(path, problem);
+  };
   try {
     writer(s.stagingPath);
   } catch (const std::runtime_error& e) {  // OutputError included: it may name the staging path
@@ -129,13 +135,16 @@ void OutputTransaction::write(const std::string& path, const Writer& writer) {
     replaceAll(message, s.stagingPath, path);
     replaceAll(message, s.stagingFolder, s.folder);
     if (message.rfind(path + ": ", 0) == 0) message.erase(0, path.size() + 2);
-    throw OutputError(path, message);
+    fail(message);
+  } catch (...) {
+    staged_.pop_back();
+    throw;
   }
   std::error_code ec;
-  if (!fs::is_regular_file(s.stagingPath, ec)) throw OutputError(path, "the writer produced no file");
+  if (!fs::is_regular_file(s.stagingPath, ec)) fail("the writer produced no file");
   for (const fs::path& file : s.files()) {
     const std::string problem = flushToDisk(file.string(), false);
-    if (!problem.empty()) throw OutputError(path, "cannot write " + file.filename().string() + " to disk: " + problem);
+    if (!problem.empty()) fail("cannot write " + file.filename().string() + " to disk: " + problem);
   }
 }
 

@@ -131,11 +131,7 @@ void writeGridTo(const std::string& file, const std::string& path, const openvdb
 void writeDistanceGrid(const std::string& path, const GridGeometry& geometry, const std::vector<double>& distance,
                        const DistanceGridOptions& options) {
   const openvdb::FloatGrid::Ptr grid = distanceGrid(path, geometry, distance, options);
-  try {
-    files::writeAtomically(path, [&](const std::string& staging) { writeGridTo(staging, path, grid); });
-  } catch (const files::OutputError& e) {
-    throw std::runtime_error(e.what());
-  }
+  files::writeAtomically(path, [&](const std::string& staging) { writeGridTo(staging, path, grid); });
 }
 
 void writeDistanceGrid(files::OutputTransaction& outputs, const std::string& path, const GridGeometry& geometry,

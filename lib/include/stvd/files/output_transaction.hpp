@@ -58,8 +58,9 @@ class OutputTransaction {
   /// writer (any std::runtime_error) or of the flush is thrown as
   /// OutputError naming `path`, with staging paths in the writer's message
   /// replaced by final ones. Other exceptions (std::logic_error, bad_alloc)
-  /// pass unchanged. Throws OutputError when `path` was written before in
-  /// this transaction.
+  /// pass unchanged. A failed output is removed at once (the others stay
+  /// staged). Throws OutputError when `path` was written before in this
+  /// transaction.
   void write(const std::string& path, const Writer& writer);
 
   /// Moves every staged file into place (per output: companions first, the

@@ -29,8 +29,8 @@ struct DistanceGridOptions {
 /// (stvd/files/output_transaction.hpp) and read back before it is moved into
 /// place, since OpenVDB does not report a failed write. The file's UUID is
 /// derived from its content, so that the same grid always gives the same
-/// bytes. Throws std::runtime_error with a one-line message
-/// "<path>: <problem>".
+/// bytes. Throws std::runtime_error (files::OutputError when writing fails)
+/// with a one-line message "<path>: <problem>".
 void writeDistanceGrid(const std::string& path, const GridGeometry& geometry, const std::vector<double>& distance,
                        const DistanceGridOptions& options = {});
 
