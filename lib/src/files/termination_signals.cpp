@@ -54,7 +54,10 @@ void cleanUp(detail::ProcessRegistry& registry, int signal) {
   const std::string& program = programNameForMessages();
   if (report && !program.empty()) {
     const char* name = signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : signal == SIGHUP ? "SIGHUP" : "signal";
-    const std::string line = program + ": interrupted (" + name + ")\n";
+    // On a terminal the line may follow a progress bar: it starts on a
+    // cleared line.
+    const std::string clear = ::isatty(STDERR_FILENO) ? "\r" + std::string(79, ' ') + "\r" : "";
+    const std::string line = clear + program + ": interrupted (" + name + ")\n";
     (void)!::write(STDERR_FILENO, line.data(), line.size());
   }
   // The signal's default action ends the process; the parent sees "killed
