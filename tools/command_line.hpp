@@ -24,6 +24,7 @@ enum ExitCode : int {
   kExitInput = 3,     ///< an input file cannot be read or used (format, layout, geometry)
   kExitDomain = 4,    ///< nothing to compute: empty domain, seed outside the image or domain
   kExitOutput = 5,    ///< an output file cannot be written
+  kExitMemory = 6,    ///< the run needs more memory than is available
 };
 
 /// A failure with its exit code; what() is the one-line message.

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -13,8 +12,11 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
+#include "memory_check.hpp"
+#include "run_files.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/geodesic_path.hpp"
-#include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/parallel_tasks.hpp"
@@ -48,13 +50,15 @@ const char* kConnectivityHelp =
     "                          the table does not depend on N.\n"
     "  --method, --k, --chain-measure, --stencil   as in stvd distance (defaults stvd, 8,\n"
     "                          largest, 26).\n"
+    "  --no-memory-check       run even when the memory the propagations need (one per thread)\n"
+    "                          exceeds the memory available.\n"
     "  -q, --quiet             no summary on stdout.\n"
     "\n"
     "%TENSOR%"
     "\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
     "input (also labels on another grid or not integers); 4 fewer than two regions with voxels\n"
-    "in the domain; 5 output cannot be written.\n";
+    "in the domain; 5 output cannot be written; 6 not enough memory for the run.\n";
 
 struct ConnectivityOptions : PropagationChoice {
   std::string input;
@@ -114,11 +118,12 @@ int runConnectivity(int argc, char** argv) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   const ConnectivityOptions o = parseConnectivityOptions(argc, argv);
-  try {
-    imaging::checkOutputPath(o.output);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputImage("tensor input", o.input);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("label image", o.labels);
+  files.outputFile("connectivity table", o.output);
+  files.check();
   const TensorInput input = readTensorInput(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
   imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
@@ -153,6 +158,12 @@ int runConnectivity(int argc, char** argv) {
   if (regions.size() < 2)
     throw ToolError(kExitDomain, o.labels + ": fewer than two regions have voxels inside the domain of " + o.input);
 
+  // One propagation at a time on each thread, each with its own state and result.
+  const unsigned threadCount = threadCountFor(o.threads, regions.size());
+  checkMemory(o.input, threadCount * propagationMemoryEstimate(g.voxelCount(), built.counts.domain),
+              std::to_string(threadCount) + (threadCount == 1 ? " propagation" : " propagations at once") + " on " +
+                  withThousands(built.counts.domain) + " domain voxels",
+              !o.memoryCheck);
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   const PropagationOptions propagation = propagationOptions(o);
@@ -177,7 +188,6 @@ int runConnectivity(int argc, char** argv) {
       r.straight = norm(path.points.back() - path.points.front());
     }
   };
-  const unsigned threadCount = threadCountFor(o.threads, n);
   forEachTaskInParallel(n, threadCount, work);
 
   std::ostringstream tsv;
@@ -193,14 +203,9 @@ int runConnectivity(int argc, char** argv) {
           << regions[b].voxels.size() << "\n";
     }
   try {
-    imaging::AtomicOutput output(o.output);
-    {
-      std::ofstream file(output.stagingPath());
-      file << tsv.str();
-      if (!file.flush()) throw imaging::ImageIoError(o.output, "cannot write the table");
-    }
-    output.commit();
-  } catch (const imaging::ImageIoError& e) {
+    const std::string table = tsv.str();
+    files::writeAtomically(o.output, [&](const std::string& staging) { files::writeFileContents(staging, table); });
+  } catch (const files::OutputError& e) {
     throw ToolError(kExitOutput, e.what());
   }
   if (!o.quiet)

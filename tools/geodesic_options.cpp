@@ -56,6 +56,9 @@ bool parsePropagationOption(const std::string& a, ArgumentReader& args, Propagat
     else
       usageError("--chain-measure: '" + m + "' is not one of segment, projection, largest");
     o.chainMeasureGiven = true;
+  } else if (a == "--no-memory-check") {
+    args.noValue(a);
+    o.memoryCheck = false;
   } else if (a == "--stencil") {
     o.stencil = args.value(a);
     o.stencilGiven = true;

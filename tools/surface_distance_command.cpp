@@ -11,8 +11,9 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
-#include "stvd/itk/atomic_output.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "memory_check.hpp"
+#include "run_files.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/propagation.hpp"
 #include "stvd/steiner_propagation.hpp"
 #include "stvd/surface_domain.hpp"
@@ -53,6 +54,8 @@ const char* kSurfaceDistanceHelp =
     "                          memory like M.\n"
     "  --k N                   STVD memory depth, 1..16 (default 8).\n"
     "  --chain-measure R       projection (default on surfaces: the paper's rule) or largest.\n"
+    "  --no-memory-check       run even when the estimate of the memory needed exceeds the\n"
+    "                          memory available (exit code 6 otherwise).\n"
     "\n"
     "Output:\n"
     "  -o, --output FILE       .ply (binary, the mesh with a double vertex property distance),\n"
@@ -189,11 +192,11 @@ int runSurfaceDistance(int argc, char** argv) {
     if (e.exitCode() == kExitOk) return kExitOk;  // --help
     throw;
   }
-  try {
-    imaging::checkOutputPath(o.output);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputFile("surface mesh", o.input);
+  if (o.metric.find(':') != std::string::npos) files.inputFile("metric file", o.metric.substr(o.metric.find(':') + 1));
+  files.outputFile("distance output", o.output);
+  files.check();
   surface_io::SurfaceMesh mesh;
   std::optional<SurfaceDomain> surface;
   std::optional<RiemannianMetric> metric;
@@ -216,6 +219,14 @@ int runSurfaceDistance(int argc, char** argv) {
                                        std::to_string(surface->vertexCount()) + " vertices)");
     sources.push_back(static_cast<VertexId>(s));
   }
+  {
+    // The propagation or the Steiner graph (M points on each face edge), and the output.
+    const std::uint64_t v = surface->vertexCount(), corners = mesh.faces.faceVertex.size();
+    const std::uint64_t needed =
+        64 * v + (o.lanthier ? steinerMemoryEstimate(v + static_cast<std::uint64_t>(o.steinerPoints) * corners, v)
+                             : propagationMemoryEstimate(v, v));
+    checkMemory(o.input, needed, withThousands(v) + " vertices", !o.memoryCheck);
+  }
   PropagationResult result;
   if (o.lanthier) {
     SteinerOptions steiner;
@@ -230,10 +241,10 @@ int runSurfaceDistance(int argc, char** argv) {
   }
 
   try {
-    imaging::AtomicOutput out(o.output);
-    surface_io::writeSurfaceDistances(out.stagingPath(), o.output, mesh, result.distance);
-    out.commit();
-  } catch (const std::runtime_error& e) {
+    files::writeAtomically(o.output, [&](const std::string& staging) {
+      surface_io::writeSurfaceDistances(staging, o.output, mesh, result.distance);
+    });
+  } catch (const files::OutputError& e) {
     throw ToolError(kExitOutput, e.what());
   }
 

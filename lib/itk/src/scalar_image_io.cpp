@@ -4,7 +4,9 @@
 #include <sstream>
 
 #include "itk_io_support.hpp"
-#include "stvd/itk/atomic_output.hpp"
+#include "written_files.hpp"
+#include "stvd/files/output_transaction.hpp"
+#include "stvd/itk/image_files.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
 
@@ -26,16 +28,31 @@ ScalarImage readScalarImage(const std::string& path) {
   return image;
 }
 
-void writeScalarImage(const std::string& path, const GridGeometry& geometry,
-                      const std::vector<float>& values) {
+namespace {
+
+void writeScalarImageTo(const std::string& stagingPath, const std::string& path, const GridGeometry& geometry,
+                        const std::vector<float>& values) {
   if (values.size() != geometry.voxelCount())
     throw ImageIoError(path, std::to_string(values.size()) + " values for a grid of " +
                                  std::to_string(geometry.voxelCount()) + " voxels");
-  AtomicOutput output(path);
+  checkImageOutputCompanions(path);
   itk::ImageIOBase::Pointer io =
-      detail::createFloatWriter(output.stagingPath(), path, geometry, 1, itk::IOPixelEnum::SCALAR);
+      detail::createFloatWriter(stagingPath, path, geometry, 1, itk::IOPixelEnum::SCALAR);
   detail::writeFloatData(*io, path, values.data());
-  output.commit();
+  detail::checkWrittenImage(stagingPath, path, values);
+}
+
+}  // namespace
+
+void writeScalarImage(const std::string& path, const GridGeometry& geometry,
+                      const std::vector<float>& values) {
+  detail::writeAtomically(
+      path, [&](const std::string& staging) { writeScalarImageTo(staging, path, geometry, values); });
+}
+
+void writeScalarImage(files::OutputTransaction& outputs, const std::string& path, const GridGeometry& geometry,
+                      const std::vector<float>& values) {
+  outputs.write(path, [&](const std::string& staging) { writeScalarImageTo(staging, path, geometry, values); });
 }
 
 bool hasImageExtension(const std::string& path) {

@@ -8,7 +8,8 @@
 
 #include "itk_io_support.hpp"
 #include "nrrd_header.hpp"
-#include "stvd/itk/atomic_output.hpp"
+#include "written_files.hpp"
+#include "stvd/itk/image_files.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/tensor_volume.hpp"
 
@@ -165,24 +166,25 @@ void writeTensorVolume(const std::string& path, const TensorVolume& volume,
     for (int q = 0; q < 6; ++q) (sixVolumes ? buffer[v + n * q] : buffer[6 * v + q]) = c[q];
   }
 
-  AtomicOutput output(path);
-  itk::ImageIOBase::Pointer io =
-      sixVolumes ? detail::createFloatWriter(output.stagingPath(), path, g, 1, itk::IOPixelEnum::SCALAR, 6)
-                 : detail::createFloatWriter(output.stagingPath(), path, g, 6,
-                                             itk::IOPixelEnum::SYMMETRICSECONDRANKTENSOR);
-  const std::string ioClass = io->GetNameOfClass();
-  if (nrrd != (ioClass == "NrrdImageIO"))
-    throw ImageIoError(path, "the extension does not match the layout " + tensorFileLayoutName(options.layout));
-  if (nrrd && options.frame == TensorFrame::Voxel) {
-    // The measurement frame's columns are the index axes in LPS.
-    std::vector<std::vector<double>> frame(3, std::vector<double>(3));
-    for (int col = 0; col < 3; ++col)
-      for (int r = 0; r < 3; ++r) frame[col][r] = toLps[3 * r + col];
-    itk::EncapsulateMetaData<std::vector<std::vector<double>>>(io->GetMetaDataDictionary(),
-                                                               "NRRD_measurement frame", frame);
-  }
-  detail::writeFloatData(*io, path, buffer.data());
-  output.commit();
+  detail::writeAtomically(path, [&](const std::string& staging) {
+    itk::ImageIOBase::Pointer io =
+        sixVolumes ? detail::createFloatWriter(staging, path, g, 1, itk::IOPixelEnum::SCALAR, 6)
+                   : detail::createFloatWriter(staging, path, g, 6, itk::IOPixelEnum::SYMMETRICSECONDRANKTENSOR);
+    const std::string ioClass = io->GetNameOfClass();
+    if (nrrd != (ioClass == "NrrdImageIO"))
+      throw ImageIoError(path, "the extension does not match the layout " + tensorFileLayoutName(options.layout));
+    if (nrrd && options.frame == TensorFrame::Voxel) {
+      // The measurement frame's columns are the index axes in LPS.
+      std::vector<std::vector<double>> frame(3, std::vector<double>(3));
+      for (int col = 0; col < 3; ++col)
+        for (int r = 0; r < 3; ++r) frame[col][r] = toLps[3 * r + col];
+      itk::EncapsulateMetaData<std::vector<std::vector<double>>>(io->GetMetaDataDictionary(),
+                                                                 "NRRD_measurement frame", frame);
+    }
+    checkImageOutputCompanions(path);
+    detail::writeFloatData(*io, path, buffer.data());
+    detail::checkWrittenImage(staging, path, buffer);
+  });
 }
 
 }  // namespace stvd::imaging

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/grid_geometry.hpp"
 
 namespace stvd::imaging {
@@ -22,10 +23,20 @@ struct ScalarImage {
 ScalarImage readScalarImage(const std::string& path);
 
 /// Writes a float32 scalar image with exactly this geometry, atomically: the
-/// file appears under `path` complete or not at all. The format follows the
-/// extension (.nii, .nii.gz, .nrrd, .nhdr); NRRD data are gzip-compressed.
+/// file appears under `path` complete or not at all, and a file that was
+/// there stays as it was when writing fails. The format follows the
+/// extension (.nii, .nii.gz, .nrrd, .nhdr); NRRD data are gzip-compressed
+/// (a .nhdr header's data file is "<base>.raw.gz"). What was written is
+/// checked before it is moved into place (the file's size for NIfTI, whose
+/// writer does not report a full disk; a read-back for NRRD). Refuses to
+/// replace an unrelated "<base>.raw.gz" (checkImageOutputCompanions).
 /// Throws ImageIoError naming the file.
 void writeScalarImage(const std::string& path, const GridGeometry& geometry,
+                      const std::vector<float>& values);
+
+/// The same as one output of `outputs`, which moves it into place with the
+/// run's other outputs at its commit. Throws files::OutputError.
+void writeScalarImage(files::OutputTransaction& outputs, const std::string& path, const GridGeometry& geometry,
                       const std::vector<float>& values);
 
 /// True when the path ends in an image extension stvd reads and writes:

@@ -91,8 +91,8 @@ struct TensorWriteOptions {
 };
 
 /// Writes `volume` (tensors in LPS) as float32 in the given layout, order
-/// and frame, atomically (see atomic_output.hpp). The mask is not written.
-/// Throws ImageIoError.
+/// and frame, atomically and checked as writeScalarImage writes (see
+/// scalar_image.hpp). The mask is not written. Throws ImageIoError.
 void writeTensorVolume(const std::string& path, const TensorVolume& volume,
                        const TensorWriteOptions& options);
 
