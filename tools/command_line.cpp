@@ -1,5 +1,6 @@
 #include "command_line.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -130,6 +131,24 @@ bool parseTensorInputOption(const std::string& option, ArgumentReader& args, Ten
   return true;
 }
 
+namespace {
+std::vector<std::string>& noted() {
+  static std::vector<std::string> warnings;
+  return warnings;
+}
+}  // namespace
+
+void noteInputWarnings(const std::string& path, const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) {
+    const std::string line = path + ": " + w;
+    if (std::find(noted().begin(), noted().end(), line) != noted().end()) continue;
+    noted().push_back(line);
+    std::cerr << "stvd: warning: " << line << std::endl;
+  }
+}
+
+const std::vector<std::string>& inputWarnings() { return noted(); }
+
 TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options) {
   TensorInput input;
   try {
@@ -137,6 +156,7 @@ TensorInput readTensorInput(const std::string& path, const TensorInputOptions& o
   } catch (const imaging::ImageIoError& e) {
     throw ToolError(kExitInput, e.what());
   }
+  noteInputWarnings(path, input.read.info.warnings);
   input.mask = input.read.volume.mask;
   if (!input.mask.empty()) input.maskDescription = "the file's confidence channel";
   if (!options.maskPath.empty()) {
@@ -146,6 +166,7 @@ TensorInput readTensorInput(const std::string& path, const TensorInputOptions& o
     } catch (const imaging::ImageIoError& e) {
       throw ToolError(kExitInput, e.what());
     }
+    noteInputWarnings(options.maskPath, mask.warnings);
     const std::string mismatch = imaging::geometryMismatch(mask.geometry, input.read.volume.geometry);
     if (!mismatch.empty())
       throw ToolError(kExitInput, options.maskPath + ": the mask is on another grid than " + path + " (" +

@@ -88,9 +88,17 @@ struct TensorInput {
   std::string maskDescription;
 };
 
-/// Reads the tensor file and the mask. Throws ToolError(kExitInput) naming
-/// the file: unreadable, wrong layout, or a mask on another grid.
+/// Reads the tensor file and the mask (noting their warnings). Throws
+/// ToolError(kExitInput) naming the file: unreadable, wrong layout, or a
+/// mask on another grid.
 TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options);
+
+/// Says each warning about an input file once, in the tool's words, as a
+/// line "stvd: warning: FILE: text" on stderr (also with --quiet: it is
+/// about the data, not progress), and keeps it for inputWarnings().
+void noteInputWarnings(const std::string& path, const std::vector<std::string>& warnings);
+/// Every warning noted so far, each "FILE: text", for --stats.
+const std::vector<std::string>& inputWarnings();
 
 /// "LAS"-style orientation code: the RAS direction each index axis points
 /// to most (L/R, P/A, I/S), as NIfTI tools print it.

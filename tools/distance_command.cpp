@@ -318,6 +318,9 @@ void writeStats(const std::string& path, const DistanceOptions& o, const TensorI
   j << "  \"distance_mm\": {\"reached\": " << stats.reached << ", \"min\": " << (stats.reached ? "0" : "null")
     << ", \"median\": " << (stats.reached ? jsonNumber(stats.median) : "null")
     << ", \"max\": " << (stats.reached ? jsonNumber(stats.maximum) : "null") << "},\n";
+  j << "  \"warnings\": [";
+  for (std::size_t w = 0; w < inputWarnings().size(); ++w) j << (w ? ", " : "") << jsonString(inputWarnings()[w]);
+  j << "],\n";
   j << "  \"seconds\": {\"read\": " << jsonNumber(t.read) << ", \"metric\": " << jsonNumber(t.metric)
     << ", \"propagate\": " << jsonNumber(t.propagate) << ", \"write\": " << jsonNumber(t.write)
     << ", \"total\": " << jsonNumber(t.total) << "},\n";

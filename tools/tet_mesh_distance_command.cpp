@@ -321,6 +321,7 @@ int runTetMeshDistance(int argc, char** argv) {
     } catch (const imaging::ImageIoError& e) {
       throw ToolError(kExitInput, e.what());
     }
+    noteInputWarnings(o.reference, reference.warnings);
   }
 
   // The metric per vertex and the vertices in the domain.
