@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "stvd/itk/image_io_error.hpp"
@@ -129,6 +130,23 @@ bool parseTensorInputOption(const std::string& option, ArgumentReader& args, Ten
     return false;
   }
   return true;
+}
+
+double parseUnreachableValue(const std::string& option, const std::string& text) {
+  if (text == "nan" || text == "NaN") return std::numeric_limits<double>::quiet_NaN();
+  const double value = parseNumber(option, text);
+  if (!(std::abs(value) <= std::numeric_limits<float>::max()))
+    usageError(option + ": '" + text + "' does not fit in a float32 map (magnitude at most 3.4e38)");
+  return value;
+}
+
+void checkImageOutputSpelling(const std::string& path) {
+  if (!imaging::hasImageExtension(path)) return;
+  for (const char* ext : {".nii", ".nii.gz", ".nrrd", ".nhdr"}) {
+    const std::size_t n = std::char_traits<char>::length(ext);
+    if (path.size() > n && path.compare(path.size() - n, n, ext) == 0) return;
+  }
+  usageError(path + ": write the extension in lower case (.nii, .nii.gz, .nrrd or .nhdr)");
 }
 
 namespace {

@@ -162,7 +162,7 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
       o.reference = args.value(a);
     } else if (a == "--unreachable-value") {
       const std::string v = args.value(a);
-      o.unreachableValue = v == "nan" ? std::numeric_limits<double>::quiet_NaN() : parseNumber(a, v);
+      o.unreachableValue = parseUnreachableValue(a, v);
     } else if (a == "-q" || a == "--quiet") {
       args.noValue(a);
       o.quiet = true;
@@ -179,6 +179,7 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
   checkMeshPropagationChoice(o, "tetrahedron edge", 2);
   tetmesh::TetMeshOutputFormat format;
   if (imaging::hasImageExtension(o.output)) {
+    checkImageOutputSpelling(o.output);
     if (o.reference.empty())
       usageError("-o " + o.output + ": an image output needs --reference IMAGE to take its grid from");
   } else if (!tetmesh::outputFormatOf(o.output, format)) {

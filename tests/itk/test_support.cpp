@@ -278,7 +278,8 @@ std::string slurp(const fs::path& file) {
 ToolRun runTool(const std::vector<std::string>& arguments) {
   const fs::path capture = uniqueTempPath("stvd_tool_run");
   const fs::path outFile = capture.string() + ".out", errFile = capture.string() + ".err";
-  std::string command = shellQuote(STVD_EXECUTABLE);
+  // A hang fails the test after two minutes instead of stalling the suite.
+  std::string command = "timeout -k 5 120 " + shellQuote(STVD_EXECUTABLE);
   for (const std::string& a : arguments) command += " " + shellQuote(a);
   command += " >" + shellQuote(outFile.string()) + " 2>" + shellQuote(errFile.string()) + " </dev/null";
   const int status = std::system(command.c_str());

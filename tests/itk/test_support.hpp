@@ -93,7 +93,8 @@ struct ToolRun {
 };
 
 /// Runs the built `stvd` with these arguments (each passed as one word),
-/// capturing stdout and stderr.
+/// capturing stdout and stderr. A run still going after 120 s is ended
+/// (exit code 124).
 ToolRun runTool(const std::vector<std::string>& arguments);
 
 }  // namespace stvd::testing

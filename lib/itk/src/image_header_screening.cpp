@@ -602,8 +602,8 @@ ScreenedImage screenImageFile(const std::string& path) {
   throw ImageIoError(path, "not a NIfTI (.nii, .nii.gz, .hdr/.img) or NRRD (.nrrd, .nhdr) file name");
 }
 
-std::vector<std::uint64_t> nonFiniteNiftiValues(const ScreenedImage& image, const std::string& path) {
-  std::vector<std::uint64_t> indices;
+std::vector<NonFiniteValue> nonFiniteNiftiValues(const ScreenedImage& image, const std::string& path) {
+  std::vector<NonFiniteValue> indices;
   const bool f32 = image.niftiDatatype == 16, f64 = image.niftiDatatype == 64;
   if (image.format != ImageFileFormat::Nifti || (!f32 && !f64)) return indices;
   const GzFile f = openAt(image.dataPath, 0, path);
@@ -627,7 +627,7 @@ std::vector<std::uint64_t> nonFiniteNiftiValues(const ScreenedImage& image, cons
         std::memcpy(&y, raw, 4);
         x = y;
       }
-      if (!std::isfinite(x)) indices.push_back(index + k);
+      if (!std::isfinite(x)) indices.push_back({index + k, x});
     }
     index += want;
   }

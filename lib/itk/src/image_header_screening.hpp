@@ -60,11 +60,19 @@ ScreenedImage screenImageFile(const std::string& path);
 /// or 0 when it cannot be read (no limit is then applied).
 std::uint64_t availableMemoryBytes();
 
-/// Indices (file order) of the NIfTI data values that are NaN or infinite,
-/// for float32 and float64 data; empty for other types. niftilib replaces
-/// such values by 0 on reading, which would turn a missing tensor into a
-/// zero one; the reader puts them back. Throws ImageIoError.
-std::vector<std::uint64_t> nonFiniteNiftiValues(const ScreenedImage& image, const std::string& path);
+/// A value of the file that is NaN or infinite, and where it is (file
+/// order, all axes).
+struct NonFiniteValue {
+  std::uint64_t index;
+  double value;
+};
+
+/// The NIfTI data values that are NaN or infinite, for float32 and float64
+/// data; empty for other types. niftilib replaces such values by 0 on
+/// reading, which would turn a missing tensor into a zero one and an
+/// infinite label into no label; the reader puts them back. Throws
+/// ImageIoError.
+std::vector<NonFiniteValue> nonFiniteNiftiValues(const ScreenedImage& image, const std::string& path);
 
 /// A NIfTI header with the same geometry fields as `image` but three
 /// dimensions (dim = 3, nx, ny, nz) and no intent: ITK reads the geometry of

@@ -191,21 +191,21 @@ void convertComponents(const char* raw, std::size_t count, std::vector<float>& o
   }
 }
 
-/// Writes NaN over the values (a float or double buffer in ITK's order) that
-/// the file holds as NaN or infinity and niftilib replaced by 0. With
-/// several components per pixel (interleaved by ITK, one volume per
-/// component in the file), the whole pixel becomes NaN.
+/// Puts back the values (a float or double buffer in ITK's order) that the
+/// file holds as NaN or infinity and niftilib replaced by 0. With several
+/// components per pixel (interleaved by ITK, one volume per component in
+/// the file), the whole pixel becomes NaN.
 template <class T>
-void restoreNonFinite(RawComponents& raw, const std::vector<std::uint64_t>& fileIndices, std::size_t components) {
+void restoreNonFinite(RawComponents& raw, const std::vector<NonFiniteValue>& values, std::size_t components) {
   const std::size_t pixels = raw.count / components;
-  T* values = reinterpret_cast<T*>(raw.bytes.data());
-  for (const std::uint64_t e : fileIndices) {
+  T* buffer = reinterpret_cast<T*>(raw.bytes.data());
+  for (const NonFiniteValue& v : values) {
     if (components == 1) {
-      if (e < raw.count) values[e] = std::numeric_limits<T>::quiet_NaN();
+      if (v.index < raw.count) buffer[v.index] = static_cast<T>(v.value);
       continue;
     }
-    const std::size_t pixel = static_cast<std::size_t>(e % pixels);
-    for (std::size_t c = 0; c < components; ++c) values[pixel * components + c] = std::numeric_limits<T>::quiet_NaN();
+    const std::size_t pixel = static_cast<std::size_t>(v.index % pixels);
+    for (std::size_t c = 0; c < components; ++c) buffer[pixel * components + c] = std::numeric_limits<T>::quiet_NaN();
   }
 }
 
@@ -234,7 +234,7 @@ RawComponents readRawComponents(OpenedImage& image, const std::string& path) {
                                  conciseItkMessage(e));
   }
   if (image.isNifti() && (raw.type == itk::IOComponentEnum::FLOAT || raw.type == itk::IOComponentEnum::DOUBLE)) {
-    const std::vector<std::uint64_t> nonFinite = nonFiniteNiftiValues(image.screened, path);
+    const std::vector<NonFiniteValue> nonFinite = nonFiniteNiftiValues(image.screened, path);
     const std::size_t components = io.GetNumberOfComponents();
     if (raw.type == itk::IOComponentEnum::FLOAT)
       restoreNonFinite<float>(raw, nonFinite, components);
