@@ -24,16 +24,14 @@ jobs=${STVD_FUZZ_JOBS:-1}
 all_targets=$(sed -n 's/^stvd_add_fuzz_target(\([a-z_0-9]*\).*/\1/p' fuzz/CMakeLists.txt)
 targets=${*:-$all_targets}
 
-bash scripts/setup.sh clang-14 libclang-rt-14-dev
+bash scripts/setup.sh
 CC=clang-14 CXX=clang++-14 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DSTVD_BUILD_FUZZERS=ON -DSTVD_BUILD_TESTS=OFF -DSTVD_BUILD_BENCHMARKS=OFF \
   -DSTVD_WITH_OPENVDB=OFF -DSTVD_WITH_TETGEN=OFF >/dev/null
 # shellcheck disable=SC2086
 nice -n 19 cmake --build "$build_dir" -j"$(nproc)" --target $(printf 'fuzz_%s ' $targets)
 
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/fuzz/itk_leaks.supp}
-export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 
 run_target() {
   local target=$1 binary="$build_dir/fuzz/fuzz_$1"
@@ -45,6 +43,10 @@ run_target() {
     regressions=("fuzz/regressions/$target")
   fi
   local status=0
+  # Sanitizer reports go to files beside the findings: the readers divert
+  # standard error while a library runs (library_messages.hpp).
+  ASAN_OPTIONS=detect_leaks=1:log_path=$PWD/$findings/report \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:log_path=$PWD/$findings/report \
   nice -n 19 "$binary" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
     -max_len=65536 -print_final_stats=1 -artifact_prefix="$findings/" \
     "$work" "fuzz/corpus/$target" "${regressions[@]}" >"$log" 2>&1 || status=$?
@@ -52,7 +54,7 @@ run_target() {
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)
   local found
-  found=$(find "$findings" -type f | wc -l)
+  found=$(find "$findings" -type f -name '[a-z]*-*' ! -name 'report*' | wc -l)
   printf 'fuzz: %-16s %5ss  %10s executions  coverage %5s  findings %s%s\n' "$target" "$seconds" \
     "${runs:-?}" "${cov:-?}" "$found" "$([[ $status -ne 0 ]] && echo "  (stopped, see $log)")"
   return "$status"

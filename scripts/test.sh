@@ -14,3 +14,9 @@ cmake --build "$build_dir" -j"$(nproc)"
 # Every test takes seconds; 300 s means one has hung. Tests may set a
 # TIMEOUT property of their own.
 ctest --test-dir "$build_dir" --output-on-failure -j2 --timeout 300
+# The file-reading suites again under AddressSanitizer and
+# UndefinedBehaviorSanitizer, and a few seconds of each fuzz target
+# (docs/reliability.md). STVD_SANITIZE=0 skips this pass.
+if [[ ${STVD_SANITIZE:-1} != 0 ]]; then
+  bash scripts/sanitize.sh
+fi

@@ -259,8 +259,11 @@ ScreenedImage screenNifti(const std::string& path, const std::string& lower) {
       throw ImageIoError(path, "a NIfTI-2 header without the NIfTI-2 magic");
     image.niftiVersion = 2;
   } else {
+    // niftilib takes any "n+D" or "niD" (D a digit) as NIfTI magic.
     const char* magic = reinterpret_cast<const char*>(bytes.data() + 344);
-    image.niftiVersion = std::memcmp(magic, "n+1\0", 4) == 0 || std::memcmp(magic, "ni1\0", 4) == 0 ? 1 : 0;
+    const bool nifti = magic[0] == 'n' && (magic[1] == '+' || magic[1] == 'i') && magic[2] >= '1' &&
+                       magic[2] <= '9' && magic[3] == '\0';
+    image.niftiVersion = nifti ? 1 : 0;
     if (image.niftiVersion == 0)
       image.warnings.push_back("has an Analyze 7.5 header (no NIfTI magic): the format does not define its "
                                "orientation, and the image is read with ITK's default orientation");
@@ -308,7 +311,7 @@ ScreenedImage screenNifti(const std::string& path, const std::string& lower) {
   if (!std::isfinite(slope) || (slope != 0 && !std::isfinite(intercept)))
     throw ImageIoError(path, "the scaling scl_slope " + number(slope) + ", scl_inter " + number(intercept) +
                                  " is not finite");
-  if (image.niftiVersion > 0) {
+  {  // checked whatever the magic says: a library may still use them
     const std::size_t step = fields->wide ? 8 : 4;
     if (code(fields->qformCode) > 0) {
       const char* names[6] = {"quatern_b", "quatern_c", "quatern_d", "qoffset_x", "qoffset_y", "qoffset_z"};
