@@ -99,7 +99,7 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
 }
 
 struct Region {
-  long label = 0;
+  std::int64_t label = 0;
   std::vector<VertexId> voxels;  // in the domain
 };
 
@@ -128,23 +128,21 @@ int runConnectivity(int argc, char** argv) {
   const GridGeometry& g = input.read.volume.geometry;
   imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
 
-  imaging::ScalarImage labels;
+  imaging::LabelImage labels;
   try {
-    labels = imaging::readScalarImage(o.labels);
+    labels = imaging::readLabelImage(o.labels);
   } catch (const imaging::ImageIoError& e) {
     throw ToolError(kExitInput, e.what());
   }
+  noteInputWarnings(o.labels, labels.warnings);
   const std::string mismatch = imaging::geometryMismatch(labels.geometry, g);
   if (!mismatch.empty())
     throw ToolError(kExitInput, o.labels + ": the labels are on another grid than " + o.input + " (" + mismatch + ")");
-  std::map<long, Region> byLabel;
-  for (std::size_t v = 0; v < labels.values.size(); ++v) {
-    const float value = labels.values[v];
-    if (value == 0.f || std::isnan(value)) continue;
-    if (value != std::round(value))
-      throw ToolError(kExitInput, o.labels + ": label value " + fixed(value, 3) + " is not an integer");
-    Region& r = byLabel[std::lround(value)];
-    r.label = std::lround(value);
+  std::map<std::int64_t, Region> byLabel;
+  for (std::size_t v = 0; v < labels.labels.size(); ++v) {
+    if (labels.labels[v] == 0) continue;
+    Region& r = byLabel[labels.labels[v]];
+    r.label = labels.labels[v];
     if (built.inDomain[v]) r.voxels.push_back(static_cast<VertexId>(v));
   }
   std::vector<Region> regions;

@@ -129,8 +129,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
       if (!(o.maxDistance > 0.0)) usageError("--max-distance must be positive");
     } else if (a == "--unreachable-value") {
       const std::string v = args.value(a);
-      o.unreachableValue = (v == "nan" || v == "NaN") ? std::numeric_limits<float>::quiet_NaN()
-                                                       : static_cast<float>(parseNumber(a, v));
+      o.unreachableValue = static_cast<float>(parseUnreachableValue(a, v));
     } else if (a == "--stats") {
       o.statsPath = args.value(a);
     } else if (a == "-q" || a == "--quiet") {
@@ -149,6 +148,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   } else if (!imaging::hasImageExtension(o.output)) {
     usageError(o.output + ": unsupported output format; use .nii, .nii.gz, .nrrd, .nhdr or .vdb");
   }
+  checkImageOutputSpelling(o.output);
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
     usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
   checkPropagationChoice(o, /*lanthierAllowed=*/true);
@@ -322,6 +322,9 @@ std::string statsJson(const DistanceOptions& o, const TensorInput& input, const 
   j << "  \"distance_mm\": {\"reached\": " << stats.reached << ", \"min\": " << (stats.reached ? "0" : "null")
     << ", \"median\": " << (stats.reached ? jsonNumber(stats.median) : "null")
     << ", \"max\": " << (stats.reached ? jsonNumber(stats.maximum) : "null") << "},\n";
+  j << "  \"warnings\": [";
+  for (std::size_t w = 0; w < inputWarnings().size(); ++w) j << (w ? ", " : "") << jsonString(inputWarnings()[w]);
+  j << "],\n";
   j << "  \"seconds\": {\"read\": " << jsonNumber(t.read) << ", \"metric\": " << jsonNumber(t.metric)
     << ", \"propagate\": " << jsonNumber(t.propagate) << ", \"write\": " << jsonNumber(t.write)
     << ", \"total\": " << jsonNumber(t.total) << "},\n";

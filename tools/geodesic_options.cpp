@@ -202,6 +202,7 @@ std::vector<Seed> resolveSeeds(const std::string& inputPath, const SeedOptions& 
     } catch (const imaging::ImageIoError& e) {
       throw ToolError(kExitInput, e.what());
     }
+    noteInputWarnings(o.seedLabels, labels.warnings);
     const std::string mismatch = imaging::geometryMismatch(labels.geometry, g);
     if (!mismatch.empty())
       throw ToolError(kExitInput, o.seedLabels + ": the seed labels are on another grid than " + inputPath + " (" +

@@ -169,23 +169,21 @@ struct Target {
 /// with the smallest distance from the seeds.
 std::vector<Target> labelTargets(const PathOptions& o, const GridGeometry& g, const std::vector<std::uint8_t>& inDomain,
                                  const std::vector<double>& distance) {
-  imaging::ScalarImage labels;
+  imaging::LabelImage labels;
   try {
-    labels = imaging::readScalarImage(o.targetLabels);
+    labels = imaging::readLabelImage(o.targetLabels);
   } catch (const imaging::ImageIoError& e) {
     throw ToolError(kExitInput, e.what());
   }
+  noteInputWarnings(o.targetLabels, labels.warnings);
   const std::string mismatch = imaging::geometryMismatch(labels.geometry, g);
   if (!mismatch.empty())
     throw ToolError(kExitInput, o.targetLabels + ": the target labels are on another grid than " + o.input + " (" +
                                     mismatch + ")");
-  std::map<long, VertexId> nearest;  // label -> voxel (kNoVertex: none reachable)
-  for (std::size_t v = 0; v < labels.values.size(); ++v) {
-    const float value = labels.values[v];
-    if (value == 0.f || std::isnan(value)) continue;
-    if (value != std::round(value))
-      throw ToolError(kExitInput, o.targetLabels + ": label value " + fixed(value, 3) + " is not an integer");
-    auto [it, inserted] = nearest.emplace(std::lround(value), kNoVertex);
+  std::map<std::int64_t, VertexId> nearest;  // label -> voxel (kNoVertex: none reachable)
+  for (std::size_t v = 0; v < labels.labels.size(); ++v) {
+    if (labels.labels[v] == 0) continue;
+    auto [it, inserted] = nearest.emplace(labels.labels[v], kNoVertex);
     if (!inDomain[v] || !std::isfinite(distance[v])) continue;
     if (it->second == kNoVertex || distance[v] < distance[it->second]) it->second = static_cast<VertexId>(v);
   }

@@ -165,7 +165,7 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
       o.reference = args.value(a);
     } else if (a == "--unreachable-value") {
       const std::string v = args.value(a);
-      o.unreachableValue = v == "nan" ? std::numeric_limits<double>::quiet_NaN() : parseNumber(a, v);
+      o.unreachableValue = parseUnreachableValue(a, v);
     } else if (a == "-q" || a == "--quiet") {
       args.noValue(a);
       o.quiet = true;
@@ -182,6 +182,7 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
   checkMeshPropagationChoice(o, "tetrahedron edge", 2);
   tetmesh::TetMeshOutputFormat format;
   if (imaging::hasImageExtension(o.output)) {
+    checkImageOutputSpelling(o.output);
     if (o.reference.empty())
       usageError("-o " + o.output + ": an image output needs --reference IMAGE to take its grid from");
   } else if (!tetmesh::outputFormatOf(o.output, format)) {
@@ -329,6 +330,7 @@ int runTetMeshDistance(int argc, char** argv) {
     } catch (const imaging::ImageIoError& e) {
       throw ToolError(kExitInput, e.what());
     }
+    noteInputWarnings(o.reference, reference.warnings);
   }
 
   // The metric per vertex and the vertices in the domain.

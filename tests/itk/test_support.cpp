@@ -299,14 +299,17 @@ ToolRun runShellCommand(std::string command) {
 
 }  // namespace
 
+// A hang fails the test after two minutes instead of stalling the suite.
+constexpr const char* kTimeout = "timeout -k 5 120 ";
+
 ToolRun runTool(const std::vector<std::string>& arguments) {
-  std::string command = shellQuote(toolExecutable());
+  std::string command = kTimeout + shellQuote(toolExecutable());
   for (const std::string& a : arguments) command += " " + shellQuote(a);
   return runShellCommand(command);
 }
 
 ToolRun runToolInBash(const std::string& script, const std::vector<std::string>& arguments) {
-  std::string command = "bash -c " + shellQuote(script) + " " + shellQuote(toolExecutable());
+  std::string command = std::string(kTimeout) + "bash -c " + shellQuote(script) + " " + shellQuote(toolExecutable());
   for (const std::string& a : arguments) command += " " + shellQuote(a);
   return runShellCommand(command);
 }

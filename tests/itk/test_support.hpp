@@ -99,13 +99,15 @@ std::string toolExecutable();
 
 /// Runs `stvd` with these arguments (each passed as one word), capturing
 /// stdout and stderr. A run ended by a signal has the exit code the shell
-/// reports, 128 + the signal's number.
+/// reports, 128 + the signal's number; a run still going after 120 s is
+/// ended (exit code 124).
 ToolRun runTool(const std::vector<std::string>& arguments);
 
 /// Runs a bash script in which "$0" is `stvd` and "$@" these arguments, for
 /// example one that runs the tool under "ulimit -f 0; trap '' XFSZ", which
 /// makes every write beyond the limit fail with EFBIG instead of ending the
-/// tool. The exit code is the script's; stdout and stderr are captured.
+/// tool. The exit code is the script's (124 after 120 s); stdout and stderr
+/// are captured.
 ToolRun runToolInBash(const std::string& script, const std::vector<std::string>& arguments);
 
 }  // namespace stvd::testing

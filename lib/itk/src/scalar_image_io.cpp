@@ -1,6 +1,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
+#include <limits>
+#include <type_traits>
 #include <sstream>
 
 #include "itk_io_support.hpp"
@@ -12,19 +15,102 @@
 
 namespace stvd::imaging {
 
-ScalarImage readScalarImage(const std::string& path) {
-  itk::ImageIOBase::Pointer io = detail::openImageForReading(path);
-  const unsigned dims = io->GetNumberOfDimensions();
-  if (io->GetNumberOfComponents() != 1)
-    throw ImageIoError(path, "not a scalar image: " + std::to_string(io->GetNumberOfComponents()) +
+namespace {
+
+detail::OpenedImage openScalarImage(const std::string& path) {
+  detail::OpenedImage image = detail::openImageForReading(path);
+  itk::ImageIOBase& io = *image.io;
+  if (io.GetNumberOfComponents() != 1)
+    throw ImageIoError(path, "not a scalar image: " + std::to_string(io.GetNumberOfComponents()) +
                                  " components per voxel");
-  for (unsigned d = 3; d < dims; ++d)
-    if (io->GetDimensions(d) != 1)
+  for (unsigned d = 3; d < io.GetNumberOfDimensions(); ++d)
+    if (io.GetDimensions(d) != 1)
       throw ImageIoError(path, "not a 3D scalar image: axis " + std::to_string(d + 1) + " has " +
-                                   std::to_string(io->GetDimensions(d)) + " samples");
+                                   std::to_string(io.GetDimensions(d)) + " samples");
+  return image;
+}
+
+std::string voxelText(const GridGeometry& g, std::size_t v) {
+  return "(" + std::to_string(v % g.size[0]) + ", " + std::to_string((v / g.size[0]) % g.size[1]) + ", " +
+         std::to_string(v / (static_cast<std::size_t>(g.size[0]) * g.size[1])) + ")";
+}
+
+template <class T>
+void integerLabels(const detail::RawComponents& raw, std::vector<std::int64_t>& labels, const std::string& path,
+                   const GridGeometry& g) {
+  labels.resize(raw.count);
+  for (std::size_t v = 0; v < raw.count; ++v) {
+    T value;
+    std::memcpy(&value, raw.bytes.data() + v * sizeof(T), sizeof(T));
+    if constexpr (std::is_unsigned_v<T> && sizeof(T) == 8) {
+      if (value > static_cast<T>(std::numeric_limits<std::int64_t>::max()))
+        throw ImageIoError(path, "label " + std::to_string(value) + " at voxel " + voxelText(g, v) +
+                                     " is beyond 2^63 - 1");
+    }
+    labels[v] = static_cast<std::int64_t>(value);
+  }
+}
+
+template <class T>
+void floatLabels(const detail::RawComponents& raw, std::vector<std::int64_t>& labels, const std::string& path,
+                 const GridGeometry& g) {
+  constexpr double kLargestExact = 9007199254740992.0;  // 2^53
+  labels.resize(raw.count);
+  for (std::size_t v = 0; v < raw.count; ++v) {
+    T value;
+    std::memcpy(&value, raw.bytes.data() + v * sizeof(T), sizeof(T));
+    const double x = static_cast<double>(value);
+    if (std::isnan(x)) {
+      labels[v] = 0;
+      continue;
+    }
+    if (x != std::floor(x) || std::abs(x) > kLargestExact) {
+      std::ostringstream s;
+      s.precision(9);
+      s << "voxel " << voxelText(g, v) << " holds " << x
+        << (x != std::floor(x) ? ", which is not an integer" : ", beyond the 2^53 a floating-point label can hold exactly")
+        << " (a label image holds integer labels)";
+      throw ImageIoError(path, s.str());
+    }
+    labels[v] = static_cast<std::int64_t>(x);
+  }
+}
+
+}  // namespace
+
+ScalarImage readScalarImage(const std::string& path) {
+  detail::OpenedImage opened = openScalarImage(path);
   ScalarImage image;
-  image.geometry = detail::geometryOf(*io, path);
-  image.values = detail::readAllComponents(*io, path);
+  image.geometry = detail::geometryOf(opened, path);
+  image.values = detail::readAllComponents(opened, path);
+  image.warnings = opened.screened.warnings;
+  return image;
+}
+
+LabelImage readLabelImage(const std::string& path) {
+  detail::OpenedImage opened = openScalarImage(path);
+  LabelImage image;
+  image.geometry = detail::geometryOf(opened, path);
+  image.warnings = opened.screened.warnings;
+  const detail::RawComponents raw = detail::readRawComponents(opened, path);
+  const GridGeometry& g = image.geometry;
+  using C = itk::IOComponentEnum;
+  switch (raw.type) {
+    case C::UCHAR: integerLabels<std::uint8_t>(raw, image.labels, path, g); break;
+    case C::CHAR: integerLabels<std::int8_t>(raw, image.labels, path, g); break;
+    case C::USHORT: integerLabels<std::uint16_t>(raw, image.labels, path, g); break;
+    case C::SHORT: integerLabels<std::int16_t>(raw, image.labels, path, g); break;
+    case C::UINT: integerLabels<std::uint32_t>(raw, image.labels, path, g); break;
+    case C::INT: integerLabels<std::int32_t>(raw, image.labels, path, g); break;
+    case C::ULONG: integerLabels<unsigned long>(raw, image.labels, path, g); break;
+    case C::LONG: integerLabels<long>(raw, image.labels, path, g); break;
+    case C::ULONGLONG: integerLabels<unsigned long long>(raw, image.labels, path, g); break;
+    case C::LONGLONG: integerLabels<long long>(raw, image.labels, path, g); break;
+    case C::FLOAT: floatLabels<float>(raw, image.labels, path, g); break;
+    case C::DOUBLE: floatLabels<double>(raw, image.labels, path, g); break;
+    default:
+      throw ImageIoError(path, "unsupported component type " + itk::ImageIOBase::GetComponentTypeAsString(raw.type));
+  }
   return image;
 }
 

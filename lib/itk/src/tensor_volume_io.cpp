@@ -50,7 +50,8 @@ void checkStatedOrder(const std::string& path, const TensorReadOptions& options,
 }  // namespace
 
 TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options) {
-  itk::ImageIOBase::Pointer io = detail::openImageForReading(path);
+  detail::OpenedImage image = detail::openImageForReading(path);
+  itk::ImageIOBase::Pointer io = image.io;
   const std::string ioClass = io->GetNameOfClass();
   const unsigned dims = io->GetNumberOfDimensions();
   const unsigned components = io->GetNumberOfComponents();
@@ -58,6 +59,7 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
 
   TensorReadResult result;
   TensorFileInfo& info = result.info;
+  info.warnings = image.screened.warnings;
   info.componentType = itk::ImageIOBase::GetComponentTypeAsString(io->GetComponentType());
   // How the components sit in ITK's buffer: interleaved per voxel (true) or
   // one volume after the other (false).
@@ -78,7 +80,10 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
     // ITK hands the six tensor values over in NRRD's own order, xx xy xz yy yz zz.
     bufferOrder = TensorOrder::Fsl;
   } else if (ioClass == "NiftiImageIO") {
-    if (dims == 3 && components == 6 && tensorPixel) {
+    // ITK drops the third axis of a 5D file of one slice (geometryOf()
+    // takes it back from the header).
+    const bool oneSlice = dims < 3 && image.screened.niftiDim[0] == 5 && image.screened.niftiDim[3] == 1;
+    if ((dims == 3 || oneSlice) && components == 6 && tensorPixel) {
       info.layout = TensorFileLayout::NiftiSymMatrix5D;
       info.order = TensorOrder::Lower;
       checkStatedOrder(path, options, info.layout, info.order);
@@ -112,8 +117,8 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
   info.frame = options.frame.value_or(defaultTensorFrame(info.layout, info.order));
 
   TensorVolume& volume = result.volume;
-  volume.geometry = detail::geometryOf(*io, path);
-  const std::vector<float> values = detail::readAllComponents(*io, path);
+  volume.geometry = detail::geometryOf(image, path);
+  const std::vector<float> values = detail::readAllComponents(image, path);
   const std::size_t n = volume.geometry.voxelCount();
   if (values.size() != 6 * n)
     throw ImageIoError(path, "holds " + std::to_string(values.size()) + " values, expected 6 per voxel");

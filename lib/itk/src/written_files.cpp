@@ -65,10 +65,10 @@ void checkNrrdReadsBack(const std::string& path, const std::string& reportedPath
                         const std::vector<float>& components) {
   std::vector<float> back;
   try {
-    itk::ImageIOBase::Pointer io = openImageForReading(path);
-    if (io->GetComponentType() != itk::IOComponentEnum::FLOAT)
+    OpenedImage image = openImageForReading(path);
+    if (image.io->GetComponentType() != itk::IOComponentEnum::FLOAT)
       throw ImageIoError(path, "the data type is not float32");
-    back = readAllComponents(*io, path);
+    back = readAllComponents(image, path);
   } catch (const ImageIoError& e) {
     std::string problem = e.what();
     if (problem.rfind(path + ": ", 0) == 0) problem.erase(0, path.size() + 2);

@@ -1,5 +1,6 @@
 #include "stvd/files/termination_signals.hpp"
 
+#include <fcntl.h>
 #include <pthread.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -21,6 +22,15 @@ const int kTerminationSignals[] = {SIGINT, SIGTERM, SIGHUP};
 std::string& programNameForMessages() {
   static std::string name;
   return name;
+}
+
+/// A duplicate of standard error made when the handling is installed: code
+/// that diverts standard error for a while (the image adapter collects the
+/// messages of the libraries it calls that way) must not swallow the line
+/// that says the run was interrupted.
+int& messageDescriptor() {
+  static int fd = STDERR_FILENO;
+  return fd;
 }
 
 /// The signals the waiting thread handles (blocked in every thread).
@@ -56,9 +66,10 @@ void cleanUp(detail::ProcessRegistry& registry, int signal) {
     const char* name = signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : signal == SIGHUP ? "SIGHUP" : "signal";
     // On a terminal the line may follow a progress bar: it starts on a
     // cleared line.
-    const std::string clear = ::isatty(STDERR_FILENO) ? "\r" + std::string(79, ' ') + "\r" : "";
+    const int fd = messageDescriptor();
+    const std::string clear = ::isatty(fd) ? "\r" + std::string(79, ' ') + "\r" : "";
     const std::string line = clear + program + ": interrupted (" + name + ")\n";
-    (void)!::write(STDERR_FILENO, line.data(), line.size());
+    (void)!::write(fd, line.data(), line.size());
   }
   // The signal's default action ends the process; the parent sees "killed
   // by the signal", which shells report as 128 + its number.
@@ -79,6 +90,8 @@ void removeStagedOutputsOnTerminationSignals(const std::string& programName) {
   static std::once_flag once;
   std::call_once(once, [&] {
     programNameForMessages() = programName;
+    const int duplicate = ::fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 3);
+    if (duplicate >= 0) messageDescriptor() = duplicate;
     sigset_t handled;
     sigemptyset(&handled);
     for (const int s : kTerminationSignals) {

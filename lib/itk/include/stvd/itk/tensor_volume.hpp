@@ -65,6 +65,9 @@ struct TensorFileInfo {
   std::string nrrdSpace;
   /// File's component type, e.g. "float".
   std::string componentType;
+  /// What the user should know about a file that was read all the same
+  /// (e.g. "has an Analyze 7.5 header ..."), one sentence each.
+  std::vector<std::string> warnings;
 };
 
 struct TensorReadResult {
@@ -73,10 +76,13 @@ struct TensorReadResult {
 };
 
 /// Reads a tensor volume from a .nii, .nii.gz, .nrrd or .nhdr file and
-/// brings its tensors into the LPS frame. Throws ImageIoError with a
-/// one-line message naming the file: unreadable or truncated file, not a
-/// tensor layout (scalar image, wrong component count), a 4D NIfTI without
-/// an order, an order that contradicts the file.
+/// brings its tensors into the LPS frame. The header is checked before ITK
+/// reads the file (see docs/reliability.md). A tensor with a NaN or
+/// infinite component in the file is NaN in every component, whatever the
+/// format (niftilib would have turned it into zeros). Throws ImageIoError
+/// with a one-line message naming the file: unreadable, truncated or
+/// hostile file, not a tensor layout (scalar image, wrong component count),
+/// a 4D NIfTI without an order, an order that contradicts the file.
 TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options = {});
 
 struct TensorWriteOptions {
