@@ -18,3 +18,10 @@ cmake --build "$build_dir" -j"$(nproc)"
 # Every test takes seconds; 300 s means one has hung. Tests may set a
 # TIMEOUT property of their own.
 ctest --test-dir "$build_dir" --output-on-failure -j2 --timeout 300
+# The file-reading suites again under AddressSanitizer and
+# UndefinedBehaviorSanitizer, and a few seconds of each fuzz target
+# (docs/reliability.md). Runs with STVD_SANITIZE=1; off by default until
+# one complete run of it has been timed on CI's 2 cores.
+if [[ ${STVD_SANITIZE:-0} != 0 ]]; then
+  bash scripts/sanitize.sh
+fi

@@ -2,14 +2,17 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/mrtrix_image.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/tensor_plausibility.hpp"
 
@@ -137,6 +140,42 @@ bool parseTensorInputOption(const std::string& option, ArgumentReader& args, Ten
   return true;
 }
 
+double parseUnreachableValue(const std::string& option, const std::string& text) {
+  if (text == "nan" || text == "NaN") return std::numeric_limits<double>::quiet_NaN();
+  const double value = parseNumber(option, text);
+  if (!(std::abs(value) <= std::numeric_limits<float>::max()))
+    usageError(option + ": '" + text + "' does not fit in a float32 map (magnitude at most 3.4e38)");
+  return value;
+}
+
+void checkImageOutputSpelling(const std::string& path) {
+  // MRtrix images are written by our own code, in any letter case.
+  if (!imaging::hasImageExtension(path) || imaging::isMrtrixImagePath(path)) return;
+  for (const char* ext : {".nii", ".nii.gz", ".nrrd", ".nhdr"}) {
+    const std::size_t n = std::char_traits<char>::length(ext);
+    if (path.size() > n && path.compare(path.size() - n, n, ext) == 0) return;
+  }
+  usageError(path + ": write the extension in lower case (.nii, .nii.gz, .nrrd or .nhdr)");
+}
+
+namespace {
+std::vector<std::string>& noted() {
+  static std::vector<std::string> warnings;
+  return warnings;
+}
+}  // namespace
+
+void noteInputWarnings(const std::string& path, const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) {
+    const std::string line = path + ": " + w;
+    if (std::find(noted().begin(), noted().end(), line) != noted().end()) continue;
+    noted().push_back(line);
+    std::cerr << "stvd: warning: " << line << std::endl;
+  }
+}
+
+const std::vector<std::string>& inputWarnings() { return noted(); }
+
 TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options) {
   TensorInput input;
   try {
@@ -144,6 +183,7 @@ TensorInput readTensorInput(const std::string& path, const TensorInputOptions& o
   } catch (const imaging::ImageIoError& e) {
     throw ToolError(kExitInput, e.what());
   }
+  noteInputWarnings(path, input.read.info.warnings);
   input.mask = input.read.volume.mask;
   if (!input.mask.empty()) input.maskDescription = "the file's confidence channel";
   if (!options.maskPath.empty()) {
@@ -153,6 +193,7 @@ TensorInput readTensorInput(const std::string& path, const TensorInputOptions& o
     } catch (const imaging::ImageIoError& e) {
       throw ToolError(kExitInput, e.what());
     }
+    noteInputWarnings(options.maskPath, mask.warnings);
     const std::string mismatch = imaging::geometryMismatch(mask.geometry, input.read.volume.geometry);
     if (!mismatch.empty())
       throw ToolError(kExitInput, options.maskPath + ": the mask is on another grid than " + path + " (" +

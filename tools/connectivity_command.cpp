@@ -3,10 +3,8 @@
 // region, the regions spread over threads.
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
 #include <exception>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -14,8 +12,11 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
+#include "memory_check.hpp"
+#include "run_files.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/geodesic_path.hpp"
-#include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/parallel_tasks.hpp"
@@ -44,7 +45,8 @@ const char* kConnectivityHelp =
     "A. d(A, B) and d(B, A) are computed separately and agree up to discretisation.\n"
     "\n"
     "  --labels LABELS         the region image (required).\n"
-    "  -o, --output FILE       the table (required); written atomically.\n"
+    "  -o, --output FILE       the table (required). The table and matrices appear together,\n"
+    "                          complete, or not at all; none may be an input.\n"
     "  --matrix FILE.csv       also the square N x N matrix of geodesic distances (mm): row A,\n"
     "                          column B holds d(A, B); rows and columns in label order, the labels\n"
     "                          in a '# labels:' header line; 0 on the diagonal, inf where B is not\n"
@@ -56,13 +58,15 @@ const char* kConnectivityHelp =
     "                          the table does not depend on N.\n"
     "  --method, --k, --chain-measure, --stencil   as in stvd distance (defaults stvd, 8,\n"
     "                          largest, 26).\n"
+    "  --no-memory-check       run even when the memory the propagations need (one per thread)\n"
+    "                          exceeds the memory available.\n"
     "  -q, --quiet             no summary on stdout.\n"
     "\n"
     "%TENSOR%"
     "\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
     "input (also labels on another grid or not integers); 4 fewer than two regions with voxels\n"
-    "in the domain; 5 output cannot be written.\n";
+    "in the domain; 5 output cannot be written; 6 not enough memory for the run.\n";
 
 struct ConnectivityOptions : PropagationChoice {
   std::string input;
@@ -104,15 +108,12 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
   if (o.input.empty()) usageError("no input file (see stvd connectivity --help)");
   if (o.labels.empty()) usageError("no regions: add --labels LABELS");
   if (o.output.empty()) usageError("no output file: add -o TABLE.tsv");
-  for (const std::string* other : {&o.matrix, &o.matrixIndex})
-    if (*other == o.output) usageError(*other + " is named twice as an output");
-  if (!o.matrix.empty() && o.matrix == o.matrixIndex) usageError(o.matrix + " is named twice as an output");
   checkPropagationChoice(o, /*lanthierAllowed=*/false);
   return o;
 }
 
 struct Region {
-  long label = 0;
+  std::int64_t label = 0;
   std::vector<VertexId> voxels;  // in the domain
 };
 
@@ -152,50 +153,39 @@ std::string matrixCsv(const std::string& what, const std::vector<Region>& region
   return csv.str();
 }
 
-void writeText(const std::string& path, const std::string& text) {
-  imaging::AtomicOutput output(path);
-  {
-    std::ofstream file(output.stagingPath());
-    file << text;
-    if (!file.flush()) throw imaging::ImageIoError(path, "cannot write the file");
-  }
-  output.commit();
-}
-
 }  // namespace
 
 int runConnectivity(int argc, char** argv) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   const ConnectivityOptions o = parseConnectivityOptions(argc, argv);
-  try {
-    imaging::checkOutputPath(o.output);
-    if (!o.matrix.empty()) imaging::checkOutputPath(o.matrix);
-    if (!o.matrixIndex.empty()) imaging::checkOutputPath(o.matrixIndex);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputImage("tensor input", o.input);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("label image", o.labels);
+  files.outputFile("connectivity table", o.output);
+  files.outputFile("distance matrix", o.matrix);
+  files.outputFile("connectivity-index matrix", o.matrixIndex);
+  files.check();
   const TensorInput input = readTensorInput(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
   imaging::MetricFromTensors built = buildCheckedMetric(o.input, input, o.tensor);
 
-  imaging::ScalarImage labels;
+  imaging::LabelImage labels;
   try {
-    labels = imaging::readScalarImage(o.labels);
+    labels = imaging::readLabelImage(o.labels);
   } catch (const imaging::ImageIoError& e) {
     throw ToolError(kExitInput, e.what());
   }
+  noteInputWarnings(o.labels, labels.warnings);
   const std::string mismatch = imaging::geometryMismatch(labels.geometry, g);
   if (!mismatch.empty())
     throw ToolError(kExitInput, o.labels + ": the labels are on another grid than " + o.input + " (" + mismatch + ")");
-  std::map<long, Region> byLabel;
-  for (std::size_t v = 0; v < labels.values.size(); ++v) {
-    const float value = labels.values[v];
-    if (value == 0.f || std::isnan(value)) continue;
-    if (value != std::round(value))
-      throw ToolError(kExitInput, o.labels + ": label value " + fixed(value, 3) + " is not an integer");
-    Region& r = byLabel[std::lround(value)];
-    r.label = std::lround(value);
+  std::map<std::int64_t, Region> byLabel;
+  for (std::size_t v = 0; v < labels.labels.size(); ++v) {
+    if (labels.labels[v] == 0) continue;
+    Region& r = byLabel[labels.labels[v]];
+    r.label = labels.labels[v];
     if (built.inDomain[v]) r.voxels.push_back(static_cast<VertexId>(v));
   }
   std::vector<Region> regions;
@@ -209,6 +199,12 @@ int runConnectivity(int argc, char** argv) {
   if (regions.size() < 2)
     throw ToolError(kExitDomain, o.labels + ": fewer than two regions have voxels inside the domain of " + o.input);
 
+  // One propagation at a time on each thread, each with its own state and result.
+  const unsigned threadCount = threadCountFor(o.threads, regions.size());
+  checkMemory(o.input, threadCount * propagationMemoryEstimate(g.voxelCount(), built.counts.domain),
+              std::to_string(threadCount) + (threadCount == 1 ? " propagation" : " propagations at once") + " on " +
+                  withThousands(built.counts.domain) + " domain voxels",
+              !o.memoryCheck);
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   const PropagationOptions propagation = propagationOptions(o);
@@ -233,7 +229,6 @@ int runConnectivity(int argc, char** argv) {
       r.straight = norm(path.points.back() - path.points.front());
     }
   };
-  const unsigned threadCount = threadCountFor(o.threads, n);
   forEachTaskInParallel(n, threadCount, work);
 
   std::ostringstream tsv;
@@ -247,20 +242,17 @@ int runConnectivity(int argc, char** argv) {
           << "\t" << number(r.straight) << "\t" << number(index) << "\t" << regions[a].voxels.size() << "\t"
           << regions[b].voxels.size() << "\n";
     }
-  // Each file appears whole or not at all; when a later one fails, the
-  // earlier ones are removed again, so no half result stays behind.
-  std::vector<std::pair<std::string, std::string>> files{{o.output, tsv.str()}};
-  if (!o.matrix.empty()) files.emplace_back(o.matrix, matrixCsv("geodesic distance (mm)", regions, table, false));
+  // The table and the matrices appear together or not at all.
+  std::vector<std::pair<std::string, std::string>> texts{{o.output, tsv.str()}};
+  if (!o.matrix.empty()) texts.emplace_back(o.matrix, matrixCsv("geodesic distance (mm)", regions, table, false));
   if (!o.matrixIndex.empty())
-    files.emplace_back(o.matrixIndex, matrixCsv("connectivity index (path_mm / geodesic_mm)", regions, table, true));
-  std::vector<std::string> written;
+    texts.emplace_back(o.matrixIndex, matrixCsv("connectivity index (path_mm / geodesic_mm)", regions, table, true));
+  files::OutputTransaction outputs;
   try {
-    for (const auto& [path, text] : files) {
-      writeText(path, text);
-      written.push_back(path);
-    }
-  } catch (const imaging::ImageIoError& e) {
-    for (const std::string& path : written) std::remove(path.c_str());
+    for (const auto& [path, text] : texts)
+      outputs.write(path, [&](const std::string& staging) { files::writeFileContents(staging, text); });
+    outputs.commit();
+  } catch (const files::OutputError& e) {
     throw ToolError(kExitOutput, e.what());
   }
   if (!o.quiet)

@@ -5,15 +5,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <sstream>
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
-#include "stvd/itk/atomic_output.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "memory_check.hpp"
+#include "run_files.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/symmetric_eigen.hpp"
 #include "stvd/itk/tensor_frames.hpp"
@@ -76,14 +77,17 @@ const char* kDistanceHelp =
     "                          DTI data for k > 3; see docs/cli.md).\n"
     "  --stencil S             neighbourhood: 6, 18, 26 (default), 98 (5x5x5) or 290 (7x7x7).\n"
     "  --max-distance D        stop at D mm; farther voxels are unreachable.\n"
+    "  --no-memory-check       run even when the estimate of the memory the propagation needs\n"
+    "                          exceeds the memory available (exit code 6 otherwise).\n"
     "\n"
     "%TENSOR%"
     "\n"
     "Output:\n"
     "  -o, --output FILE       the distance map (required): .nii, .nii.gz, .nrrd, .nhdr, .mif,\n"
     "                          .mif.gz or .vdb.\n"
-    "                          Its folder must exist. Written under a temporary name in the same\n"
-    "                          folder and renamed when complete.\n"
+    "                          Its folder must exist; it must not be an input. Written with the\n"
+    "                          statistics into a staging folder next to it and moved into place\n"
+    "                          when both are complete.\n"
     "  --unreachable-value V   value of voxels not reached: a number or nan (default -1; nan keeps\n"
     "                          them out of mrstats and most viewers' statistics).\n"
     "  --stats FILE.json       parameters, counts, seconds per phase and peak memory as JSON.\n"
@@ -95,8 +99,9 @@ const char* kDistanceHelp =
     "\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
     "input (format, layout, geometry of mask or labels); 4 nothing to compute (empty domain, a\n"
-    "seed outside the image or the domain); 5 output cannot be written. On failure one line on\n"
-    "stderr names the file and the problem, and no output file is left behind.\n";
+    "seed outside the image or the domain); 5 output cannot be written; 6 not enough memory for\n"
+    "the run. On failure one line on stderr names the file and the problem, and no output file\n"
+    "is left behind.\n";
 
 /// The whole help: volumes, then surfaces and tetrahedral meshes in
 /// sections of their own.
@@ -138,8 +143,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
       if (!(o.maxDistance > 0.0)) usageError("--max-distance must be positive");
     } else if (a == "--unreachable-value") {
       const std::string v = args.value(a);
-      o.unreachableValue = (v == "nan" || v == "NaN") ? std::numeric_limits<float>::quiet_NaN()
-                                                       : static_cast<float>(parseNumber(a, v));
+      o.unreachableValue = static_cast<float>(parseUnreachableValue(a, v));
     } else if (a == "--stats") {
       o.statsPath = args.value(a);
     } else if (a == "-q" || a == "--quiet") {
@@ -158,6 +162,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   } else if (!imaging::hasImageExtension(o.output)) {
     usageError(o.output + ": unsupported output format; use .nii, .nii.gz, .nrrd, .nhdr, .mif, .mif.gz or .vdb");
   }
+  checkImageOutputSpelling(o.output);
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
     usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
   checkPropagationChoice(o, /*lanthierAllowed=*/true);
@@ -236,10 +241,9 @@ struct Timings {
   double read = 0, metric = 0, propagate = 0, write = 0, total = 0;
 };
 
-void writeStats(const std::string& path, const DistanceOptions& o, const TensorInput& input,
-                const imaging::MetricVoxelCounts& counts, const std::vector<Seed>& seeds,
-                std::size_t labelSeedsLeftOut, const PropagationResult& result, const DistanceStatistics& stats,
-                const Timings& t) {
+std::string statsJson(const DistanceOptions& o, const TensorInput& input, const imaging::MetricVoxelCounts& counts,
+                      const std::vector<Seed>& seeds, std::size_t labelSeedsLeftOut, const PropagationResult& result,
+                      const DistanceStatistics& stats, const MemoryCheck& memory, const Timings& t) {
   const GridGeometry& g = input.read.volume.geometry;
   const imaging::TensorFileInfo& info = input.read.info;
   std::ostringstream j;
@@ -253,8 +257,7 @@ void writeStats(const std::string& path, const DistanceOptions& o, const TensorI
   j << "    \"k\": " << (o.lanthier ? std::string("null") : std::to_string(o.method == Method::Dijkstra ? 1 : o.k))
     << ",\n";
   if (!o.lanthier) {  // lanthier measures cells, not stencil edges or chains
-    j << "    \"chain_measure\": \""
-      << (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? "largest" : "projection") << "\",\n";
+    j << "    \"chain_measure\": \"" << chainMeasureName(o.chainMeasure) << "\",\n";
     j << "    \"stencil\": " << jsonString(o.stencil) << ",\n";
   }
   j << "    \"max_distance_mm\": " << jsonNumber(o.maxDistance) << ",\n";
@@ -296,24 +299,22 @@ void writeStats(const std::string& path, const DistanceOptions& o, const TensorI
     << ", \"repaired_anisotropy\": " << counts.repairedAnisotropy << "},\n";
   j << "  \"propagation\": {\"vertices\": " << g.voxelCount() << ", \"domain_vertices\": " << counts.domain
     << ", \"finalized_vertices\": " << result.finalizedVertices << ", \"relaxed_edges\": " << result.relaxedEdges
-    << ", \"termination\": " << jsonString(terminationName(result.termination))
+    << ", \"measured_candidates\": " << result.measuredCandidates
+    << ", \"refused_candidates\": " << result.refusedCandidates << ", \"termination\": " << jsonString(terminationName(result.termination))
     << ", \"peak_state_bytes\": " << result.peakStateBytes << "},\n";
   j << "  \"distance_mm\": {\"reached\": " << stats.reached << ", \"min\": " << (stats.reached ? "0" : "null")
     << ", \"median\": " << (stats.reached ? jsonNumber(stats.median) : "null")
     << ", \"max\": " << (stats.reached ? jsonNumber(stats.maximum) : "null") << "},\n";
+  j << "  \"warnings\": [";
+  for (std::size_t w = 0; w < inputWarnings().size(); ++w) j << (w ? ", " : "") << jsonString(inputWarnings()[w]);
+  j << "],\n";
   j << "  \"seconds\": {\"read\": " << jsonNumber(t.read) << ", \"metric\": " << jsonNumber(t.metric)
     << ", \"propagate\": " << jsonNumber(t.propagate) << ", \"write\": " << jsonNumber(t.write)
     << ", \"total\": " << jsonNumber(t.total) << "},\n";
+  j << "  \"memory\": " << memoryCheckJson(memory) << ",\n";
   j << "  \"peak_memory_bytes\": " << peakMemoryBytes() << "\n";
   j << "}\n";
-
-  imaging::AtomicOutput output(path);
-  {
-    std::ofstream file(output.stagingPath());
-    file << j.str();
-    if (!file.flush()) throw imaging::ImageIoError(path, "cannot write the statistics file");
-  }
-  output.commit();
+  return j.str();
 }
 
 std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
@@ -389,12 +390,16 @@ int runDistance(int argc, char** argv) {
   Timings t;
 
   // Output problems are found before the work, not after it.
-  try {
-    imaging::checkOutputPath(o.output);
-    if (!o.statsPath.empty()) imaging::checkOutputPath(o.statsPath);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputImage("tensor input", o.input);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("seed labels", o.seedLabels);
+  if (isVdbPath(o.output))
+    files.outputFile("distance map", o.output);
+  else
+    files.outputImage("distance map", o.output);
+  files.outputFile("statistics file", o.statsPath);
+  files.check();
 
   Clock::time_point phase = Clock::now();
   const TensorInput input = readTensorInput(o.input, o.tensor);
@@ -413,6 +418,16 @@ int runDistance(int argc, char** argv) {
   std::size_t labelSeedsLeftOut = 0;
   const std::vector<Seed> seeds = resolveSeeds(o.input, o, input, o.tensor.metric, built.inDomain, labelSeedsLeftOut);
   t.read += secondsSince(phase);
+
+  const std::uint64_t voxels = g.voxelCount(), domainVoxels = built.counts.domain;
+  const std::uint64_t needed =
+      (o.lanthier ? steinerMemoryEstimate(steinerGridPointCount(domainVoxels, o.steinerPoints), voxels) +
+                        2 * sizeof(VertexId) * voxels  // the grid cells' numbering of domain voxels
+                  : propagationMemoryEstimate(voxels, domainVoxels)) +
+      kOutputBytesPerVoxel * voxels;
+  const MemoryCheck memory =
+      checkMemory(o.input, needed, methodText(o) + " on " + withThousands(domainVoxels) + " domain voxels",
+                  !o.memoryCheck);
 
   phase = Clock::now();
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
@@ -454,27 +469,27 @@ int runDistance(int argc, char** argv) {
   for (std::size_t v = 0; v < values.size(); ++v)
     values[v] = std::isfinite(result.distance[v]) ? static_cast<float>(result.distance[v]) : o.unreachableValue;
   const DistanceStatistics stats = summarise(result.distance);
+  // The map and the statistics appear together or not at all.
+  files::OutputTransaction outputs;
   try {
     if (isVdbPath(o.output)) {
 #ifdef STVD_WITH_VDB_OUTPUT
       vdb::DistanceGridOptions grid;
       grid.background = std::isfinite(o.unreachableValue) ? o.unreachableValue : -1.f;
-      vdb::writeDistanceGrid(o.output, g, result.distance, grid);
+      vdb::writeDistanceGrid(outputs, o.output, g, result.distance, grid);
 #endif
     } else {
-      imaging::writeScalarImage(o.output, g, values);
+      imaging::writeScalarImage(outputs, o.output, g, values);
     }
-  } catch (const std::runtime_error& e) {
+    t.write = secondsSince(phase);
+    t.total = secondsSince(start);
+    if (!o.statsPath.empty()) {
+      const std::string json = statsJson(o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, memory, t);
+      outputs.write(o.statsPath, [&](const std::string& staging) { files::writeFileContents(staging, json); });
+    }
+    outputs.commit();
+  } catch (const files::OutputError& e) {
     throw ToolError(kExitOutput, e.what());
-  }
-  t.write = secondsSince(phase);
-  t.total = secondsSince(start);
-  if (!o.statsPath.empty()) {
-    try {
-      writeStats(o.statsPath, o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, t);
-    } catch (const imaging::ImageIoError& e) {
-      throw ToolError(kExitOutput, e.what());
-    }
   }
   if (!o.quiet)
     std::cout << summaryParagraph(o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, t) << std::endl;

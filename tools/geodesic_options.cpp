@@ -47,13 +47,18 @@ bool parsePropagationOption(const std::string& a, ArgumentReader& args, Propagat
       usageError("--k must be between 1 and " + std::to_string(kMaxMemoryDepth));
   } else if (a == "--chain-measure") {
     const std::string m = args.value(a);
-    if (m == "projection")
+    if (m == "segment")
+      o.chainMeasure = ChainMeasure::Segment;
+    else if (m == "projection")
       o.chainMeasure = ChainMeasure::ProjectionWeighted;
     else if (m == "largest")
       o.chainMeasure = ChainMeasure::LargestEdgeNorm;
     else
-      usageError("--chain-measure: '" + m + "' is not one of projection, largest");
+      usageError("--chain-measure: '" + m + "' is not one of segment, projection, largest");
     o.chainMeasureGiven = true;
+  } else if (a == "--no-memory-check") {
+    args.noValue(a);
+    o.memoryCheck = false;
   } else if (a == "--stencil") {
     o.stencil = args.value(a);
     o.stencilGiven = true;
@@ -109,9 +114,10 @@ std::string methodText(const PropagationChoice& o) {
   if (o.lanthier)
     return "Lanthier Steiner-point propagation with M = " + std::to_string(o.steinerPoints) + " points per cube edge";
   if (o.method == Method::Dijkstra) return "Dijkstra";
-  return "STVD with k = " + std::to_string(o.k) +
-         (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? " (largest-norm chain measure)"
-                                                          : " (projection chain measure)");
+  const char* measure = o.chainMeasure == ChainMeasure::Segment            ? " (segment measure)"
+                        : o.chainMeasure == ChainMeasure::LargestEdgeNorm ? " (largest-norm chain measure)"
+                                                                          : " (projection chain measure)";
+  return "STVD with k = " + std::to_string(o.k) + measure;
 }
 
 std::string voxelText(const VoxelIndex& v) {
@@ -196,6 +202,7 @@ std::vector<Seed> resolveSeeds(const std::string& inputPath, const SeedOptions& 
     } catch (const imaging::ImageIoError& e) {
       throw ToolError(kExitInput, e.what());
     }
+    noteInputWarnings(o.seedLabels, labels.warnings);
     const std::string mismatch = imaging::geometryMismatch(labels.geometry, g);
     if (!mismatch.empty())
       throw ToolError(kExitInput, o.seedLabels + ": the seed labels are on another grid than " + inputPath + " (" +

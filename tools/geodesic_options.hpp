@@ -14,18 +14,6 @@
 
 namespace stvd::tool {
 
-/// The tool measures STVD's chain sums with the largest edge norm on the
-/// chain, not with the paper's projection-weighted rule (the core's
-/// default): real DTI tensor fields vary strongly from voxel to voxel, and
-/// there the paper's rule lets backward portions cancel forward ones, so
-/// distances collapse as k grows (on the shipped brain, k = 8 puts 44,000
-/// to 70,000 voxels below the bound |x - seed|/sqrt(3) that G = (D/MD)^-1
-/// guarantees). The largest-norm rule cannot cancel; with it the median
-/// difference to Dijkstra on the 290-offset stencil settles at +1.7 to
-/// +2.2 % from k = 8 on (docs/cli.md, "Chain measure and k").
-constexpr ChainMeasure kToolChainMeasure = ChainMeasure::LargestEdgeNorm;
-constexpr int kToolMemoryDepth = 8;
-
 /// --seed-voxel, --seed-point, --lps, --seeds.
 struct SeedOptions {
   std::vector<std::array<int, 3>> seedVoxels;
@@ -34,17 +22,19 @@ struct SeedOptions {
   std::string seedLabels;
 };
 
-/// --method, --steiner, --k, --chain-measure, --stencil.
+/// --method, --steiner, --k, --chain-measure, --stencil, --no-memory-check.
 struct PropagationChoice {
   Method method = Method::ShortTermVectorDijkstra;
   bool lanthier = false;  // Steiner-point propagation instead of `method`
   int steinerPoints = 0;  // 0: --steiner not given
-  int k = kToolMemoryDepth;
+  int k = kDefaultMemoryDepth;  // the library's defaults: one answer for both
   bool kGiven = false;
-  ChainMeasure chainMeasure = kToolChainMeasure;
+  ChainMeasure chainMeasure = kDefaultChainMeasure;
   bool chainMeasureGiven = false;
   std::string stencil = "26";
   bool stencilGiven = false;
+  /// --no-memory-check: run even when the estimate exceeds the available memory.
+  bool memoryCheck = true;
 };
 
 /// When `option` is a seed option, reads it into `seeds` and returns true.

@@ -4,8 +4,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <sstream>
@@ -15,8 +13,10 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
-#include "stvd/itk/atomic_output.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "memory_check.hpp"
+#include "run_files.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/propagation.hpp"
 #include "stvd/steiner_propagation.hpp"
 #include "stvd/surface_domain.hpp"
@@ -71,19 +71,23 @@ const char* kSurfaceOptionsHelp =
     "  --k N                   STVD memory depth, 1..16 (default 8).\n"
     "  --chain-measure R       projection (default on surfaces: the paper's rule) or largest.\n"
     "  --max-distance D        stop at D (mesh units); farther vertices are unreachable.\n"
+    "  --no-memory-check       run even when the estimate of the memory needed exceeds the\n"
+    "                          memory available (exit code 6 otherwise).\n"
     "\n"
     "Output:\n"
     "  -o, --output FILE       .ply (binary: the mesh, its coordinates in the input's type, with\n"
     "                          a float vertex property distance; unreached inf),\n"
     "                          .vtk (legacy POLYDATA, POINT_DATA distance; unreached -1) or\n"
-    "                          .csv (rows vertex,distance; unreached inf). Written under a\n"
-    "                          temporary name and renamed when complete.\n"
+    "                          .csv (rows vertex,distance; unreached inf). It must not be an\n"
+    "                          input; written with the statistics into a staging folder next to\n"
+    "                          it and moved into place when both are complete.\n"
     "  --stats FILE.json       parameters, mesh counts, seeds, distances, seconds and peak memory.\n"
     "  -q, --quiet             no summary on stdout.\n"
     "  -h, --help              this text.\n"
     "\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable mesh or\n"
-    "metric file; 4 a seed vertex that does not exist; 5 output cannot be written.\n";
+    "metric file; 4 a seed vertex that does not exist; 5 output cannot be written; 6 not enough\n"
+    "memory for the run.\n";
 
 /// --method, --steiner, --k and --chain-measure as in geodesic_options (no
 /// --stencil), with the surfaces' own default chain measure.
@@ -286,10 +290,10 @@ struct SurfaceRun {
   const PropagationResult* result = nullptr;
   std::vector<double> distance;  // the file's vertices
   double read = 0, metric = 0, propagate = 0, write = 0, total = 0;
+  MemoryCheck memory;
 };
 
-void writeSurfaceStats(const std::string& path, const SurfaceOptions& o, const surface_io::SurfaceMesh& file,
-                       const SurfaceRun& run) {
+std::string surfaceStatsJson(const SurfaceOptions& o, const surface_io::SurfaceMesh& file, const SurfaceRun& run) {
   std::vector<double> reached;
   for (const double d : run.distance)
     if (std::isfinite(d)) reached.push_back(d);
@@ -327,14 +331,9 @@ void writeSurfaceStats(const std::string& path, const SurfaceOptions& o, const s
   j << "  \"seconds\": {\"read\": " << jsonNumber(run.read) << ", \"metric\": " << jsonNumber(run.metric)
     << ", \"propagate\": " << jsonNumber(run.propagate) << ", \"write\": " << jsonNumber(run.write)
     << ", \"total\": " << jsonNumber(run.total) << "},\n";
+  j << "  \"memory\": " << memoryCheckJson(run.memory) << ",\n";
   j << "  \"peak_memory_bytes\": " << peakMemoryBytes() << "\n}\n";
-  imaging::AtomicOutput output(path);
-  {
-    std::ofstream out(output.stagingPath());
-    out << j.str();
-    if (!out.flush()) throw imaging::ImageIoError(path, "cannot write the statistics file");
-  }
-  output.commit();
+  return j.str();
 }
 
 }  // namespace
@@ -373,12 +372,12 @@ int runSurfaceDistance(int argc, char** argv) {
     if (e.exitCode() == kExitOk) return kExitOk;  // --help
     throw;
   }
-  try {
-    imaging::checkOutputPath(o.output);
-    if (!o.statsPath.empty()) imaging::checkOutputPath(o.statsPath);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputFile("surface mesh", o.input);
+  if (o.metric.find(':') != std::string::npos) files.inputFile("metric file", o.metric.substr(o.metric.find(':') + 1));
+  files.outputFile("distance output", o.output);
+  files.outputFile("statistics file", o.statsPath);
+  files.check();
   SurfaceRun run;
   Clock::time_point phase = Clock::now();
   surface_io::SurfaceMesh file, mesh;
@@ -404,6 +403,14 @@ int runSurfaceDistance(int argc, char** argv) {
   std::vector<VertexId> sources = seeds.vertices;
   std::sort(sources.begin(), sources.end());
   sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
+  {
+    // The propagation or the Steiner graph (M points on each face edge), and the output.
+    const std::uint64_t v = surface->vertexCount(), corners = mesh.faces.faceVertex.size();
+    const std::uint64_t needed =
+        64 * v + (o.lanthier ? steinerMemoryEstimate(v + static_cast<std::uint64_t>(o.steinerPoints) * corners, v)
+                             : propagationMemoryEstimate(v, v));
+    run.memory = checkMemory(o.input, needed, withThousands(v) + " vertices", !o.memoryCheck);
+  }
 
   phase = Clock::now();
   PropagationResult result;
@@ -426,25 +433,24 @@ int runSurfaceDistance(int argc, char** argv) {
   run.distance.assign(result.distance.begin(), result.distance.begin() + file.points.size());
 
   phase = Clock::now();
+  // The distances and the statistics appear together or not at all.
+  files::OutputTransaction outputs;
   try {
-    imaging::AtomicOutput out(o.output);
-    surface_io::writeSurfaceDistances(out.stagingPath(), o.output, file, run.distance);
-    out.commit();
-  } catch (const std::runtime_error& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
-  run.write = since(phase);
-  run.total = since(start);
-  run.seeds = &seeds;
-  run.result = &result;
-  run.components = surface->componentCount();
-  if (!o.statsPath.empty()) {
-    try {
-      writeSurfaceStats(o.statsPath, o, file, run);
-    } catch (const std::runtime_error& e) {
-      std::remove(o.output.c_str());
-      throw ToolError(kExitOutput, e.what());
+    outputs.write(o.output, [&](const std::string& staging) {
+      surface_io::writeSurfaceDistances(staging, o.output, file, run.distance);
+    });
+    run.write = since(phase);
+    run.total = since(start);
+    run.seeds = &seeds;
+    run.result = &result;
+    run.components = surface->componentCount();
+    if (!o.statsPath.empty()) {
+      const std::string json = surfaceStatsJson(o, file, run);
+      outputs.write(o.statsPath, [&](const std::string& staging) { files::writeFileContents(staging, json); });
     }
+    outputs.commit();
+  } catch (const files::OutputError& e) {
+    throw ToolError(kExitOutput, e.what());
   }
 
   if (!o.quiet) {

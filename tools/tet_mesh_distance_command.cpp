@@ -11,7 +11,9 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
-#include "stvd/itk/atomic_output.hpp"
+#include "memory_check.hpp"
+#include "run_files.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/metric_sampling.hpp"
 #include "stvd/itk/scalar_image.hpp"
@@ -74,7 +76,8 @@ const char* kTetDistanceHelp =
     "Propagation: --method stvd|dijkstra|lanthier, --k N (default 8), --chain-measure\n"
     "largest|projection, --max-distance D, as for grids. lanthier: Steiner points on the edges\n"
     "and faces of the tetrahedra, joined through each tetrahedron (--steiner M points per edge,\n"
-    "1..16, required; docs/steiner.md).\n"
+    "1..16, required; docs/steiner.md). --no-memory-check: run even when the estimate of the\n"
+    "memory needed exceeds the memory available.\n"
     "\n"
     "Output:\n"
     "  -o, --output FILE       .vtk (legacy VTK), .vtu (VTK XML) or .csv (vertex,distance with\n"
@@ -91,7 +94,7 @@ const char* kTetDistanceHelp =
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
     "mesh or tensors (bad counts, indices out of range, inverted or degenerate tetrahedra);\n"
     "4 nothing to compute (seed out of range, outside the mesh or the domain); 5 output cannot\n"
-    "be written.\n";
+    "be written; 6 not enough memory for the run (--no-memory-check runs anyway).\n";
 
 /// --method, --steiner, --k and --chain-measure as in geodesic_options, with
 /// the tool's defaults (no --stencil).
@@ -163,7 +166,7 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
       o.reference = args.value(a);
     } else if (a == "--unreachable-value") {
       const std::string v = args.value(a);
-      o.unreachableValue = v == "nan" ? std::numeric_limits<double>::quiet_NaN() : parseNumber(a, v);
+      o.unreachableValue = parseUnreachableValue(a, v);
     } else if (a == "-q" || a == "--quiet") {
       args.noValue(a);
       o.quiet = true;
@@ -180,6 +183,7 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
   checkMeshPropagationChoice(o, "tetrahedron edge", 2);
   tetmesh::TetMeshOutputFormat format;
   if (imaging::hasImageExtension(o.output)) {
+    checkImageOutputSpelling(o.output);
     if (o.reference.empty())
       usageError("-o " + o.output + ": an image output needs --reference IMAGE to take its grid from");
   } else if (!tetmesh::outputFormatOf(o.output, format)) {
@@ -303,11 +307,16 @@ bool isTetMeshInput(const std::string& input) {
 int runTetMeshDistance(int argc, char** argv) {
   const Clock::time_point start = Clock::now();
   const TetDistanceOptions o = parseOptions(argc, argv);
-  try {
-    imaging::checkOutputPath(o.output);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputTetMesh("mesh", o.input);
+  if (o.tensors != "node" && o.tensors != "ele") files.inputImage("tensor image", o.tensors);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("reference image", o.reference);
+  if (o.reference.empty())
+    files.outputFile("distance output", o.output);
+  else
+    files.outputImage("distance output", o.output);
+  files.check();
 
   const std::string base = tetmesh::tetGenBaseName(o.input);
   const std::string nodeFile = base + ".node", eleFile = base + ".ele";
@@ -326,6 +335,7 @@ int runTetMeshDistance(int argc, char** argv) {
     } catch (const imaging::ImageIoError& e) {
       throw ToolError(kExitInput, e.what());
     }
+    noteInputWarnings(o.reference, reference.warnings);
   }
 
   // The metric per vertex and the vertices in the domain.
@@ -418,6 +428,20 @@ int runTetMeshDistance(int argc, char** argv) {
   std::sort(sources.begin(), sources.end());
   sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
 
+  {
+    // The renumbered copies, the domain's edges (built from six per
+    // tetrahedron), the propagation or the Steiner graph (at most six
+    // edges and four faces per tetrahedron carry points) and the output.
+    const std::uint64_t v = points.size(), t = tets.size(), m = static_cast<std::uint64_t>(o.steinerPoints);
+    constexpr std::uint64_t kMeshBytesPerVertex = 24 + 64, kDomainBytesPerTet = 16 + 160, kCellBytesPerTet = 160;
+    const std::uint64_t needed =
+        kMeshBytesPerVertex * v + kDomainBytesPerTet * t +
+        (o.lanthier ? kCellBytesPerTet * t + steinerMemoryEstimate(v + 6 * m * t + 2 * m * (m - 1) * t, v)
+                    : propagationMemoryEstimate(v, v));
+    checkMemory(o.input, needed, withThousands(v) + " vertices and " + withThousands(t) + " tetrahedra",
+                !o.memoryCheck);
+  }
+
   // Propagation runs on the vertices renumbered along a Morton curve, so
   // that neighbours are close in memory (1.7 to 2.5 times less time per
   // edge than TetGen's numbering on a 490k-vertex mesh, docs/benchmarks.md);
@@ -480,23 +504,19 @@ int runTetMeshDistance(int argc, char** argv) {
     }
   }
   tetmesh::TetMeshOutputFormat format;
-  if (!o.reference.empty()) {
-    const std::vector<double> resampled = tetmesh::resampleOntoGrid(
-        mesh, result.distance, reference.geometry, o.lps ? tetmesh::MeshFrame::Lps : tetmesh::MeshFrame::Ras,
-        o.unreachableValue);
-    try {
+  try {
+    if (!o.reference.empty()) {
+      const std::vector<double> resampled = tetmesh::resampleOntoGrid(
+          mesh, result.distance, reference.geometry, o.lps ? tetmesh::MeshFrame::Lps : tetmesh::MeshFrame::Ras,
+          o.unreachableValue);
       imaging::writeScalarImage(o.output, reference.geometry, std::vector<float>(resampled.begin(), resampled.end()));
-    } catch (const imaging::ImageIoError& e) {
-      throw ToolError(kExitOutput, e.what());
+    } else if (tetmesh::outputFormatOf(o.output, format)) {
+      files::writeAtomically(o.output, [&](const std::string& staging) {
+        tetmesh::writeTetMeshOutput(staging, format, mesh, {{"distance", std::move(values)}});
+      });
     }
-  } else if (tetmesh::outputFormatOf(o.output, format)) {
-    try {
-      imaging::AtomicOutput output(o.output);
-      tetmesh::writeTetMeshOutput(output.stagingPath(), format, mesh, {{"distance", std::move(values)}});
-      output.commit();
-    } catch (const std::runtime_error& e) {
-      throw ToolError(kExitOutput, e.what());
-    }
+  } catch (const std::runtime_error& e) {  // files::OutputError, imaging::ImageIoError
+    throw ToolError(kExitOutput, e.what());
   }
 
   if (!o.quiet) {

@@ -2,8 +2,12 @@
 // written byte by byte here, read into the same mesh; errors name the file
 // and the line or element; the distance writers' .ply, .vtk and .csv.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -13,6 +17,15 @@
 #include <string>
 
 #include "stvd/surface_io/surface_mesh_io.hpp"
+
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define STVD_HAS_ASAN 1
+#endif
+#endif
+#ifndef STVD_HAS_ASAN
+#define STVD_HAS_ASAN 0
+#endif
 
 namespace stvd::surface_io {
 namespace {
@@ -162,6 +175,58 @@ TEST_F(SurfaceFiles, PlyErrorsNameTheElement) {
   EXPECT_EQ(errorOf(write("f.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n")),
             path("f.ply") + ": line 2: unknown PLY format \"binary_middle_endian\"");
   EXPECT_EQ(errorOf(path("missing.ply")).rfind(path("missing.ply") + ": cannot open the file", 0), 0u);
+}
+
+// Hostile sizes: a count the file cannot hold is refused, or read until the
+// file ends, without anything allocated or looped over for it. The reader
+// runs in a child process that an alarm ends after 20 s (a hang fails the
+// test instead of stalling it) and, outside AddressSanitizer builds, with
+// 1 GB of address space.
+[[noreturn]] void readInALimitedChild(const std::string& p, const std::string& expectedError) {
+  alarm(20);
+#if !defined(__SANITIZE_ADDRESS__) && !STVD_HAS_ASAN
+  rlimit limit{};
+  limit.rlim_cur = limit.rlim_max = rlim_t{1} << 30;
+  setrlimit(RLIMIT_AS, &limit);
+#endif
+  std::string error;
+  try {
+    readSurfaceMesh(p);
+  } catch (const MeshFileError& e) {
+    error = e.what();
+  }
+  if (error != expectedError) std::fprintf(stderr, "the error was \"%s\"\n", error.c_str());
+  std::_Exit(error == expectedError ? 0 : 1);
+}
+
+void expectReadEndsWithin20SecondsIn1GB(const std::string& p, const std::string& expectedError) {
+  EXPECT_EXIT(readInALimitedChild(p, expectedError), ::testing::ExitedWithCode(0), "")
+      << "expected the error \"" << expectedError << "\"";
+}
+
+TEST_F(SurfaceFiles, PlyElementOfBillionsOfEmptyRecordsIsNotLoopedOver) {
+  std::string ply = kPlyAscii;
+  ply.insert(ply.find("end_header"), "element padding 9223372036854775807\n");
+  expectReadEndsWithin20SecondsIn1GB(write("p.ply", ply), "");
+}
+
+TEST_F(SurfaceFiles, PlyCountsBeyondTheFileAreRefusedUpFront) {
+  expectReadEndsWithin20SecondsIn1GB(
+      write("v.ply",
+            "ply\nformat binary_little_endian 1.0\nelement vertex 10000000000\nproperty float x\n"
+            "property float y\nproperty float z\nend_header\n0123456789AB"),
+      path("v.ply") + ": the header announces 10000000000 vertex records, more than the 12 bytes left in the "
+                      "file can hold");
+}
+
+TEST_F(SurfaceFiles, OffCountsBeyondTheFileReserveNothingForThem) {
+  expectReadEndsWithin20SecondsIn1GB(write("v.off", "OFF\n67108864 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+                                     path("v.off") + ": the file ends after 4 of 67108864 vertices");
+  expectReadEndsWithin20SecondsIn1GB(write("w.off", "OFF\n10000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n"),
+                                     path("w.off") + ": the file ends after 3 of 10000000000 vertices");
+  expectReadEndsWithin20SecondsIn1GB(
+      write("f.off", "OFF\n3 9223372036854775807 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+      path("f.off") + ": the file ends after 1 of 9223372036854775807 faces");
 }
 
 TEST_F(SurfaceFiles, DistancesAreWrittenAsPlyVtkAndCsv) {

@@ -160,6 +160,13 @@ class SurfaceDomain {
 /// corner angles is used.
 template <>
 struct ChainUnfolding<SurfaceDomain> {
+  /// Edge norms are carried into the unfolded frame, not plain means.
+  static constexpr bool kEdgeNormIsMean = false;
+  /// The edge v -> w in v's frame, as forEachNeighbor(v, ...) reports it.
+  static Vec3f neighborEdge(const SurfaceDomain& domain, VertexId v, VertexId w) {
+    const std::uint32_t i = domain.ringIndex(v, w);
+    return Vec3f{domain.ringEdgeX(i), domain.ringEdgeY(i), 0.f};
+  }
   static void place(const SurfaceDomain& domain, const VertexId* chain, int count, Vec3f* p) {
     p[0] = Vec3f{};
     if (count < 2) return;

@@ -16,6 +16,10 @@
 #include <memory>
 #include <sstream>
 
+#include "image_header_screening.hpp"
+#include "label_values.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/image_io_error.hpp"
 
 namespace stvd::imaging {
@@ -165,23 +169,17 @@ GridGeometry geometryOf(const MrtrixHeader& h, const std::string& name) {
   return g;
 }
 
-MrtrixImage decode(const MrtrixHeader& header, std::string_view data, const std::string& name) {
-  MrtrixImage image;
-  image.header = header;
-  image.geometry = geometryOf(header, name);
-  DataType type;
-  parseDataType(header.datatype, type);
-  const bool swap = type.bytes > 1 && type.bigEndian == hostIsLittleEndian();
-  const auto* bytes = reinterpret_cast<const unsigned char*>(data.data());
+/// Calls visit(e, at) for every element in logical order (axis 0 fastest):
+/// e counts elements, `at` is the element's position in the stored data.
+/// The position moves by each axis's stride, back by a whole axis when it
+/// wraps.
+template <class Visit>
+void forEachElement(const MrtrixHeader& header, Visit visit) {
   const std::size_t n = header.elementCount(), axes = header.size.size();
-  image.values.resize(n);
-  // Walk the elements in logical order (axis 0 fastest); the position in the
-  // file moves by each axis's stride, back by a whole axis when it wraps.
   std::vector<std::size_t> index(axes, 0);
   long long at = static_cast<long long>(header.firstElement);
   for (std::size_t e = 0; e < n; ++e) {
-    const double raw = element(bytes, static_cast<std::size_t>(at), type, swap);
-    image.values[e] = static_cast<float>(header.scalingOffset + header.scalingMultiplier * raw);
+    visit(e, static_cast<std::size_t>(at));
     for (std::size_t a = 0; a < axes; ++a) {
       at += header.strides[a];
       if (++index[a] < header.size[a]) break;
@@ -189,7 +187,61 @@ MrtrixImage decode(const MrtrixHeader& header, std::string_view data, const std:
       index[a] = 0;
     }
   }
-  return image;
+}
+
+bool isScaled(const MrtrixHeader& h) { return !(h.scalingOffset == 0.0 && h.scalingMultiplier == 1.0); }
+
+std::vector<float> decodeValues(const MrtrixHeader& header, std::string_view data) {
+  DataType type;
+  parseDataType(header.datatype, type);
+  const bool swap = type.bytes > 1 && type.bigEndian == hostIsLittleEndian();
+  const auto* bytes = reinterpret_cast<const unsigned char*>(data.data());
+  std::vector<float> values(header.elementCount());
+  // Without scaling a value is taken as stored (-0 stays -0, a NaN keeps
+  // its bits), so that a written file reads back bit for bit.
+  const bool scaled = isScaled(header);
+  forEachElement(header, [&](std::size_t e, std::size_t at) {
+    const double raw = element(bytes, at, type, swap);
+    values[e] = static_cast<float>(scaled ? header.scalingOffset + header.scalingMultiplier * raw : raw);
+  });
+  return values;
+}
+
+/// Labels: integer datatypes without scaling exactly (64-bit), every other
+/// value through the rules for floating-point labels (label_values.hpp).
+std::vector<std::int64_t> decodeLabels(const MrtrixHeader& header, std::string_view data, const GridGeometry& g,
+                                       const std::string& name) {
+  DataType type;
+  parseDataType(header.datatype, type);
+  const bool swap = type.bytes > 1 && type.bigEndian == hostIsLittleEndian();
+  const auto* bytes = reinterpret_cast<const unsigned char*>(data.data());
+  std::vector<std::int64_t> labels(header.elementCount());
+  const bool exact = !type.floating && !isScaled(header);
+  forEachElement(header, [&](std::size_t e, std::size_t at) {
+    if (!exact) {
+      const double raw = element(bytes, at, type, swap);
+      labels[e] = detail::labelOfReal(isScaled(header) ? header.scalingOffset + header.scalingMultiplier * raw : raw,
+                                      name, g, e);
+      return;
+    }
+    if (type.bytes == 0) {
+      labels[e] = (bytes[at / 8] >> (7 - at % 8)) & 1;
+      return;
+    }
+    // The stored bytes in the file's byte order, assembled exactly.
+    const unsigned char* stored = bytes + at * type.bytes;
+    std::uint64_t u = 0;
+    for (int k = 0; k < type.bytes; ++k)
+      u |= std::uint64_t{stored[type.bigEndian ? type.bytes - 1 - k : k]} << (8 * k);
+    if (type.isSigned) {
+      const int unused = 64 - 8 * type.bytes;  // sign-extend
+      labels[e] = unused == 0 ? static_cast<std::int64_t>(u)
+                              : static_cast<std::int64_t>(u << unused) >> unused;
+    } else {
+      labels[e] = detail::labelOfUnsigned64(u, name, g, e);
+    }
+  });
+  return labels;
 }
 
 /// The end of the header (the byte after "END" and its line break), or
@@ -207,17 +259,16 @@ std::size_t headerEnd(std::string_view bytes) {
   }
 }
 
-/// The file's first `limit` bytes (all of it when shorter): never more than
-/// the file holds, whatever a header says.
-std::string readFile(const std::string& path, std::size_t limit) {
+/// `size` bytes of the file at `path` from byte `offset` (fewer when the
+/// file is shorter: never more than it holds, whatever a header says).
+std::string readRange(const std::string& path, std::uint64_t offset, std::size_t size, const std::string& name) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw ImageIoError(path, std::string("cannot open: ") + std::strerror(errno));
-  std::error_code ec;
-  const auto size = fs::file_size(path, ec);
-  std::string content(ec ? 0 : std::min<std::uintmax_t>(size, limit), '\0');
+  if (!in) throw ImageIoError(name, "cannot open " + path + ": " + std::strerror(errno));
+  in.seekg(static_cast<std::streamoff>(offset));
+  std::string content(size, '\0');
   in.read(content.data(), static_cast<std::streamsize>(content.size()));
   content.resize(static_cast<std::size_t>(in.gcount()));
-  if (in.bad()) throw ImageIoError(path, "cannot read the file");
+  if (in.bad()) throw ImageIoError(name, "cannot read " + path);
   return content;
 }
 
@@ -240,10 +291,12 @@ std::size_t gzipRead(gzFile file, const std::string& path, char* into, std::size
 }
 
 /// A .mif.gz file decompressed as far as its header says, never further.
-/// The stream is decompressed twice: once to find the header and to count
-/// how far the data go (nothing stored), then into memory, so that a
-/// header that declares more data than the stream holds fails before the
-/// data are allocated (a few hundred kB of zeros can expand to gigabytes).
+/// A header that declares more than deflate can expand the file to (1032
+/// to 1), or more than the memory available, fails at once. Otherwise the
+/// stream is decompressed twice: once to find the header and to count how
+/// far the data go (nothing stored), then into memory, so that a header
+/// that declares more data than the stream holds fails before the data are
+/// allocated.
 std::string readCompressedMif(const std::string& path) {
   struct Closer {
     void operator()(gzFile_s* f) const { gzclose(f); }
@@ -253,6 +306,9 @@ std::string readCompressedMif(const std::string& path) {
     if (!file) throw ImageIoError(path, std::string("cannot open: ") + std::strerror(errno));
     return file;
   };
+  // A device or FIFO could be read from forever; deflate's ratio bounds
+  // what a regular file of this size can hold.
+  const std::uint64_t compressedBytes = detail::regularFileSize(path, path, "the file");
   auto first = open();
   std::string head;
   std::size_t end = std::string::npos;
@@ -267,6 +323,10 @@ std::string readCompressedMif(const std::string& path) {
   const MrtrixHeader header = parseMrtrixHeader(head, path);
   if (header.dataFile != ".") throw ImageIoError(path, "a .mif.gz file must hold its own data (file: . OFFSET)");
   const std::size_t needed = header.dataOffset + header.dataBytes();
+  if (static_cast<double>(needed) > detail::kMaxDeflateRatio * static_cast<double>(compressedBytes) + 65536.0)
+    throw ImageIoError(path, "the header declares " + std::to_string(needed) + " bytes, more than the " +
+                                 std::to_string(compressedBytes) + " compressed bytes can hold");
+  detail::checkValuesFitInMemory(header.elementCount(), header.bytesPerElement, path);
   const std::size_t available =
       head.size() >= needed ? needed : head.size() + gzipRead(first.get(), path, nullptr, needed - head.size());
   if (available < needed)
@@ -277,6 +337,35 @@ std::string readCompressedMif(const std::string& path) {
   if (gzipRead(second.get(), path, content.data(), needed) != needed)
     throw ImageIoError(path, "the compressed data changed while being read");
   return content;
+}
+
+/// `bytes` as one gzip stream (zlib level 6, as gzip's default). The
+/// header zlib writes has no time stamp and no file name, so the same bytes
+/// always give the same stream.
+std::string gzipCompressed(const std::string& bytes, const std::string& name) {
+  z_stream z{};
+  if (deflateInit2(&z, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+    throw ImageIoError(name, "cannot start the gzip compression");
+  std::string out;
+  out.reserve(deflateBound(&z, bytes.size()));
+  std::vector<char> chunk(1 << 20);
+  std::size_t fed = 0;
+  int status = Z_OK;
+  do {
+    // zlib counts in 32-bit units: the input goes in pieces of 1 GiB.
+    if (z.avail_in == 0 && fed < bytes.size()) {
+      z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data() + fed));
+      z.avail_in = static_cast<uInt>(std::min<std::size_t>(bytes.size() - fed, 1u << 30));
+      fed += z.avail_in;
+    }
+    z.next_out = reinterpret_cast<Bytef*>(chunk.data());
+    z.avail_out = static_cast<uInt>(chunk.size());
+    status = deflate(&z, fed == bytes.size() ? Z_FINISH : Z_NO_FLUSH);
+    out.append(chunk.data(), chunk.size() - z.avail_out);
+  } while (status == Z_OK || status == Z_BUF_ERROR);
+  deflateEnd(&z);
+  if (status != Z_STREAM_END) throw ImageIoError(name, "the gzip compression failed");
+  return out;
 }
 
 }  // namespace
@@ -362,6 +451,7 @@ MrtrixHeader parseMrtrixHeader(std::string_view bytes, const std::string& name, 
     double s;
     if (a >= spacings.size() || !parseFinite(spacings[a], s) || !(s > 0.0))
       throw ImageIoError(name, "vox: '" + vox + "' does not give a positive voxel size for axis " + std::to_string(a));
+    detail::checkCoordinate(s, "the voxel size of axis " + std::to_string(a), name);
     h.spacing[a] = s;
   }
 
@@ -411,9 +501,14 @@ MrtrixHeader parseMrtrixHeader(std::string_view bytes, const std::string& name, 
                                    " transform lines, not 3");
     for (int r = 0; r < 3; ++r) {
       const std::vector<std::string> row = split(transform[r], ',');
-      for (int c = 0; c < 4; ++c)
-        if (row.size() != 4 || !parseFinite(row[c], h.transform[4 * r + c]))
-          throw ImageIoError(name, "transform line " + std::to_string(r + 1) + " is not four numbers");
+      if (row.size() != 4)
+        throw ImageIoError(name, "transform line " + std::to_string(r + 1) + " is not four numbers");
+      for (int c = 0; c < 4; ++c) {
+        if (!parseFinite(row[c], h.transform[4 * r + c]))
+          throw ImageIoError(name, "transform line " + std::to_string(r + 1) + " is not four finite numbers");
+        detail::checkCoordinate(h.transform[4 * r + c],
+                                "transform entry (" + std::to_string(r + 1) + ", " + std::to_string(c + 1) + ")", name);
+      }
     }
   }
 
@@ -443,33 +538,105 @@ MrtrixImage parseMrtrixImage(std::string_view bytes, const std::string& name) {
   if (bytes.size() < needed)
     throw ImageIoError(name, "the file is truncated: " + std::to_string(bytes.size()) +
                                  " bytes where header and data need " + std::to_string(needed));
-  return decode(header, bytes.substr(header.dataOffset, header.dataBytes()), name);
+  MrtrixImage image;
+  image.geometry = geometryOf(header, name);
+  image.values = decodeValues(header, bytes.substr(header.dataOffset, header.dataBytes()));
+  image.header = header;
+  return image;
 }
 
-MrtrixImage readMrtrixImage(const std::string& path) {
-  const std::string l = lower(path);
-  if (endsWith(l, ".mif.gz")) return parseMrtrixImage(readCompressedMif(path), path);
-  if (endsWith(l, ".mif")) return parseMrtrixImage(readFile(path, std::numeric_limits<std::size_t>::max()), path);
+namespace {
 
-  // .mih: the header alone, the data in the file it names (next to it).
-  const std::string text = readFile(path, kMaxHeaderBytes + 8);
-  const MrtrixHeader header = parseMrtrixHeader(text, path, /*endsWithText=*/true);
-  const std::string dataPath =
-      header.dataFile == "." ? path : (fs::path(path).parent_path() / header.dataFile).string();
-  std::error_code ec;
-  const auto size = fs::file_size(dataPath, ec);
-  if (ec) throw ImageIoError(path, "its data file " + dataPath + " cannot be read: " + ec.message());
-  const std::size_t needed = header.dataOffset + header.dataBytes();
-  if (size < needed)
-    throw ImageIoError(path, "its data file " + dataPath + " is truncated: " + std::to_string(size) +
-                                 " bytes where the data need " + std::to_string(needed));
-  std::ifstream in(dataPath, std::ios::binary);
-  std::string data(header.dataBytes(), '\0');
-  in.seekg(static_cast<std::streamoff>(header.dataOffset));
-  in.read(data.data(), static_cast<std::streamsize>(data.size()));
-  if (static_cast<std::size_t>(in.gcount()) != data.size())
-    throw ImageIoError(path, "cannot read its data file " + dataPath);
-  return decode(header, data, path);
+/// The checked header of the file at `path` and its data bytes (the data
+/// alone, without the header).
+struct StoredImage {
+  MrtrixHeader header;
+  std::string data;
+};
+
+/// The header of a .mif or .mih file of `fileBytes` bytes, from its first
+/// bytes (a .mih header ends with its text, MRtrix writes no END there).
+MrtrixHeader readUncompressedHeader(const std::string& path, std::uint64_t fileBytes) {
+  const std::string head =
+      readRange(path, 0, static_cast<std::size_t>(std::min<std::uint64_t>(fileBytes, kMaxHeaderBytes + 8)), path);
+  return parseMrtrixHeader(head, path, /*endsWithText=*/endsWith(lower(path), ".mih"));
+}
+
+/// The file that holds the data: the header's own, or the one it names,
+/// relative to the header's folder.
+std::string dataFilePath(const std::string& path, const MrtrixHeader& header) {
+  if (header.dataFile == ".") return path;
+  const fs::path named(header.dataFile);
+  return named.is_absolute() ? named.string() : (fs::path(path).parent_path() / named).string();
+}
+
+StoredImage readStoredImage(const std::string& path) {
+  const std::string l = lower(path);
+  StoredImage stored;
+  if (endsWith(l, ".mif.gz")) {
+    std::string content = readCompressedMif(path);
+    stored.header = parseMrtrixHeader(content, path);
+    const std::size_t needed = stored.header.dataOffset + stored.header.dataBytes();
+    if (content.size() < needed)
+      throw ImageIoError(path, "the file is truncated: " + std::to_string(content.size()) +
+                                   " decompressed bytes where header and data need " + std::to_string(needed));
+    content.resize(needed);
+    content.erase(0, stored.header.dataOffset);
+    stored.data = std::move(content);
+    return stored;
+  }
+  // .mif (header and data in one file) or .mih (the header alone, its data
+  // in the file it names, next to it): the header first, then exactly the
+  // data it declares, once they are known to be in the file and to fit in
+  // memory.
+  const bool mih = endsWith(l, ".mih");
+  const std::uint64_t fileBytes = detail::regularFileSize(path, path, "the file");
+  stored.header = readUncompressedHeader(path, fileBytes);
+  const MrtrixHeader& h = stored.header;
+  if (!mih && h.dataFile != ".")
+    throw ImageIoError(path, "the data are in another file (" + h.dataFile + "), not after the header");
+  const std::string dataPath = dataFilePath(path, h);
+  const std::uint64_t dataFileBytes =
+      h.dataFile == "." ? fileBytes : detail::regularFileSize(dataPath, path, "its data file");
+  const std::uint64_t needed = static_cast<std::uint64_t>(h.dataOffset) + h.dataBytes();
+  if (dataFileBytes < needed)
+    throw ImageIoError(path, (h.dataFile == "." ? std::string("the file") : "its data file " + dataPath) +
+                                 " is truncated: " + std::to_string(dataFileBytes) + " bytes where " +
+                                 (h.dataFile == "." ? "header and data need " : "the data need ") +
+                                 std::to_string(needed));
+  detail::checkValuesFitInMemory(h.elementCount(), h.bytesPerElement, path);
+  stored.data = readRange(dataPath, h.dataOffset, h.dataBytes(), path);
+  if (stored.data.size() != h.dataBytes()) throw ImageIoError(path, "cannot read the data of " + dataPath);
+  return stored;
+}
+
+}  // namespace
+
+MrtrixImage readMrtrixImage(const std::string& path) {
+  StoredImage stored = readStoredImage(path);
+  MrtrixImage image;
+  image.geometry = geometryOf(stored.header, path);
+  image.values = decodeValues(stored.header, stored.data);
+  image.header = std::move(stored.header);
+  return image;
+}
+
+MrtrixLabelImage readMrtrixLabelImage(const std::string& path) {
+  StoredImage stored = readStoredImage(path);
+  MrtrixLabelImage image;
+  image.geometry = geometryOf(stored.header, path);
+  image.labels = decodeLabels(stored.header, stored.data, image.geometry, path);
+  image.header = std::move(stored.header);
+  return image;
+}
+
+std::string mrtrixDataFile(const std::string& path) {
+  if (!endsWith(lower(path), ".mih")) return path;
+  try {
+    return dataFilePath(path, readUncompressedHeader(path, detail::regularFileSize(path, path, "the file")));
+  } catch (const ImageIoError&) {
+    return "";
+  }
 }
 
 MrtrixAxisOrder mrtrixAxisOrder(const GridGeometry& g) {
@@ -533,39 +700,27 @@ void writeMrtrixImage(const std::string& path, const std::string& formatPath, co
   // the offset's own digits count, hence the loop.
   const std::string start = head.str();
   std::size_t offset = 0;
-  std::string header;
   do {
     const std::size_t length = start.size() + std::string("file: . \nEND\n").size() + std::to_string(offset).size();
     const std::size_t aligned = (length + 15) / 16 * 16;
     if (aligned == offset) break;
     offset = aligned;
   } while (true);
-  header = start + "file: . " + std::to_string(offset) + "\nEND\n";
-  header.resize(offset, '\0');
-  std::string data(values.size() * 4, '\0');
+  std::string content = start + "file: . " + std::to_string(offset) + "\nEND\n";
+  content.resize(offset + values.size() * 4, '\0');
   for (std::size_t i = 0; i < values.size(); ++i) {
     unsigned char b[4];
     std::memcpy(b, &values[i], 4);
     if (!hostIsLittleEndian()) std::reverse(b, b + 4);
-    std::memcpy(&data[4 * i], b, 4);
+    std::memcpy(&content[offset + 4 * i], b, 4);
   }
-  if (gzip) {
-    gzFile file = gzopen(path.c_str(), "wb6");
-    if (!file) throw ImageIoError(formatPath, std::string("cannot create the file: ") + std::strerror(errno));
-    bool ok = gzwrite(file, header.data(), static_cast<unsigned>(header.size())) == int(header.size());
-    for (std::size_t at = 0; ok && at < data.size(); at += 1u << 26) {
-      const unsigned n = static_cast<unsigned>(std::min<std::size_t>(1u << 26, data.size() - at));
-      ok = gzwrite(file, data.data() + at, n) == int(n);
-    }
-    if (gzclose(file) != Z_OK || !ok) throw ImageIoError(formatPath, "cannot write the file");
-    return;
+  try {
+    files::writeFileContents(path, gzip ? gzipCompressed(content, formatPath) : content);
+  } catch (const files::OutputError& e) {
+    std::string problem = e.what();
+    problem.erase(0, e.path().size() + 2);
+    throw ImageIoError(formatPath, problem);
   }
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw ImageIoError(formatPath, std::string("cannot create the file: ") + std::strerror(errno));
-  out.write(header.data(), static_cast<std::streamsize>(header.size()));
-  out.write(data.data(), static_cast<std::streamsize>(data.size()));
-  out.flush();
-  if (!out) throw ImageIoError(formatPath, "cannot write the file");
 }
 
 }  // namespace stvd::imaging

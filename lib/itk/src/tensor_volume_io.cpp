@@ -3,12 +3,15 @@
 // keeps ITK's tensor headers (and the Eigen copy they carry) out of stvd.
 #include <itkMetaDataObject.h>
 
+#include <cmath>
+#include <limits>
 #include <sstream>
 #include <utility>
 
 #include "itk_io_support.hpp"
 #include "nrrd_header.hpp"
-#include "stvd/itk/atomic_output.hpp"
+#include "written_files.hpp"
+#include "stvd/itk/image_files.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/mrtrix_image.hpp"
 #include "stvd/itk/tensor_volume.hpp"
@@ -47,6 +50,18 @@ void checkStatedOrder(const std::string& path, const TensorReadOptions& options,
                                  tensorOrderName(*options.order) + " contradicts it");
 }
 
+/// The tensor of six stored components, brought into LPS. A NaN or
+/// infinite component makes every component NaN, in every format: the
+/// file has no tensor there, and the voxel lies outside the domain.
+SymTensor3 tensorInLps(const float* c, TensorOrder order, const Matrix3& toLps) {
+  for (int q = 0; q < 6; ++q)
+    if (!std::isfinite(c[q])) {
+      const float nan = std::numeric_limits<float>::quiet_NaN();
+      return {nan, nan, nan, nan, nan, nan};
+    }
+  return changeTensorFrame(tensorFromComponents(c, order), toLps);
+}
+
 /// Components of voxel v, q = 0..5, in `values` one volume after the other,
 /// brought into LPS.
 void tensorsFromVolumes(const std::vector<float>& values, TensorOrder order, const Matrix3& toLps,
@@ -56,7 +71,7 @@ void tensorsFromVolumes(const std::vector<float>& values, TensorOrder order, con
   float c[6];
   for (std::size_t v = 0; v < n; ++v) {
     for (int q = 0; q < 6; ++q) c[q] = values[v + n * q];
-    tensors[v] = changeTensorFrame(tensorFromComponents(c, order), toLps);
+    tensors[v] = tensorInLps(c, order, toLps);
   }
 }
 
@@ -88,7 +103,8 @@ TensorReadResult readMrtrixTensorVolume(const std::string& path, const TensorRea
 
 TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options) {
   if (isMrtrixImagePath(path)) return readMrtrixTensorVolume(path, options);
-  itk::ImageIOBase::Pointer io = detail::openImageForReading(path);
+  detail::OpenedImage image = detail::openImageForReading(path);
+  itk::ImageIOBase::Pointer io = image.io;
   const std::string ioClass = io->GetNameOfClass();
   const unsigned dims = io->GetNumberOfDimensions();
   const unsigned components = io->GetNumberOfComponents();
@@ -96,6 +112,7 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
 
   TensorReadResult result;
   TensorFileInfo& info = result.info;
+  info.warnings = image.screened.warnings;
   info.componentType = itk::ImageIOBase::GetComponentTypeAsString(io->GetComponentType());
   // How the components sit in ITK's buffer: interleaved per voxel (true) or
   // one volume after the other (false).
@@ -116,7 +133,10 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
     // ITK hands the six tensor values over in NRRD's own order, xx xy xz yy yz zz.
     bufferOrder = TensorOrder::Fsl;
   } else if (ioClass == "NiftiImageIO") {
-    if (dims == 3 && components == 6 && tensorPixel) {
+    // ITK drops the third axis of a 5D file of one slice (geometryOf()
+    // takes it back from the header).
+    const bool oneSlice = dims < 3 && image.screened.niftiDim[0] == 5 && image.screened.niftiDim[3] == 1;
+    if ((dims == 3 || oneSlice) && components == 6 && tensorPixel) {
       info.layout = TensorFileLayout::NiftiSymMatrix5D;
       info.order = TensorOrder::Lower;
       checkStatedOrder(path, options, info.layout, info.order);
@@ -150,8 +170,8 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
   info.frame = options.frame.value_or(defaultTensorFrame(info.layout, info.order));
 
   TensorVolume& volume = result.volume;
-  volume.geometry = detail::geometryOf(*io, path);
-  const std::vector<float> values = detail::readAllComponents(*io, path);
+  volume.geometry = detail::geometryOf(image, path);
+  const std::vector<float> values = detail::readAllComponents(image, path);
   const std::size_t n = volume.geometry.voxelCount();
   if (values.size() != 6 * n)
     throw ImageIoError(path, "holds " + std::to_string(values.size()) + " values, expected 6 per voxel");
@@ -161,7 +181,7 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
   if (interleaved) {
     volume.tensors.resize(n);
     for (std::size_t v = 0; v < n; ++v)
-      volume.tensors[v] = changeTensorFrame(tensorFromComponents(&values[6 * v], bufferOrder), toLps);
+      volume.tensors[v] = tensorInLps(&values[6 * v], bufferOrder, toLps);
   } else {
     tensorsFromVolumes(values, bufferOrder, toLps, volume.tensors);
   }
@@ -207,31 +227,32 @@ void writeTensorVolume(const std::string& path, const TensorVolume& volume,
     for (int q = 0; q < 6; ++q) (sixVolumes ? buffer[v + n * q] : buffer[6 * v + q]) = c[q];
   }
 
-  AtomicOutput output(path);
   if (mrtrix != isMrtrixImagePath(path))
     throw ImageIoError(path, "the extension does not match the layout " + tensorFileLayoutName(options.layout));
-  if (mrtrix) {
-    writeMrtrixImage(output.stagingPath(), path, g, buffer, 6);
-    output.commit();
-    return;
-  }
-  itk::ImageIOBase::Pointer io =
-      sixVolumes ? detail::createFloatWriter(output.stagingPath(), path, g, 1, itk::IOPixelEnum::SCALAR, 6)
-                 : detail::createFloatWriter(output.stagingPath(), path, g, 6,
-                                             itk::IOPixelEnum::SYMMETRICSECONDRANKTENSOR);
-  const std::string ioClass = io->GetNameOfClass();
-  if (nrrd != (ioClass == "NrrdImageIO"))
-    throw ImageIoError(path, "the extension does not match the layout " + tensorFileLayoutName(options.layout));
-  if (nrrd && options.frame == TensorFrame::Voxel) {
-    // The measurement frame's columns are the index axes in LPS.
-    std::vector<std::vector<double>> frame(3, std::vector<double>(3));
-    for (int col = 0; col < 3; ++col)
-      for (int r = 0; r < 3; ++r) frame[col][r] = toLps[3 * r + col];
-    itk::EncapsulateMetaData<std::vector<std::vector<double>>>(io->GetMetaDataDictionary(),
-                                                               "NRRD_measurement frame", frame);
-  }
-  detail::writeFloatData(*io, path, buffer.data());
-  output.commit();
+  detail::writeAtomically(path, [&](const std::string& staging) {
+    if (mrtrix) {
+      writeMrtrixImage(staging, path, g, buffer, 6);
+      detail::checkWrittenImage(staging, path, buffer);
+      return;
+    }
+    itk::ImageIOBase::Pointer io =
+        sixVolumes ? detail::createFloatWriter(staging, path, g, 1, itk::IOPixelEnum::SCALAR, 6)
+                   : detail::createFloatWriter(staging, path, g, 6, itk::IOPixelEnum::SYMMETRICSECONDRANKTENSOR);
+    const std::string ioClass = io->GetNameOfClass();
+    if (nrrd != (ioClass == "NrrdImageIO"))
+      throw ImageIoError(path, "the extension does not match the layout " + tensorFileLayoutName(options.layout));
+    if (nrrd && options.frame == TensorFrame::Voxel) {
+      // The measurement frame's columns are the index axes in LPS.
+      std::vector<std::vector<double>> frame(3, std::vector<double>(3));
+      for (int col = 0; col < 3; ++col)
+        for (int r = 0; r < 3; ++r) frame[col][r] = toLps[3 * r + col];
+      itk::EncapsulateMetaData<std::vector<std::vector<double>>>(io->GetMetaDataDictionary(),
+                                                                 "NRRD_measurement frame", frame);
+    }
+    checkImageOutputCompanions(path);
+    detail::writeFloatData(*io, path, buffer.data());
+    detail::checkWrittenImage(staging, path, buffer);
+  });
 }
 
 }  // namespace stvd::imaging

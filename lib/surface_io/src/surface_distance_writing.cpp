@@ -113,8 +113,8 @@ void writeSurfaceDistances(const std::string& path, const std::string& formatPat
   if (e == ".ply") writePly(out, mesh, distance);
   else if (e == ".vtk") writeVtk(out, mesh, distance);
   else writeCsv(out, distance);
-  out.flush();
-  if (!out) throw MeshFileError(path + ": cannot write the file");
+  out.close();
+  if (!out) throw MeshFileError(path + ": cannot write the file (disk full or file size limit?)");
 }
 
 }  // namespace stvd::surface_io

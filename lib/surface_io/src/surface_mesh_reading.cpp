@@ -169,8 +169,11 @@ SurfaceMesh readOff(const std::string& path) {
   long long nv, nf;
   if (t.size() < 2 || !parseLong(t[0], nv) || !parseLong(t[1], nf) || nv < 0 || nf < 0)
     throw MeshFileError(at(path, next) + "expected the counts \"vertices faces edges\"");
+  // Every vertex takes a line of its own: no more is reserved than the lines
+  // left can hold, whatever the counts announce.
+  const std::size_t linesLeft = lines.size() - std::min(next, lines.size());
   SurfaceMesh m;
-  m.points.reserve(static_cast<std::size_t>(std::min(nv, 1LL << 26)));
+  m.points.reserve(std::min(static_cast<std::size_t>(nv), linesLeft));
   for (long long v = 0; v < nv; ++v) {
     double x, y, z;
     if (!nextLine(t))
@@ -250,6 +253,9 @@ class PlyBody {
  public:
   PlyBody(const std::string& path, const std::string& text, std::size_t start, int format)
       : path_(path), text_(text), pos_(start), format_(format) {}
+
+  /// Bytes of the body not read yet.
+  std::size_t remaining() const { return text_.size() - std::min(pos_, text_.size()); }
 
   double read(PlyType t, const std::string& where) {
     if (format_ == 0) return readAscii(t, where);
@@ -380,6 +386,17 @@ SurfaceMesh readPly(const std::string& path) {
       throw MeshFileError(path + ": the face element has no list property vertex_indices");
     if (isFace && !sawVertices)
       throw MeshFileError(path + ": the face element comes before the vertex element");
+    // A record takes at least one byte per value in binary (one character
+    // and a separator in ASCII): a count the rest of the file cannot hold is
+    // refused here, and a record without properties holds nothing to read.
+    if (e.properties.empty()) continue;
+    std::size_t recordBytes = 0;
+    for (const PlyProperty& q : e.properties)
+      recordBytes += format == 0 ? 1 : static_cast<std::size_t>(plySize(q.isList ? q.countType : q.type));
+    if (static_cast<unsigned long long>(e.count) > body.remaining() / recordBytes)
+      throw MeshFileError(path + ": the header announces " + std::to_string(e.count) + " " + e.name +
+                          " records, more than the " + std::to_string(body.remaining()) +
+                          " bytes left in the file can hold");
     for (long long i = 0; i < e.count; ++i) {
       const std::string where = e.name + " " + std::to_string(i);
       double coordinate[3] = {0, 0, 0};

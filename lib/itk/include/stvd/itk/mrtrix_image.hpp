@@ -17,16 +17,20 @@
 //              "NAME [OFFSET]" (data in NAME, next to a .mih header)
 // Other keys (command_history, dw_scheme, comments, ...) are ignored.
 //
-// Every size a header declares is checked before anything is allocated: the
+// Every size a header declares is checked before anything is allocated, by
+// the rules of the other image formats (docs/reliability.md, "Inputs"): the
 // product of the sizes may not overflow, the grid must fit stvd's 32-bit
-// voxel numbers, and the data must fit in the file that holds it (for
-// .mif.gz the stream is decompressed as far as it goes, never further than
-// the header asks, so a hostile header cannot make it allocate more than
-// the file's own data).
+// voxel numbers, the data must fit in the file that holds it (a regular
+// file: no device or FIFO), and the values in the memory available; voxel
+// sizes and transform entries are finite and at most 1e6 mm. For .mif.gz a
+// claim beyond deflate's 1032-to-1 ratio fails at once, and otherwise the
+// stream is decompressed as far as it goes, never further than the header
+// asks, before anything is kept.
 #pragma once
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -61,8 +65,19 @@ struct MrtrixImage {
   /// transform's translation and columns with x and y negated.
   GridGeometry geometry;
   /// Every value (scaling applied) in logical order: axis 0 fastest, then
-  /// axis 1, ... whatever the file's layout.
+  /// axis 1, ... whatever the file's layout. Without scaling a value is
+  /// the stored one, bit for bit (NaN and infinity included).
   std::vector<float> values;
+};
+
+/// An MRtrix image of integer labels in memory.
+struct MrtrixLabelImage {
+  MrtrixHeader header;
+  GridGeometry geometry;
+  /// Every label in logical order: integer datatypes (Bit, [U]Int8-64)
+  /// without scaling exactly; other values by the rules of readLabelImage
+  /// (scalar_image.hpp): integers of magnitude at most 2^53, NaN as 0.
+  std::vector<std::int64_t> labels;
 };
 
 /// True when the path ends in .mif, .mif.gz or .mih (any letter case).
@@ -84,6 +99,17 @@ MrtrixImage parseMrtrixImage(std::string_view bytes, const std::string& name);
 /// ImageIoError with one line naming the file.
 MrtrixImage readMrtrixImage(const std::string& path);
 
+/// Reads a .mif, .mif.gz or .mih file of labels without a detour through
+/// float. Throws ImageIoError with one line naming the file (and the voxel,
+/// for a value that is no label).
+MrtrixLabelImage readMrtrixLabelImage(const std::string& path);
+
+/// The file that holds the data of the image at `path`: `path` itself for
+/// .mif and .mif.gz, the data file a .mih header names (relative to the
+/// header's folder), or "" when the header cannot be read (reading the
+/// image then fails with its own message).
+std::string mrtrixDataFile(const std::string& path);
+
 /// How MRtrix numbers the voxels of an image. MRtrix reorders the axes of
 /// every image it opens (NIfTI, NRRD or its own) so that the first, second
 /// and third point as nearly as possible to right, anterior and superior:
@@ -101,8 +127,10 @@ std::array<long, 3> mrtrixVoxelIndex(const GridGeometry& geometryLps, const std:
 /// Writes `values` (volumes of geometry.voxelCount() values each, the
 /// first volume first) as float32 .mif, or .mif.gz when `formatPath` ends
 /// so, to `path`: axes 0, 1, 2 (and 3 for several volumes) stored in that
-/// order, the scanner transform from the LPS geometry. Throws ImageIoError
-/// naming `formatPath`.
+/// order, the scanner transform from the LPS geometry. The same values give
+/// the same bytes (the gzip stream carries no time stamp). Checks every
+/// write, not what was written: callers read the file back
+/// (written_files.hpp). Throws ImageIoError naming `formatPath`.
 void writeMrtrixImage(const std::string& path, const std::string& formatPath, const GridGeometry& geometry,
                       const std::vector<float>& values, std::size_t volumes = 1);
 

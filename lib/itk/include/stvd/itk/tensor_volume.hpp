@@ -68,6 +68,9 @@ struct TensorFileInfo {
   Matrix3 componentsToLps{1, 0, 0, 0, 1, 0, 0, 0, 1};
   /// File's component type, e.g. "float".
   std::string componentType;
+  /// What the user should know about a file that was read all the same
+  /// (e.g. "has an Analyze 7.5 header ..."), one sentence each.
+  std::vector<std::string> warnings;
 };
 
 struct TensorReadResult {
@@ -76,11 +79,14 @@ struct TensorReadResult {
 };
 
 /// Reads a tensor volume from a .nii, .nii.gz, .nrrd, .nhdr, .mif, .mif.gz
-/// or .mih file (MRtrix: X Y Z 6, order mrtrix unless stated) and
-/// brings its tensors into the LPS frame. Throws ImageIoError with a
-/// one-line message naming the file: unreadable or truncated file, not a
-/// tensor layout (scalar image, wrong component count), a 4D NIfTI without
-/// an order, an order that contradicts the file.
+/// or .mih file (MRtrix: X Y Z 6, order mrtrix unless stated) and brings
+/// its tensors into the LPS frame. The header is checked before the file's
+/// data are read (see docs/reliability.md). A tensor with a NaN or infinite
+/// component in the file is NaN in every component, whatever the format
+/// (niftilib would have turned it into zeros). Throws ImageIoError with a
+/// one-line message naming the file: unreadable, truncated or hostile file,
+/// not a tensor layout (scalar image, wrong component count), a 4D NIfTI
+/// without an order, an order that contradicts the file.
 TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options = {});
 
 struct TensorWriteOptions {
@@ -97,8 +103,8 @@ struct TensorWriteOptions {
 };
 
 /// Writes `volume` (tensors in LPS) as float32 in the given layout, order
-/// and frame, atomically (see atomic_output.hpp). The mask is not written.
-/// Throws ImageIoError.
+/// and frame, atomically and checked as writeScalarImage writes (see
+/// scalar_image.hpp). The mask is not written. Throws ImageIoError.
 void writeTensorVolume(const std::string& path, const TensorVolume& volume,
                        const TensorWriteOptions& options);
 
