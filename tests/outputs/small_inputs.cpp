@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "known_field.hpp"
+#include "stvd/itk/tensor_volume.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
 
@@ -93,8 +94,33 @@ void SmallInputsTest::SetUp() {
         ply << "4 " << a << " " << a + 1 << " " << a + 5 << " " << a + 4 << "\n";
       }
   }
+  std::ofstream(in("tetra.stl"))
+      << "solid tetra\n"
+         "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\nendfacet\n"
+         "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\nendloop\nendfacet\n"
+         "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 0 1 0\nendloop\nendfacet\n"
+         "facet normal 0 0 0\nouter loop\nvertex 1 0 0\nvertex 0 1 0\nvertex 0 0 1\nendloop\nendfacet\n"
+         "endsolid tetra\n";
+  writeMrtrixTensors();
   std::ofstream(in("box.off")) << "OFF\n8 6 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n"
                                   "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
+}
+
+void SmallInputsTest::writeMrtrixTensors() const {
+  imaging::TensorWriteOptions mrtrix;
+  mrtrix.layout = imaging::TensorFileLayout::MrtrixSixVolumes;
+  mrtrix.order = imaging::TensorOrder::Mrtrix;
+  mrtrix.frame = imaging::TensorFrame::World;
+  imaging::writeTensorVolume(in("t.mif"), imaging::readTensorVolume(in("t.nii")).volume, mrtrix);
+  // The same header without END, naming t.dat, which holds the data.
+  std::ifstream mif(in("t.mif"), std::ios::binary);
+  std::stringstream bytes;
+  bytes << mif.rdbuf();
+  const std::string all = bytes.str();
+  const std::size_t file = all.find("file: . ");
+  const std::size_t offset = std::stoul(all.substr(file + 8));
+  std::ofstream(in("t.mih")) << all.substr(0, file) << "file: t.dat\n";
+  std::ofstream(in("t.dat"), std::ios::binary) << all.substr(offset);
 }
 
 std::vector<std::string> SmallInputsTest::distanceRun(const std::string& output, const std::string& stats) const {

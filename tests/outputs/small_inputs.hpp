@@ -22,12 +22,16 @@ FolderSnapshot snapshot(const std::string& folder);
 /// "out/":
 ///   in/t.nii        a 11 x 9 x 7 metric tensor volume (NIfTI 5D, constant
 ///                   anisotropic metric: use --tensor-kind metric)
+///   in/t.mif        the same tensors as MRtrix stores them (order mrtrix,
+///                   scanner frame; use --tensor-kind metric)
+///   in/t.mih, in/t.dat   the same, header and data in two files
 ///   in/mask.nii     the whole grid
 ///   in/labels.nii   two regions: label 1 around voxel (2, 2, 2), label 2
 ///                   around (8, 6, 4)
 ///   in/cube.node, in/cube.ele   a 4 x 4 x 4 lattice of Kuhn tetrahedra
 ///   in/square.ply   a 3 x 3 grid of unit squares (16 vertices, ASCII PLY)
 ///   in/box.off      a closed unit cube of six quadrilaterals
+///   in/tetra.stl    a tetrahedron as ASCII STL (12 corners, 4 vertices)
 class SmallInputsTest : public ScratchFolderTest {
  protected:
   void SetUp() override;
@@ -46,6 +50,10 @@ class SmallInputsTest : public ScratchFolderTest {
   /// Whether this build has the optional parts.
   static bool withTetrahedralize();
   static bool withVdb();
+
+ private:
+  /// in/t.mif, in/t.mih and in/t.dat from in/t.nii.
+  void writeMrtrixTensors() const;
 };
 
 }  // namespace stvd::testing

@@ -63,6 +63,17 @@ TEST_F(ToolDeterminism, CompressedOutputsCarryNoTimeStamp) {
   }
 }
 
+TEST_F(ToolDeterminism, MrtrixImagesAndTheirCompressedStream) {
+  for (const std::string name : {"d.mif", "d.mif.gz"}) expectSameBytesTwice(distanceRun(out(name), out("d.json")));
+  std::vector<std::string> fromMrtrix = distanceRun(out("m.mif"));
+  fromMrtrix[1] = in("t.mih");
+  expectSameBytesTwice(fromMrtrix);
+  const std::string gzip = outputsOf(distanceRun(out("d.mif.gz"))).at("d.mif.gz");
+  ASSERT_GE(gzip.size(), 10u);
+  EXPECT_EQ(gzip.substr(0, 2), "\x1f\x8b");
+  EXPECT_EQ(gzip.substr(4, 4), std::string(4, '\0'));  // no time stamp
+}
+
 TEST_F(ToolDeterminism, TheStatisticsDifferOnlyInWhatTheyMeasure) {
   const FolderSnapshot files = outputsOf(distanceRun(out("d.nii"), out("d.json")));
   const std::string& json = files.at("d.json");
@@ -94,6 +105,15 @@ TEST_F(ToolDeterminism, ConnectivityDoesNotDependOnTheNumberOfThreads) {
   }
 }
 
+TEST_F(ToolDeterminism, ConnectivityMatricesDoNotDependOnTheNumberOfThreads) {
+  std::vector<std::string> arguments = connectivityRun(out("c.tsv"));
+  arguments.insert(arguments.end(), {"--matrix", out("d.csv"), "--matrix-index", out("i.csv"), "--threads", "1"});
+  const FolderSnapshot one = outputsOf(arguments);
+  EXPECT_EQ(one.size(), 3u);
+  arguments.back() = "2";
+  EXPECT_TRUE(outputsOf(arguments) == one);
+}
+
 TEST_F(ToolDeterminism, TetMeshDistances) {
   for (const std::string name : {"m.vtk", "m.vtu", "m.csv"}) expectSameBytesTwice(tetMeshRun(out(name)));
   std::vector<std::string> resampled = tetMeshRun(out("m.nii.gz"));
@@ -103,6 +123,14 @@ TEST_F(ToolDeterminism, TetMeshDistances) {
 
 TEST_F(ToolDeterminism, SurfaceDistances) {
   for (const std::string name : {"s.ply", "s.vtk", "s.csv"}) expectSameBytesTwice(surfaceRun(out(name)));
+}
+
+TEST_F(ToolDeterminism, SurfaceStatisticsAndStlInput) {
+  std::vector<std::string> run = surfaceRun(out("s.ply"));
+  run.insert(run.end(), {"--stats", out("s.json"), "--seed-point", "1.5,1.5,0", "--seed-at", "point"});
+  expectSameBytesTwice(run);
+  expectSameBytesTwice({"distance", in("tetra.stl"), "--seed-vertex", "0", "-o", out("t.ply"), "--stats",
+                        out("t.json"), "-q"});
 }
 
 TEST_F(ToolDeterminism, TetrahedralizedMeshes) {

@@ -1,7 +1,8 @@
 // No command writes over one of its inputs, however the two are spelled:
 // before anything is read or computed, every output is compared with every
-// input (and with the files an input brings: a NRRD header's data file, a
-// mesh's .ele and .face files, a .poly surface's points) by what file it is.
+// input (and with the files an input brings: a NRRD or MRtrix .mih
+// header's data file, a mesh's .ele and .face files, a .poly surface's
+// points) by what file it is.
 // A match is one line naming both roles, exit code 2, and no file written
 // or changed.
 #include <gtest/gtest.h>
@@ -101,6 +102,28 @@ TEST_F(ToolFileIdentity, TheConnectivityTableIsNeverTheLabelImage) {
   expectRefused(connectivityRun(in("labels.nii")), in("labels.nii"), "connectivity table", "label image");
 }
 
+TEST_F(ToolFileIdentity, MrtrixImagesAndTheDataFileOfAMihHeaderAreInputsToo) {
+  expectRefused({"distance", in("t.mif"), "--tensor-kind", "metric", "--seed-voxel", "5,4,3", "-o",
+                 path("in/./t.mif")},
+                path("in/./t.mif"), "distance map", "tensor input");
+  // A .mih header's data file comes along with it.
+  expectRefused({"distance", in("t.mih"), "--tensor-kind", "metric", "--seed-voxel", "5,4,3", "-o", out("d.mif"),
+                 "--stats", in("t.dat")},
+                in("t.dat"), "statistics file", "data file of the tensor input");
+  expectRefused({"distance", in("t.nii"), "--tensor-kind", "metric", "--seed-voxel", "5,4,3", "--mask", in("t.mih"),
+                 "-o", out("d.mif"), "--stats", path("out/../in/t.dat")},
+                path("out/../in/t.dat"), "statistics file", "data file of the mask");
+}
+
+TEST_F(ToolFileIdentity, ConnectivityMatricesAreNeverInputsNorTheTable) {
+  std::vector<std::string> run = connectivityRun(out("c.tsv"));
+  run.insert(run.end(), {"--matrix", in("labels.nii")});
+  expectRefused(run, in("labels.nii"), "distance matrix", "label image");
+  run = connectivityRun(out("c.tsv"));
+  run.insert(run.end(), {"--matrix", out("d.csv"), "--matrix-index", path("out/./c.tsv")});
+  expectRefused(run, path("out/./c.tsv"), "connectivity-index matrix", "connectivity table");
+}
+
 TEST_F(ToolFileIdentity, TetMeshOutputsAreNeverTheTensorOrReferenceImage) {
   expectRefused({"distance", in("cube.node"), "--seed-vertex", "1", "--reference", in("mask.nii"), "-o",
                  in("mask.nii")},
@@ -117,6 +140,17 @@ TEST_F(ToolFileIdentity, SurfaceOutputsAreNeverTheMeshOrTheMetricFile) {
   expectRefused({"distance", in("square.ply"), "--seed-vertex", "0", "--metric", "field:" + in("field.csv"),
                  "--anisotropy", "2", "-o", in("field.csv")},
                 in("field.csv"), "distance output", "metric file");
+}
+
+TEST_F(ToolFileIdentity, SurfaceStatisticsAreNeverTheMeshNorTheDistanceOutput) {
+  std::vector<std::string> run = surfaceRun(out("s.ply"));
+  run.insert(run.end(), {"--stats", in("square.ply")});
+  expectRefused(run, in("square.ply"), "statistics file", "surface mesh");
+  expectRefused({"distance", in("tetra.stl"), "--seed-vertex", "0", "-o", out("s.csv"), "--stats", in("tetra.stl")},
+                in("tetra.stl"), "statistics file", "surface mesh");
+  run = surfaceRun(out("s.csv"));
+  run.insert(run.end(), {"--stats", path("out/./s.csv")});
+  expectRefused(run, path("out/./s.csv"), "statistics file", "distance output");
 }
 
 TEST_F(ToolFileIdentity, TetrahedralizeNeverWritesOverThePointsOfAPolySurface) {

@@ -59,6 +59,13 @@ TEST_F(ToolWriteFailure, DistanceMapsInEveryImageFormat) {
   }
 }
 
+TEST_F(ToolWriteFailure, DistanceMapsAsMrtrixImages) {
+  for (const std::string name : {"d.mif", "d.mif.gz"}) {
+    SCOPED_TRACE(name);
+    expectFailureLeavesOutputsAsTheyWere(distanceRun(out(name), out("d.json")), out(name));
+  }
+}
+
 TEST_F(ToolWriteFailure, DistanceMapsAsOpenVdbGrids) {
   if (!withVdb()) GTEST_SKIP() << "built without OpenVDB";
   expectFailureLeavesOutputsAsTheyWere(distanceRun(out("d.vdb"), out("d.json")), out("d.vdb"));
@@ -84,6 +91,12 @@ TEST_F(ToolWriteFailure, ConnectivityTable) {
   expectFailureLeavesOutputsAsTheyWere(connectivityRun(out("c.tsv")), out("c.tsv"));
 }
 
+TEST_F(ToolWriteFailure, ConnectivityTableWithItsMatrices) {
+  std::vector<std::string> run = connectivityRun(out("c.tsv"));
+  run.insert(run.end(), {"--matrix", out("d.csv"), "--matrix-index", out("i.csv")});
+  expectFailureLeavesOutputsAsTheyWere(run, out("c.tsv"));
+}
+
 TEST_F(ToolWriteFailure, TetMeshDistances) {
   for (const std::string name : {"m.vtk", "m.vtu", "m.csv"}) {
     SCOPED_TRACE(name);
@@ -99,6 +112,15 @@ TEST_F(ToolWriteFailure, SurfaceDistances) {
     SCOPED_TRACE(name);
     expectFailureLeavesOutputsAsTheyWere(surfaceRun(out(name)), out(name));
   }
+}
+
+TEST_F(ToolWriteFailure, SurfaceStatisticsThatFailTakeTheDistancesWithThem) {
+  // The 16-vertex table (0.2 KiB) fits under a 1 KiB limit; the statistics,
+  // which list the 16 seeds, (about 1.5 KiB) do not: neither may appear.
+  std::vector<std::string> run = surfaceRun(out("s.csv"));
+  for (int v = 1; v < 16; ++v) run.insert(run.end(), {"--seed-vertex", std::to_string(v)});
+  run.insert(run.end(), {"--stats", out("s.json")});
+  expectFailureLeavesOutputsAsTheyWere(run, out("s.json"), 1);
 }
 
 TEST_F(ToolWriteFailure, TetrahedralizedMeshes) {
