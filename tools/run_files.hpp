@@ -13,8 +13,9 @@ namespace stvd::tool {
 
 class RunFiles {
  public:
-  /// An image input: the file and the files it brings (a NRRD header's data
-  /// files, the other half of a NIfTI pair). Nothing for an empty path.
+  /// An image input: the file and the files it brings (a NRRD or MRtrix
+  /// .mih header's data files, the other half of a NIfTI pair). Nothing for
+  /// an empty path.
   void inputImage(const std::string& role, const std::string& path);
   /// A TetGen mesh given as its base name or any of its files: .node, .ele
   /// and .face.

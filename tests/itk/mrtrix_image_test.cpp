@@ -391,14 +391,18 @@ class MrtrixSameRules : public ScratchFolderTest {
     return lines.str();
   }
 
-  /// An image of ones on the field's grid (`volumes` 1 or 6) whose first
-  /// header line starting with `key` is `line` instead.
-  std::string onesWithLine(const std::string& name, int volumes, const std::string& key, const std::string& line) {
+  /// An image on the field's grid, of ones (`volumes` 1) or of unit tensors
+  /// (6), with the field `entry` (0-based) of the first header line
+  /// starting with `key` replaced by `value`.
+  std::string onesWithEntry(const std::string& name, int volumes, const std::string& key, int entry,
+                            const std::string& value) {
     std::string lines = gridLines(field.geometry, volumes, "Float32LE");
-    const std::size_t at = lines.find(key);
-    lines.replace(at, lines.find('\n', at) - at, line);
-    writeBytes(path(name),
-               mifBytes(lines, bytesOf(std::vector<float>(volumes * field.voxelCount(), 1.f), false)));
+    std::size_t at = lines.find(key) + key.size();
+    for (int e = 0; e < entry; ++e) at = lines.find(',', at) + 1;
+    lines.replace(at, lines.find_first_of(",\n", at) - at, value);
+    std::vector<float> values(volumes * field.voxelCount(), 0.f);
+    std::fill(values.begin(), values.begin() + std::min(volumes, 3) * field.voxelCount(), 1.f);  // D11 D22 D33
+    writeBytes(path(name), mifBytes(lines, bytesOf(values, false)));
     return path(name);
   }
 
@@ -418,18 +422,19 @@ class MrtrixSameRules : public ScratchFolderTest {
 };
 
 TEST_F(MrtrixSameRules, GeometryThatIsNotFiniteOrBeyondAMillionMillimetresIsRefusedInEveryRole) {
+  // Only the number named changes: the grid is otherwise the tensors' own,
+  // so nothing else could refuse these files.
   const std::string seed = "--seed-voxel=5,4,3";
-  const std::string far = onesWithLine("far.mif", 1, "transform: ", "transform: -0.5,0.5,0.7,1e17");
-  expectRefused({"distance", path("tensors.nii"), seed, "--mask", far}, far, "transform entry (1, 4)");
-  expectRefused({"distance", path("tensors.nii"), "--seeds", far}, far, "beyond the 1e+06 mm");
-  expectRefused({"connectivity", path("tensors.nii"), "--labels", far}, far, "beyond the 1e+06 mm");
-  const std::string farTensors = onesWithLine("far_tensors.mif", 6, "transform: ", "transform: -0.5,0.5,0.7,-3e6");
+  const std::string far = onesWithEntry("far.mif", 1, "transform: ", 3, "1e17");
+  expectRefused({"distance", path("tensors.nii"), seed, "--mask", far}, far,
+                "transform entry (1, 4) is 1e+17, beyond the 1e+06 mm");
+  expectRefused({"distance", path("tensors.nii"), "--seeds", far}, far, "transform entry (1, 4)");
+  expectRefused({"connectivity", path("tensors.nii"), "--labels", far}, far, "transform entry (1, 4)");
+  const std::string farTensors = onesWithEntry("far_tensors.mif", 6, "transform: ", 3, "-3e6");
   expectRefused({"distance", farTensors, seed}, farTensors, "transform entry (1, 4) is -3e+06, beyond the 1e+06 mm");
-
-  const std::string wide = onesWithLine("wide.mif", 1, "vox: ", "vox: 2e6,1.5,2");
-  expectRefused({"distance", path("tensors.nii"), seed, "--mask", wide}, wide,
-                "the voxel size of axis 0 is 2e+06, beyond the 1e+06 mm");
-  const std::string infinite = onesWithLine("inf.mif", 1, "transform: ", "transform: inf,0,0,0");
+  const std::string wideTensors = onesWithEntry("wide_tensors.mif", 6, "vox: ", 0, "2e6");
+  expectRefused({"distance", wideTensors, seed}, wideTensors, "the voxel size of axis 0 is 2e+06, beyond the 1e+06 mm");
+  const std::string infinite = onesWithEntry("inf.mif", 1, "transform: ", 3, "inf");
   expectRefused({"distance", path("tensors.nii"), seed, "--mask", infinite}, infinite,
                 "transform line 1 is not four finite numbers");
 }

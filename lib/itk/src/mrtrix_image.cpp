@@ -290,6 +290,13 @@ std::size_t gzipRead(gzFile file, const std::string& path, char* into, std::size
   return done;
 }
 
+/// The checked header of the file at `path` and its data bytes (the data
+/// alone, without the header).
+struct StoredImage {
+  MrtrixHeader header;
+  std::string data;
+};
+
 /// A .mif.gz file decompressed as far as its header says, never further.
 /// A header that declares more than deflate can expand the file to (1032
 /// to 1), or more than the memory available, fails at once. Otherwise the
@@ -297,7 +304,7 @@ std::size_t gzipRead(gzFile file, const std::string& path, char* into, std::size
 /// far the data go (nothing stored), then into memory, so that a header
 /// that declares more data than the stream holds fails before the data are
 /// allocated.
-std::string readCompressedMif(const std::string& path) {
+StoredImage readCompressedMif(const std::string& path) {
   struct Closer {
     void operator()(gzFile_s* f) const { gzclose(f); }
   };
@@ -319,8 +326,9 @@ std::string readCompressedMif(const std::string& path) {
     head.append(chunk.data(), got);
     end = headerEnd(head);
   }
-  if (end == std::string::npos) return head;  // parseMrtrixImage names what is missing
-  const MrtrixHeader header = parseMrtrixHeader(head, path);
+  StoredImage stored;
+  stored.header = parseMrtrixHeader(head, path);  // names what is missing when there is no END
+  const MrtrixHeader& header = stored.header;
   if (header.dataFile != ".") throw ImageIoError(path, "a .mif.gz file must hold its own data (file: . OFFSET)");
   const std::size_t needed = header.dataOffset + header.dataBytes();
   if (static_cast<double>(needed) > detail::kMaxDeflateRatio * static_cast<double>(compressedBytes) + 65536.0)
@@ -336,7 +344,9 @@ std::string readCompressedMif(const std::string& path) {
   std::string content(needed, '\0');
   if (gzipRead(second.get(), path, content.data(), needed) != needed)
     throw ImageIoError(path, "the compressed data changed while being read");
-  return content;
+  content.erase(0, header.dataOffset);
+  stored.data = std::move(content);
+  return stored;
 }
 
 /// `bytes` as one gzip stream (zlib level 6, as gzip's default). The
@@ -547,13 +557,6 @@ MrtrixImage parseMrtrixImage(std::string_view bytes, const std::string& name) {
 
 namespace {
 
-/// The checked header of the file at `path` and its data bytes (the data
-/// alone, without the header).
-struct StoredImage {
-  MrtrixHeader header;
-  std::string data;
-};
-
 /// The header of a .mif or .mih file of `fileBytes` bytes, from its first
 /// bytes (a .mih header ends with its text, MRtrix writes no END there).
 MrtrixHeader readUncompressedHeader(const std::string& path, std::uint64_t fileBytes) {
@@ -571,25 +574,16 @@ std::string dataFilePath(const std::string& path, const MrtrixHeader& header) {
 }
 
 StoredImage readStoredImage(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw ImageIoError(path, "no such file");
   const std::string l = lower(path);
-  StoredImage stored;
-  if (endsWith(l, ".mif.gz")) {
-    std::string content = readCompressedMif(path);
-    stored.header = parseMrtrixHeader(content, path);
-    const std::size_t needed = stored.header.dataOffset + stored.header.dataBytes();
-    if (content.size() < needed)
-      throw ImageIoError(path, "the file is truncated: " + std::to_string(content.size()) +
-                                   " decompressed bytes where header and data need " + std::to_string(needed));
-    content.resize(needed);
-    content.erase(0, stored.header.dataOffset);
-    stored.data = std::move(content);
-    return stored;
-  }
+  if (endsWith(l, ".mif.gz")) return readCompressedMif(path);
   // .mif (header and data in one file) or .mih (the header alone, its data
   // in the file it names, next to it): the header first, then exactly the
   // data it declares, once they are known to be in the file and to fit in
   // memory.
   const bool mih = endsWith(l, ".mih");
+  StoredImage stored;
   const std::uint64_t fileBytes = detail::regularFileSize(path, path, "the file");
   stored.header = readUncompressedHeader(path, fileBytes);
   const MrtrixHeader& h = stored.header;

@@ -91,8 +91,8 @@ bool isMrtrixImagePath(const std::string& path);
 MrtrixHeader parseMrtrixHeader(std::string_view bytes, const std::string& name, bool endsWithText = false);
 
 /// An image whose header and data are both in `bytes` (a .mif file's
-/// content, "file: . OFFSET"). Throws ImageIoError naming `name`. This is
-/// the entry point of the format's fuzz target.
+/// content, "file: . OFFSET"), for data already in memory. Throws
+/// ImageIoError naming `name`.
 MrtrixImage parseMrtrixImage(std::string_view bytes, const std::string& name);
 
 /// Reads a .mif, .mif.gz or .mih file (with its data file). Throws
