@@ -38,6 +38,14 @@ class CandidatePath {
 
   /// Whether length() measures along the path (ChainMeasure::Segment).
   static constexpr bool measuresPaths() { return false; }
+  /// Whether a pending candidate's length depends on the chain between its
+  /// two ends (a surface's unfolding): then the propagation rebuilds the
+  /// chain and calls beginChain() and length(). Otherwise it calls
+  ///   float segmentLength(VertexId from, VertexId w, int samples),
+  /// the length of candidate i = samples from `from` = c_{i-1} to w, and asks
+  /// the data for it ahead of time with
+  ///   void prefetchSegment(VertexId from, VertexId w, int samples) const.
+  static constexpr bool usesPlacedChain() { return true; }
 
   /// The chain of the vertex just finalised, and its vertices placed in the
   /// common frame of ChainUnfolding<Domain> (placed[0] = 0 at v).

@@ -332,7 +332,7 @@ class Propagation {
   template <ChainRule Rule, bool Measured>
   void runVector(int k, const std::vector<std::uint8_t>& isTarget, std::size_t remainingTargets) {
     if constexpr (Measured) {
-      candidate_ = makeLargeArray<CandidateState>(domain_.vertexCount(), {kUnreachable, kNoVertex, 0});
+      candidate_ = makeLargeArray<CandidateState>(domain_.vertexCount(), {kUnreachable, kNoVertex, kNoVertex, 0});
       loop<true>(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<Rule, true>(v, k); });
     } else {
       loop(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<Rule, false>(v, k); });
@@ -357,7 +357,10 @@ class Propagation {
       }
       const VertexId v = queue_.popMin();
       ++finalized_;
-      if (!queue_.empty()) prefetchNeighborhood(queue_.minVertex());
+      if (!queue_.empty()) {
+        prefetchNeighborhood(queue_.minVertex());
+        if constexpr (Deferred) prefetchPending(queue_.minVertex());
+      }
       if (!isTarget.empty() && isTarget[v] && --remainingTargets == 0) {
         termination_ = Termination::TargetsReached;
         break;
@@ -389,6 +392,19 @@ class Propagation {
         if (!candidate_.empty()) prefetchRange(&candidate_[first], &candidate_[last]);
       });
       domain_.prefetchNeighborGeometry(u);
+    }
+  }
+
+  // The next vertex will most likely be settled next: when it has a pending
+  // candidate, the data its measurement reads (long out of cache: the
+  // candidate was found when the front was one edge behind) is asked for
+  // while the current vertex is relaxed.
+  STVD_ALWAYS_INLINE void prefetchPending(VertexId u) {
+    if constexpr (!CandidatePath<Domain, Norm>::usesPlacedChain()) {
+      const CandidateState& c = candidate_[u];
+      if (c.pendingSpan < 2) return;
+      detail::prefetch(&state_[c.pendingBase]);
+      path_.prefetchSegment(c.pendingBase, u, static_cast<int>(c.pendingSpan));
     }
   }
 
@@ -485,13 +501,17 @@ class Propagation {
     memory.edgeCount = count;
     Vec3f p[kMaxMemoryDepth];
     ChainUnfolding<Domain>::place(domain_, chain, count, p);
-    for (int j = 2; j <= count; ++j) {
-      memory.edge[j] = p[j - 2] - p[j - 1];
-      // The norm in the unfolded frame (Norm::edgeParams of the end points
-      // for domains in R^3; see chain_unfolding.hpp).
-      memory.edgeNorm[j] = ChainUnfolding<Domain>::template edgeNorm<Norm>(
-          domain_, metric_[chain[j - 1]], metric_[chain[j - 2]], chain[j - 1], chain[j - 2],
-          memory.edge[j]);
+    // The chain's edges and their norms, which the two chain rules measure
+    // with (the chain-mean screen needs only the vertices' norms).
+    if constexpr (Rule != ChainRule::ChainMean) {
+      for (int j = 2; j <= count; ++j) {
+        memory.edge[j] = p[j - 2] - p[j - 1];
+        // The norm in the unfolded frame (Norm::edgeParams of the end points
+        // for domains in R^3; see chain_unfolding.hpp).
+        memory.edgeNorm[j] = ChainUnfolding<Domain>::template edgeNorm<Norm>(
+            domain_, metric_[chain[j - 1]], metric_[chain[j - 2]], chain[j - 1], chain[j - 2],
+            memory.edge[j]);
+      }
     }
     for (int lane = 0; lane + 1 < count; ++lane) {
       memory.backX[lane] = p[lane + 1].x;
@@ -533,7 +553,7 @@ class Propagation {
           lowerToScreenedCandidates(memory, b, screen);
       }
       if constexpr (Measured)
-        applyDeferred(v, b);
+        applyDeferred(v, b, chain);
       else
         applyCandidates(v, b);
     });
@@ -593,7 +613,8 @@ class Propagation {
   struct CandidateState {
     double measured;               // shortest measured distance so far
     VertexId measuredPredecessor;  // the vertex whose relaxation gave it
-    std::uint32_t pendingSpan;     // i of the pending candidate, 0 for none
+    VertexId pendingBase;          // c_{i-1} of the pending candidate
+    std::uint32_t pendingSpan;     // its i, 0 for none
   };
 
   // Records each neighbour's Dijkstra term as measured, and its best
@@ -647,7 +668,7 @@ class Propagation {
     }
   }
 
-  STVD_ALWAYS_INLINE void applyDeferred(VertexId v, const NeighborBatch<Norm>& batch) {
+  STVD_ALWAYS_INLINE void applyDeferred(VertexId v, const NeighborBatch<Norm>& batch, const VertexId* chain) {
     relaxed_ += static_cast<std::uint64_t>(batch.size);
     for (int n = 0; n < batch.size; ++n) {
       const VertexId w = batch.vertex[n];
@@ -656,7 +677,9 @@ class Propagation {
         sw.distance = batch.best[n];
         sw.predecessor = v;
         const int lane = batch.pendingLane[n];
-        candidate_[w].pendingSpan = lane < 0 ? 0u : static_cast<std::uint32_t>(lane + 2);
+        CandidateState& c = candidate_[w];
+        c.pendingSpan = lane < 0 ? 0u : static_cast<std::uint32_t>(lane + 2);
+        c.pendingBase = lane < 0 ? kNoVertex : chain[lane + 1];
         queue_.pushOrDecrease(w, batch.best[n]);
       }
     }
@@ -667,19 +690,26 @@ class Propagation {
   STVD_HOT_LOOP void measurePending(VertexId w, VertexId v, CandidateState& c) {
     const int i = static_cast<int>(c.pendingSpan);
     c.pendingSpan = 0;
-    VertexId chain[kMaxMemoryDepth];
-    chain[0] = v;
-    for (int j = 1; j < i; ++j) chain[j] = state_[chain[j - 1]].predecessor;
-    Vec3f p[kMaxMemoryDepth];
-    ChainUnfolding<Domain>::place(domain_, chain, i, p);
-    path_.beginChain(chain, i, p);
-    const float l = path_.length(i, w, ChainUnfolding<Domain>::neighborEdge(domain_, v, w));
+    float l;
+    if constexpr (CandidatePath<Domain, Norm>::usesPlacedChain()) {
+      // The path depends on the chain between c_{i-1} and v (a surface's
+      // unfolding): rebuild it.
+      VertexId chain[kMaxMemoryDepth];
+      chain[0] = v;
+      for (int j = 1; j < i; ++j) chain[j] = state_[chain[j - 1]].predecessor;
+      Vec3f p[kMaxMemoryDepth];
+      ChainUnfolding<Domain>::place(domain_, chain, i, p);
+      path_.beginChain(chain, i, p);
+      l = path_.length(i, w, ChainUnfolding<Domain>::neighborEdge(domain_, v, w));
+    } else {
+      l = path_.segmentLength(c.pendingBase, w, i);
+    }
     if (l == kRefusedCandidate) {
       ++refused_;
       return;
     }
     ++measured_;
-    const double value = state_[chain[i - 1]].distance + static_cast<double>(l);
+    const double value = state_[c.pendingBase].distance + static_cast<double>(l);
     if (value < c.measured) {
       c.measured = value;
       c.measuredPredecessor = v;

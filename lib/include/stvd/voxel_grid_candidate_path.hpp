@@ -43,12 +43,13 @@ class CandidatePath<VoxelGridDomain, Norm> {
       : domain_(domain), metric_(metric) {}
 
   static constexpr bool measuresPaths() { return true; }
+  /// A pending candidate is measured from its two end points alone
+  /// (segmentLength), without its chain.
+  static constexpr bool usesPlacedChain() { return false; }
 
   STVD_ALWAYS_INLINE void beginChain(const VertexId* chain, int count, const Vec3f* placed) {
+    (void)placed;  // a segment's vector comes from its end points' indices
     chain_ = chain;
-    placed_ = placed;
-    count_ = count;
-    for (int c = 0; c < count; ++c) index_[c] = domain_.indexOf(chain[c]);
     // Every candidate's segment stays within (count - 1) stencil radii of
     // v, and within one of v at w: with no excluded voxel that near, none
     // can leave the domain.
@@ -58,14 +59,22 @@ class CandidatePath<VoxelGridDomain, Norm> {
 
   bool mayRefuse() const { return mayRefuse_; }
 
-  STVD_ALWAYS_INLINE bool accepts(int i, VertexId w) { return !mayRefuse_ || domain_.segmentInDomain(chain_[i - 1], w); }
+  STVD_ALWAYS_INLINE bool accepts(int i, VertexId w) const {
+    return !mayRefuse_ || domain_.segmentInDomain(chain_[i - 1], w);
+  }
 
-  STVD_ALWAYS_INLINE float length(int i, VertexId w, Vec3f e) {
-    if (!accepts(i, w)) return kRefusedCandidate;
-    const VoxelIndex a = index_[i - 1], b = domain_.indexOf(w);
-    // The segment's vector in physical space, as the screen had it, split
-    // into i equal pieces.
-    const Vec3f piece = (1.f / static_cast<float>(i)) * (e - placed_[i - 1]);
+  STVD_ALWAYS_INLINE float length(int i, VertexId w, Vec3f) {
+    return accepts(i, w) ? segmentLength(chain_[i - 1], w, i) : kRefusedCandidate;
+  }
+
+  /// The length of the segment from the centre of `from` to the centre of
+  /// w measured with `samples` samples: length() without a chain, for a
+  /// pending candidate, which accepts() let through when it became pending.
+  STVD_ALWAYS_INLINE float segmentLength(VertexId from, VertexId w, int samples) const {
+    const int i = samples;
+    const VoxelIndex a = domain_.indexOf(from), b = domain_.indexOf(w);
+    // The segment's vector in physical space, split into i equal pieces.
+    const Vec3f piece = (1.f / static_cast<float>(i)) * domain_.indexOffsetVector(b.i - a.i, b.j - a.j, b.k - a.k);
     // Sample m lies at a + (2m + 1) d / (2i) in index space. Per axis it is
     // kept exactly as low + remainder / (2i), 0 <= remainder < 2i, and
     // stepped by 2d per sample.
@@ -117,6 +126,30 @@ class CandidatePath<VoxelGridDomain, Norm> {
     return total;
   }
 
+  /// Asks for the voxel rows that segmentLength(from, w, samples) will read.
+  STVD_ALWAYS_INLINE void prefetchSegment(VertexId from, VertexId w, int samples) const {
+    const VoxelIndex a = domain_.indexOf(from), b = domain_.indexOf(w);
+    const int denominator = 2 * samples;
+    const int d[3] = {b.i - a.i, b.j - a.j, b.k - a.k};
+    int low[3] = {a.i, a.j, a.k}, remainder[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      remainder[axis] = d[axis];
+      normalise(low[axis], remainder[axis], denominator);
+    }
+    const VertexId strideJ = static_cast<VertexId>(domain_.geometry().size[0]);
+    const VertexId strideK = strideJ * static_cast<VertexId>(domain_.geometry().size[1]);
+    for (int m = 0; m < samples; ++m) {
+      const VertexId row = domain_.vertexAt(low[0], low[1], low[2]);
+      const VertexId nextJ = remainder[1] != 0 ? strideJ : 0, nextK = remainder[2] != 0 ? strideK : 0;
+      for (const VertexId r : {row, row + nextJ, row + nextK, row + nextJ + nextK})
+        detail::prefetchRange(&metric_[r], &metric_[r + (remainder[0] != 0 ? 1 : 0)]);
+      for (int axis = 0; axis < 3; ++axis) {
+        remainder[axis] += 2 * d[axis];
+        normalise(low[axis], remainder[axis], denominator);
+      }
+    }
+  }
+
  private:
   static constexpr int kFloats = static_cast<int>(sizeof(Params) / sizeof(float));
 
@@ -137,10 +170,7 @@ class CandidatePath<VoxelGridDomain, Norm> {
   const VoxelGridDomain& domain_;
   const MetricField<Norm>& metric_;
   const VertexId* chain_ = nullptr;
-  const Vec3f* placed_ = nullptr;
-  int count_ = 0;
   bool mayRefuse_ = false;
-  VoxelIndex index_[kMaxMemoryDepth];
 };
 
 }  // namespace stvd
