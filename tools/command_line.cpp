@@ -240,8 +240,10 @@ std::string tensorInputHelp(bool withMetricOptions) {
         "                          tissue costs 1 per mm (O'Donnell et al. 2002);\n"
         "                          adjugate: G = adj(D/MD), anisotropic tissue cheaper still\n"
         "                          (Fuster et al. 2016).\n"
-        "  --max-anisotropy A      raise eigenvalues below lambda_max/A to it (default 100), which\n"
-        "                          also repairs zero and negative eigenvalues.\n"
+        "  --max-anisotropy A      raise eigenvalues below lambda_max/A to it, which also repairs\n"
+        "                          zero and negative eigenvalues (default 100 for diffusion\n"
+        "                          tensors; a metric is taken as given, with only zero and\n"
+        "                          negative eigenvalues raised to lambda_max/100).\n"
         "  --fa-threshold T        only voxels whose tensor has FA >= T (diffusion tensors).\n"
         "  Voxels with a zero, NaN or infinite tensor, or no positive eigenvalue, are outside.\n";
   else
