@@ -266,7 +266,7 @@ std::string statsJson(const DistanceOptions& o, const TensorInput& input, const 
     << ",\n";
   j << "    \"metric_formula\": "
     << jsonString(imaging::metricFormula(o.tensor.metric.kind, o.tensor.metric.diffusionMetric)) << ",\n";
-  j << "    \"max_anisotropy\": " << jsonNumber(o.tensor.metric.maxAnisotropy) << ",\n";
+  j << "    \"max_anisotropy\": " << jsonNumber(imaging::anisotropyCap(o.tensor.metric).value_or(NAN)) << ",\n";
   j << "    \"fa_threshold\": " << jsonNumber(o.tensor.metric.faThreshold.value_or(NAN)) << ",\n";
   j << "    \"tensor_layout\": " << jsonString(imaging::tensorFileLayoutName(info.layout)) << ",\n";
   j << "    \"tensor_order\": " << jsonString(imaging::tensorOrderName(info.order)) << ",\n";
@@ -337,8 +337,11 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
       << " from the diffusion tensors";
   else
     s << "The file's tensors are the metric";
-  s << ", eigenvalue ratio capped at " << fixed(o.tensor.metric.maxAnisotropy, 0) << "; "
-    << withThousands(counts.domain) << " voxels in the domain";
+  if (const auto cap = imaging::anisotropyCap(o.tensor.metric))
+    s << ", eigenvalue ratio capped at " << fixed(*cap, 0);
+  else
+    s << ", taken as given (no eigenvalue ratio cap)";
+  s << "; " << withThousands(counts.domain) << " voxels in the domain";
   if (!input.maskDescription.empty()) s << " (mask: " << input.maskDescription << ")";
   s << ", of which " << withThousands(counts.repaired()) << " were repaired ("
     << withThousands(counts.repairedNonPositive) << " with a non-positive eigenvalue, "

@@ -2,6 +2,7 @@
 // layout, order and frame, eigenvalue and FA statistics, ill-conditioned
 // voxels.
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <iostream>
 #include <sstream>
@@ -200,7 +201,10 @@ int runInfo(int argc, char** argv) {
   std::size_t masked = 0, zero = 0, nonFinite = 0, considered = 0;
   std::size_t noPositive = 0, nonPositiveSmallest = 0, beyondCap = 0, faAboveOne = 0;
   std::vector<double> l1, l2, l3, md, fa;
-  const double cap = o.tensor.metric.maxAnisotropy;
+  // A metric taken as given has no cap: only non-positive eigenvalues are
+  // raised, to lambda1/100, which is what the counts below report then.
+  const std::optional<double> givenCap = imaging::anisotropyCap(o.tensor.metric);
+  const double cap = givenCap.value_or(imaging::kDefaultMaxAnisotropy);
   for (std::size_t v = 0; v < volume.tensors.size(); ++v) {
     if (!input.mask.empty() && input.mask[v] == 0) { ++masked; continue; }
     const SymTensor3& t = volume.tensors[v];
@@ -218,7 +222,7 @@ int runInfo(int argc, char** argv) {
     if (f > 1.0) ++faAboveOne;
     if (!(e.values[0] > 0.0)) ++noPositive;
     else if (e.values[2] <= 0.0) ++nonPositiveSmallest;
-    else if (e.values[0] / e.values[2] > cap) ++beyondCap;
+    else if (givenCap && e.values[0] / e.values[2] > cap) ++beyondCap;
   }
   out << "Voxels:      " << withThousands(volume.tensors.size()) << " in all; " << withThousands(considered)
       << " with a non-zero finite tensor" << (input.mask.empty() ? "" : " inside the mask") << "; "
@@ -234,10 +238,11 @@ int runInfo(int argc, char** argv) {
       << "\n";
   out << "Ill-conditioned: " << withThousands(nonPositiveSmallest + beyondCap + noPositive) << " voxels: "
       << withThousands(nonPositiveSmallest) << " with a zero or negative smallest eigenvalue, "
-      << withThousands(beyondCap) << " with lambda1/lambda3 > " << fixed(cap, 0) << ", " << withThousands(noPositive)
-      << " without a positive eigenvalue.\n";
+      << withThousands(beyondCap) << " with lambda1/lambda3 > " << (givenCap ? fixed(cap, 0) : std::string("the cap (none)"))
+      << ", " << withThousands(noPositive) << " without a positive eigenvalue.\n";
   out << "  stvd distance raises the eigenvalues of the first two kinds to lambda1/" << fixed(cap, 0)
-      << " (--max-anisotropy) and leaves the last kind, zero and non-finite tensors outside the domain.\n";
+      << (givenCap ? " (--max-anisotropy)" : " (a metric is otherwise taken as given)")
+      << " and leaves the last kind, zero and non-finite tensors outside the domain.\n";
   out << componentOrderReport(input, considered);
   std::cout << out.str();
   return kExitOk;

@@ -41,10 +41,10 @@ class CandidatePath {
   /// Whether a pending candidate's length depends on the chain between its
   /// two ends (a surface's unfolding): then the propagation rebuilds the
   /// chain and calls beginChain() and length(). Otherwise it calls
-  ///   float segmentLength(VertexId from, VertexId w, int samples),
-  /// the length of candidate i = samples from `from` = c_{i-1} to w, and asks
-  /// the data for it ahead of time with
-  ///   void prefetchSegment(VertexId from, VertexId w, int samples) const.
+  ///   float segmentLength(VertexId from, VertexId w),
+  /// the length of the candidate from `from` = c_{i-1} to w, and asks the
+  /// data for it ahead of time with
+  ///   void prefetchSegment(VertexId from, VertexId w) const.
   static constexpr bool usesPlacedChain() { return true; }
 
   /// The chain of the vertex just finalised, and its vertices placed in the
