@@ -52,7 +52,8 @@ const char* kSurfaceDistanceHelp =
     "  --steiner M             lanthier: Steiner points per face edge, 1..16; time grows like M^2,\n"
     "                          memory like M.\n"
     "  --k N                   STVD memory depth, 1..16 (default 8).\n"
-    "  --chain-measure R       projection (default on surfaces: the paper's rule) or largest.\n"
+    "  --chain-measure R       segment (default: real lines across the faces), projection\n"
+    "                          (the paper's rule) or largest.\n"
     "\n"
     "Output:\n"
     "  -o, --output FILE       .ply (binary, the mesh with a double vertex property distance),\n"
@@ -63,7 +64,7 @@ const char* kSurfaceDistanceHelp =
     "  -h, --help              this text.\n";
 
 /// --method, --steiner, --k and --chain-measure as in geodesic_options (no
-/// --stencil), with the surfaces' own default chain measure.
+/// --stencil), with the library's defaults.
 struct SurfaceOptions : PropagationChoice {
   std::string input, output, metric = "isotropic";
   std::vector<long long> seeds;
@@ -74,9 +75,6 @@ struct SurfaceOptions : PropagationChoice {
 
 SurfaceOptions parse(int argc, char** argv) {
   SurfaceOptions o;
-  // Surfaces keep the paper's chain measure as their default, as the help
-  // text and docs/surfaces.md state (images and tet meshes use largest).
-  o.chainMeasure = ChainMeasure::ProjectionWeighted;
   ArgumentReader args(argc, argv, 2);
   while (!args.done()) {
     const std::string a = args.take();

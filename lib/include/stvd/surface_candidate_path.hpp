@@ -71,7 +71,7 @@ class CandidatePath<SurfaceDomain, RiemannianNorm> {
 
   /// Most sides followed at once; a walk that would need more keeps the
   /// first ones (refusing a line is always safe, it only costs accuracy).
-  static constexpr int kMaxSides = 8;
+  static constexpr int kMaxSides = 16;
 
  private:
   struct Walk;
