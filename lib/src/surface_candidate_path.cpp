@@ -79,6 +79,14 @@ struct Funnel {
   }
 
   bool holds(Point t) const { return !set || (counterClockwise(right, t) && counterClockwise(t, left)); }
+
+  /// Whether only the lines through one point are left (within kSlack):
+  /// a line through a vertex, as along a straight chain on a flat mesh.
+  bool degenerate() const {
+    if (!set) return false;
+    const double c = cross(right, left);
+    return c * c <= kSlack * kSlack * ((right.x * right.x + right.y * right.y) * (left.x * left.x + left.y * left.y));
+  }
 };
 
 }  // namespace
@@ -229,17 +237,19 @@ void CandidatePath<SurfaceDomain, RiemannianNorm>::trace(VertexId w, Lines& line
       const Point at = side.at;
       side.at = nextAt;
       side.back = nextBack;
-      if (outCount < kMaxSides) {
-        Side& change = out[outCount];
-        change = side;
-        change.counterClockwise = !ccw;
-        change.sides |= (ccw ? 0u : 1u) << (j + 1);
-        if (ccw ? change.funnel.pass(at - wAt, toNext) : change.funnel.pass(toNext, at - wAt)) ++outCount;
-      }
-      if (outCount < kMaxSides && (ccw ? side.funnel.keepLeft(toNext) : side.funnel.keepRight(toNext))) {
+      // A line through c_{j+1} itself (a funnel narrowed to it) is followed
+      // on the same side only: on either side it is the same line.
+      Side change = side;
+      change.counterClockwise = !ccw;
+      change.sides |= (ccw ? 0u : 1u) << (j + 1);
+      const bool crosses =
+          ccw ? change.funnel.pass(at - wAt, toNext) : change.funnel.pass(toNext, at - wAt);
+      const bool stays = ccw ? side.funnel.keepLeft(toNext) : side.funnel.keepRight(toNext);
+      if (stays && outCount < kMaxSides) {
         side.sides |= (ccw ? 1u : 0u) << (j + 1);
         out[outCount++] = side;
       }
+      if (crosses && !(stays && change.funnel.degenerate()) && outCount < kMaxSides) out[outCount++] = change;
     }
     current = 1 - current;
     count = outCount;
