@@ -162,7 +162,6 @@ CandidatePath<SurfaceDomain, RiemannianNorm>::CandidatePath(const SurfaceDomain&
     : surface_(surface), checksLines_(options.chainMeasure == ChainMeasure::Segment) {
   if (!checksLines_ || options.method == Method::Dijkstra) return;
   faceTensor_ = surface.faceTensors(metric);
-  cache_.resize(kCacheSize);
   // A constant isotropic metric measures every line by its unfolded length.
   bool isotropic = metric.size() > 0;
   const SymTensor3 g0 = metric.size() > 0 ? metric[0] : SymTensor3{};
@@ -175,7 +174,9 @@ CandidatePath<SurfaceDomain, RiemannianNorm>::CandidatePath(const SurfaceDomain&
 
 const CandidatePath<SurfaceDomain, RiemannianNorm>::Lines& CandidatePath<SurfaceDomain, RiemannianNorm>::lines(
     VertexId w) {
-  Lines& l = cache_[w % kCacheSize];
+  Lines& l = lines_;
+  // The chain of v never changes once v is final: the same v, w and at
+  // least as many chain vertices give the same lines.
   if (l.v == chain_[0] && l.w == w && l.count >= count_) return l;
   l.v = chain_[0];
   l.w = w;
@@ -225,10 +226,10 @@ void CandidatePath<SurfaceDomain, RiemannianNorm>::trace(VertexId w, Lines& line
         if (l < best) {
           best = l;
           lines.valid |= 1u << i;
-          lines.length[i] = static_cast<float>(l);
+          lines.length[i] = l;
           lines.sides[i] = side.sides;
-          lines.targetX[i] = static_cast<float>(nextAt.x);
-          lines.targetY[i] = static_cast<float>(nextAt.y);
+          lines.targetX[i] = nextAt.x;
+          lines.targetY[i] = nextAt.y;
         }
       }
       if (j + 2 >= count_) continue;

@@ -257,10 +257,10 @@ STVD_ALWAYS_INLINE void lowerToScreenedCandidates(const ChainMemory<Norm>& chain
 }
 
 /// CandidatePath::measuresWhileChecking(), where a path offers it: true
-/// when checking a candidate's path costs as much as measuring it (a
-/// surface under a constant isotropic metric, where the walk that checks a
-/// line yields its length), so that every candidate is measured when it is
-/// screened instead of deferring the best one. False for the others.
+/// when checking the candidates' paths costs about what measuring them does
+/// (a surface, where one walk along the chain finds every candidate's line),
+/// so that every candidate is measured when it is screened instead of
+/// deferring the best one. False for the others.
 template <class Path, class = void>
 struct OffersMeasuringWhileChecking : std::false_type {};
 template <class Path>

@@ -36,9 +36,12 @@ namespace stvd {
 /// isotropic metric, the polyhedral distance). Under a constant isotropic
 /// metric the line's length is its unfolded length, computed directly.
 ///
-/// accepts() is true: the walk costs what the measurement costs, so the
-/// propagation validates only the pending candidate of a vertex, when it
-/// measures it (docs/surfaces.md has the measurements behind that choice).
+/// measuresWhileChecking(): one walk along the chain finds the lines of all
+/// the candidates of a neighbour, and measuring them after it costs little,
+/// so the propagation measures every candidate when it screens a neighbour
+/// and keeps the shortest, instead of deferring the screen's favourite (on
+/// surfaces the screen, the paper's rule on the rescaled unfolding, ranks
+/// candidates badly where the surface is curved; docs/surfaces.md).
 /// A polygon enters a fan as the triangle of its corner at the fan's
 /// centre (a convex polygon holds it), so lines are refused that a
 /// polygon would hold further from the chain.
@@ -55,6 +58,7 @@ class CandidatePath<SurfaceDomain, RiemannianNorm> {
   void beginChain(const VertexId* chain, int count, const Vec3f*) {
     chain_ = chain;
     count_ = count;
+    if (!checksLines_) return;
     // Where each chain vertex has its neighbours along the chain, for
     // every line walked past it.
     for (int j = 0; j + 1 < count; ++j) {
@@ -65,8 +69,6 @@ class CandidatePath<SurfaceDomain, RiemannianNorm> {
   bool mayRefuse() const { return checksLines_; }
   bool accepts(int i, VertexId w);
   float length(int i, VertexId w, Vec3f e);
-  /// Under a constant isotropic metric the walk that checks the lines
-  /// gives their lengths, so every candidate is measured when screened.
   bool measuresWhileChecking() const { return checksLines_; }
 
   /// Most sides followed at once; a walk that would need more keeps the
@@ -79,21 +81,19 @@ class CandidatePath<SurfaceDomain, RiemannianNorm> {
   /// bit i of `valid` for candidate i, its unfolded length, the sides it
   /// passes the chain vertices on (bit j: c_j counter-clockwise) and where
   /// c_{i-1} lies in the plane of the walk. One walk along the chain finds
-  /// them all; they are kept per w (the chain of v never changes once v is
-  /// final), so that the measurement of a pending candidate, when its
-  /// vertex reaches the top of the queue, finds the walk of its relaxation.
+  /// them all, and the propagation asks for the candidates of one neighbour
+  /// one after the other, so the last walk is kept.
   struct Lines {
     VertexId v = kNoVertex, w = kNoVertex;
     int count = 0;
     std::uint32_t valid = 0;
-    float length[kMaxMemoryDepth + 1];
+    double length[kMaxMemoryDepth + 1];
     std::uint32_t sides[kMaxMemoryDepth + 1];
-    float targetX[kMaxMemoryDepth + 1], targetY[kMaxMemoryDepth + 1];
+    double targetX[kMaxMemoryDepth + 1], targetY[kMaxMemoryDepth + 1];
   };
-  static constexpr std::size_t kCacheSize = 1024;
   const Lines& lines(VertexId w);
   void trace(VertexId w, Lines& lines) const;
-  std::vector<Lines> cache_;
+  Lines lines_;
   const SurfaceDomain& surface_;
   bool checksLines_;
   std::vector<SymTensor3> faceTensor_;
