@@ -290,9 +290,22 @@ float CandidatePath<SurfaceDomain, RiemannianNorm>::length(int i, VertexId w, Ve
                                              2.0 * double(g.xz) * v.x * v.z + 2.0 * double(g.yz) * v.y * v.z));
     inFace = true;
   };
+  const double dd = d.x * d.x + d.y * d.y;
   auto crossEdge = [&](Point a, Point b) {
-    // w + u d on the line through a and b.
-    const double u = cross(a - wAt, b - a) / cross(d, b - a);
+    // The parameter u of w + u d where the line meets the edge a b: from
+    // the signed distances of a and b to the line, so that a line through
+    // an end point (along a straight chain on a flat mesh, or through a
+    // vertex beside it) meets it there, and a line along the edge where it
+    // starts; the pieces on either side are then measured in their faces.
+    const double sa = cross(d, a - wAt), sb = cross(d, b - wAt);
+    double u;
+    if (sa != sb) {
+      const double lambda = std::min(1.0, std::max(0.0, sa / (sa - sb)));
+      const Point p = a + lambda * (b - a);
+      u = ((p.x - wAt.x) * d.x + (p.y - wAt.y) * d.y) / dd;
+    } else {
+      u = std::min((a.x - wAt.x) * d.x + (a.y - wAt.y) * d.y, (b.x - wAt.x) * d.x + (b.y - wAt.y) * d.y) / dd;
+    }
     const double clamped = std::min(1.0, std::max(t, u));
     total += (clamped - t) * faceFactor;
     t = clamped;

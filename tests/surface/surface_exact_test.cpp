@@ -164,15 +164,29 @@ INSTANTIATE_TEST_SUITE_P(CgalData, RealMeshAgainstExactGeodesics, ::testing::Val
 /// The curvature metric (anisotropy 10 and 20) against Lanthier M = 16 on
 /// the face-wise metric that both measure with: never more than 1 % below
 /// it, at least twice as accurate as Dijkstra, and better as k grows.
-class RealMeshUnderTheCurvatureMetric : public ::testing::TestWithParam<const char*> {};
+/// Lanthier's distances are those of paths through Steiner points, longer
+/// than the geodesic by what snapping costs; along fandisk's sharp creases,
+/// where the metric is strongly anisotropic, M = 16 has not converged: at
+/// its worst vertex M = 4, 8, 16 give 0.709, 0.627, 0.602 (anisotropy 10)
+/// and the segment measure 0.590, so there the bound is 5 %. A line through
+/// vertices along an edge once lost the faces after it (measured 7.9 %
+/// below there); that is what fandisk guards.
+struct CurvedMesh {
+  const char* name;
+  double belowLanthier;  // how far below Lanthier M = 16 a vertex may be
+};
+void PrintTo(const CurvedMesh& mesh, std::ostream* out) { *out << mesh.name; }
+
+class RealMeshUnderTheCurvatureMetric : public ::testing::TestWithParam<CurvedMesh> {};
 
 TEST_P(RealMeshUnderTheCurvatureMetric, StaysAboveLanthierWithSixteenSteinerPointsAndBeatsDijkstra) {
   if (fixtureFolder().empty()) GTEST_FAIL() << "STVD_EXACT_DIR is not set (the test fixture sets it)";
-  surface_io::SurfaceMesh m = surface_io::readOff(fixtureFolder() + "/data/meshes/" + GetParam() + ".off");
+  const char* name = GetParam().name;
+  surface_io::SurfaceMesh m = surface_io::readOff(fixtureFolder() + "/data/meshes/" + name + ".off");
   const SurfaceDomain surface(std::move(m.points), m.faces);
   for (const double gamma : {10.0, 20.0}) {
     const RiemannianMetric metric = curvatureMetric(surface, gamma);
-    const std::string label = std::string(GetParam()) + ", curvature metric " + std::to_string(int(gamma));
+    const std::string label = std::string(name) + ", curvature metric " + std::to_string(int(gamma));
     SteinerOptions lanthier;
     lanthier.steinerPoints = 16;
     const Scene s{surface, metric, 0, steinerPropagate(surface, metric, {0}, lanthier).distance};
@@ -181,7 +195,7 @@ TEST_P(RealMeshUnderTheCurvatureMetric, StaysAboveLanthierWithSixteenSteinerPoin
     double previous = d.mean();
     for (const int k : {4, 8, 16}) {
       const RelativeErrors e = stvdErrors(s, label, k);
-      EXPECT_GT(e.minSigned(), -0.01) << label << ", k = " << k;
+      EXPECT_GT(e.minSigned(), -GetParam().belowLanthier) << label << ", k = " << k;
       EXPECT_LT(e.mean(), 1.05 * previous) << label << ", k = " << k;
       if (k == kDefaultMemoryDepth) {
         EXPECT_LT(2.0 * e.mean(), d.mean()) << label;
@@ -191,8 +205,10 @@ TEST_P(RealMeshUnderTheCurvatureMetric, StaysAboveLanthierWithSixteenSteinerPoin
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(CgalData, RealMeshUnderTheCurvatureMetric, ::testing::Values("elephant", "cheese"),
-                         [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
+INSTANTIATE_TEST_SUITE_P(CgalData, RealMeshUnderTheCurvatureMetric,
+                         ::testing::Values(CurvedMesh{"elephant", 0.01}, CurvedMesh{"cheese", 0.01},
+                                           CurvedMesh{"fandisk", 0.05}),
+                         [](const ::testing::TestParamInfo<CurvedMesh>& info) { return std::string(info.param.name); });
 
 }  // namespace
 }  // namespace stvd::test
