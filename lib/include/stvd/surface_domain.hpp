@@ -100,7 +100,6 @@ class SurfaceDomain {
   double ringLength(std::uint32_t i) const { return ringLength_[i]; }
   double ringDirectionX(std::uint32_t i) const { return ringDirectionX_[i]; }
   double ringDirectionY(std::uint32_t i) const { return ringDirectionY_[i]; }
-  /// Index of w in v's ring; throws std::logic_error when w is no neighbour.
   /// Ring entry i as a walk across the faces around v reads it: the
   /// neighbour and the edge's length, and the face between entry i and the
   /// next one counter-clockwise with its corner angle at v as it is on the
@@ -119,6 +118,7 @@ class SurfaceDomain {
   std::uint32_t ringFace(std::uint32_t i) const { return ringCorner_[i].face; }
   static constexpr std::uint32_t kNoFace = 0xffffffffu;
 
+  /// Index of w in v's ring; throws std::logic_error when w is no neighbour.
   std::uint32_t ringIndex(VertexId v, VertexId w) const {
     for (std::uint32_t i = ringStart_[v]; i < ringStart_[v + 1]; ++i)
       if (ringNeighbor_[i] == w) return i;
@@ -233,10 +233,10 @@ struct ChainUnfolding<SurfaceDomain> {
                                                 : SurfaceDomain::EdgeTensorRule::EndpointMean)};
   }
 
-  /// The edge's tensor in the frame where the edge is `e`: its cheaper
-  /// face's tensor restricted to the edge's own frame, turned so that the
-  /// edge direction becomes e / |e|. Only the xx, xy, yy entries are set
-  /// (vectors in the frame have z = 0).
+  /// The edge's tensor in the frame where the edge is `e`: its tensor in its
+  /// own frame (edgeMetric), turned so that the edge direction becomes
+  /// e / |e|. Only the xx, xy, yy entries are set (vectors in the frame have
+  /// z = 0).
   template <class Norm>
   static SymTensor3 edgeNorm(const SurfaceDomain& domain, const EdgeMetric& edges, const SymTensor3&,
                              const SymTensor3&, VertexId a, VertexId b, Vec3f e) {
