@@ -69,7 +69,8 @@ const char* kSurfaceOptionsHelp =
     "  --steiner M             lanthier: Steiner points per face edge, 1..16; time grows like M^2,\n"
     "                          memory like M.\n"
     "  --k N                   STVD memory depth, 1..16 (default 8).\n"
-    "  --chain-measure R       projection (default on surfaces: the paper's rule) or largest.\n"
+    "  --chain-measure R       segment (default: real lines across the faces), projection\n"
+    "                          (the paper's rule) or largest.\n"
     "  --max-distance D        stop at D (mesh units); farther vertices are unreachable.\n"
     "  --no-memory-check       run even when the estimate of the memory needed exceeds the\n"
     "                          memory available (exit code 6 otherwise).\n"
@@ -90,7 +91,7 @@ const char* kSurfaceOptionsHelp =
     "memory for the run.\n";
 
 /// --method, --steiner, --k and --chain-measure as in geodesic_options (no
-/// --stencil), with the surfaces' own default chain measure.
+/// --stencil), with the library's defaults.
 struct SurfaceOptions : PropagationChoice {
   std::string input, output, metric = "isotropic", statsPath;
   std::vector<long long> seeds;
@@ -104,9 +105,6 @@ struct SurfaceOptions : PropagationChoice {
 
 SurfaceOptions parse(int argc, char** argv) {
   SurfaceOptions o;
-  // Surfaces keep the paper's chain measure as their default, as the help
-  // text and docs/surfaces.md state (images and tet meshes use largest).
-  o.chainMeasure = ChainMeasure::ProjectionWeighted;
   ArgumentReader args(argc, argv, 2);
   while (!args.done()) {
     const std::string a = args.take();
@@ -305,7 +303,7 @@ std::string surfaceStatsJson(const SurfaceOptions& o, const surface_io::SurfaceM
     << ", \"k\": " << (o.lanthier ? std::string("null") : std::to_string(o.method == Method::Dijkstra ? 1 : o.k))
     << ", \"chain_measure\": "
     << (o.lanthier ? std::string("null")
-                   : jsonString(o.chainMeasure == ChainMeasure::LargestEdgeNorm ? "largest" : "projection"))
+                   : jsonString(chainMeasureName(o.chainMeasure)))
     << ", \"steiner_points\": " << (o.lanthier ? std::to_string(o.steinerPoints) : std::string("null"))
     << ", \"metric\": " << jsonString(o.metric)
     << ", \"anisotropy\": " << (o.anisotropyGiven ? jsonNumber(o.anisotropy) : std::string("null"))

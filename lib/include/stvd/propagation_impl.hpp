@@ -291,6 +291,37 @@ struct VertexRecord<true> {
   double finalDistance() const { return measured; }
 };
 
+/// CandidatePath::measuresWhileChecking(), where a path offers it: true
+/// when checking the candidates' paths costs about what measuring them does
+/// (a surface, where one walk along the chain finds every candidate's line),
+/// so that every candidate is measured when it is screened instead of
+/// deferring the best one. False for the others.
+template <class Path, class = void>
+struct OffersMeasuringWhileChecking : std::false_type {};
+template <class Path>
+struct OffersMeasuringWhileChecking<Path, std::void_t<decltype(std::declval<const Path&>().measuresWhileChecking())>>
+    : std::true_type {};
+template <class Path>
+STVD_ALWAYS_INLINE bool measuresWhileChecking(const Path& path) {
+  if constexpr (OffersMeasuringWhileChecking<Path>::value)
+    return path.measuresWhileChecking();
+  else
+    return false;
+}
+
+/// A domain's CandidatePath, given the options where it takes them (a
+/// surface checks the segment measure's lines only, and leaves the chain
+/// rules as the paper defines them).
+template <class Domain, class Norm, bool Deferred>
+CandidatePath<Domain, Norm> makeCandidatePath(const Domain& domain, const MetricField<Norm>& metric,
+                                              const PropagationOptions& options) {
+  if constexpr (std::is_constructible_v<CandidatePath<Domain, Norm>, const Domain&, const MetricField<Norm>&,
+                                        const PropagationOptions&>)
+    return CandidatePath<Domain, Norm>(domain, metric, options);
+  else
+    return CandidatePath<Domain, Norm>(domain, metric);
+}
+
 template <class Domain, class Norm, bool Deferred>
 class Propagation {
   using VertexState = VertexRecord<Deferred>;
@@ -303,7 +334,8 @@ class Propagation {
         options_(options),
         state_(makeLargeArray<VertexState>(domain.vertexCount(), VertexState::unseen())),
         queue_(&state_.data()->queueSlot, kRecordWordsLog2),
-        path_(domain, metric) {}
+        edgeMetric_(ChainUnfolding<Domain>::edgeMetric(domain, metric, options)),
+        path_(makeCandidatePath(domain, metric, options)) {}
 
   PropagationResult run(const std::vector<VertexId>& sources) {
     for (const VertexId s : sources) {
@@ -496,7 +528,7 @@ class Propagation {
       if (queue_.isFinal(w)) return;
       // Norm::edgeParams(pv, metric_[w]) for domains in R^3; a surface
       // carries the norm into v's tangent frame (chain_unfolding.hpp).
-      batch.add(w, e, ChainUnfolding<Domain>::template edgeNorm<Norm>(domain_, pv, metric_[w], v, w, e));
+      batch.add(w, e, ChainUnfolding<Domain>::template edgeNorm<Norm>(domain_, edgeMetric_, pv, metric_[w], v, w, e));
       if (batch.size == NeighborBatch<Norm>::kCapacity) {
         batch.pad();
         flush(batch);
@@ -549,7 +581,7 @@ class Propagation {
         // The norm in the unfolded frame (Norm::edgeParams of the end points
         // for domains in R^3; see chain_unfolding.hpp).
         memory.edgeNorm[j] = ChainUnfolding<Domain>::template edgeNorm<Norm>(
-            domain_, metric_[chain[j - 1]], metric_[chain[j - 2]], chain[j - 1], chain[j - 2],
+            domain_, edgeMetric_, metric_[chain[j - 1]], metric_[chain[j - 2]], chain[j - 1], chain[j - 2],
             memory.edge[j]);
       }
     }
@@ -664,7 +696,28 @@ class Propagation {
       const VertexId w = batch.vertex[n];
       keepMeasured(state_[w], batch.best[n], v);
       batch.pendingLane[n] = -1;
-      if (!(value[n] < batch.best[n])) continue;
+      // A candidate not below what w has (its Dijkstra term, or its key)
+      // cannot become pending: no need to check its path.
+      const double limit = std::min(batch.best[n], state_[w].key);
+      if (!(value[n] < limit)) continue;
+      if (measuresWhileChecking(path_)) {
+        // Checking the paths measured them: every candidate is measured now,
+        // and the shortest becomes a measured distance; nothing is pending.
+        const Vec3f e{batch.ex[n], batch.ey[n], batch.ez[n]};
+        double shortest = kUnreachable;
+        for (int l = 0; l + 2 <= memory.edgeCount; ++l) {
+          const float length = path_.length(l + 2, w, e);
+          if (length == kRefusedCandidate) {
+            ++refused_;
+            continue;
+          }
+          ++measured_;
+          shortest = std::min(shortest, memory.baseDistance[l] + static_cast<double>(length));
+        }
+        keepMeasured(state_[w], shortest, v);
+        batch.best[n] = std::min(batch.best[n], shortest);
+        continue;
+      }
       if (!mayRefuse || path_.accepts(lane[n] + 2, w)) {
         batch.best[n] = value[n];
         batch.pendingLane[n] = lane[n];
@@ -675,7 +728,7 @@ class Propagation {
       unsigned tried = 1u << lane[n];
       double next;
       for (int l; (l = bestUntriedLane(memory, screen, n, tried, next)) >= 0;) {
-        if (!(next < batch.best[n])) break;
+        if (!(next < limit)) break;
         tried |= 1u << l;
         if (path_.accepts(l + 2, w)) {
           batch.best[n] = next;
@@ -802,6 +855,7 @@ class Propagation {
       std::is_same_v<Domain, VoxelGridDomain> || std::is_same_v<Domain, CellMeshDomain>;
   std::vector<VertexState> state_;
   FrontQueue queue_;
+  const typename ChainUnfolding<Domain>::EdgeMetric edgeMetric_;
   CandidatePath<Domain, Norm> path_;
   Termination termination_ = Termination::Completed;
   std::uint64_t finalized_ = 0;
