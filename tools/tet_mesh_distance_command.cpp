@@ -73,7 +73,7 @@ const char* kTetDistanceHelp =
     "  --outside-image P       with an image, for vertices beyond the image's extent: error\n"
     "                          (default; exit 3) or mask (left out of the domain).\n"
     "\n"
-    "Propagation: --method stvd|dijkstra|lanthier, --k N (default 8), --chain-measure\n"
+    "Propagation: --method stvd|dijkstra|lanthier, --k N (default 6), --chain-measure\n"
     "largest|projection, --max-distance D, as for grids. lanthier: Steiner points on the edges\n"
     "and faces of the tetrahedra, joined through each tetrahedron (--steiner M points per edge,\n"
     "1..16, required; docs/steiner.md). --no-memory-check: run even when the estimate of the\n"

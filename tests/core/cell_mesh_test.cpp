@@ -130,7 +130,7 @@ TEST(TetrahedralMesh, StvdIsWithinItsStatedBoundAndClearlyBeatsDijkstra) {
 }
 
 TEST(TetrahedralMesh, StvdWithDefaultDepthIsWithinItsStatedBound) {
-  ASSERT_EQ(kDefaultMemoryDepth, 8) << "re-measure the default-k bounds in this file";
+  ASSERT_EQ(kDefaultMemoryDepth, 6) << "re-measure the default-k bounds in this file";
   ASSERT_EQ(kDefaultChainMeasure, ChainMeasure::Segment) << "re-measure the default-k bounds in this file";
   const RelativeErrors e =
       tetrahedralScene().measure(Method::ShortTermVectorDijkstra, kDefaultMemoryDepth, "STVD default k=5");

@@ -123,7 +123,7 @@ TEST(TetGenBoxMesh, ConstantGamma12MetricStvdIsWithinOnePercentAndFarBetterThanD
   EXPECT_LE(stvd.mean(), kConstantStvdMeanBound);
   EXPECT_LE(stvd.max(), kConstantStvdMaxBound);
   EXPECT_GE(dijkstra.mean(), kConstantMinImprovement * stvd.mean());
-  ASSERT_EQ(kDefaultMemoryDepth, 8) << "re-measure the default-k bounds in this file";
+  ASSERT_EQ(kDefaultMemoryDepth, 6) << "re-measure the default-k bounds in this file";
   ASSERT_EQ(kDefaultChainMeasure, ChainMeasure::Segment) << "re-measure the default-k bounds in this file";
   const RelativeErrors byDefault = scene.measure(Method::ShortTermVectorDijkstra, kDefaultMemoryDepth, "STVD k=5");
   EXPECT_LE(byDefault.mean(), kConstantStvdDefaultMeanBound);

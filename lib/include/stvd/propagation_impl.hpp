@@ -312,7 +312,7 @@ STVD_ALWAYS_INLINE bool measuresWhileChecking(const Path& path) {
 /// A domain's CandidatePath, given the options where it takes them (a
 /// surface checks the segment measure's lines only, and leaves the chain
 /// rules as the paper defines them).
-template <class Domain, class Norm, bool Deferred>
+template <class Domain, class Norm>
 CandidatePath<Domain, Norm> makeCandidatePath(const Domain& domain, const MetricField<Norm>& metric,
                                               const PropagationOptions& options) {
   if constexpr (std::is_constructible_v<CandidatePath<Domain, Norm>, const Domain&, const MetricField<Norm>&,
@@ -359,7 +359,7 @@ class Propagation {
 
     // STVD with k = 1 runs the vector code with an empty memory; that it
     // matches Dijkstra bit for bit is tested.
-    const int k = options_.k;
+    const int k = memoryDepth<Domain>(options_);
     if constexpr (Deferred) {
       if (options_.segmentScreen == SegmentScreen::ChainMean && ChainUnfolding<Domain>::kEdgeNormIsMean)
         runVector<ChainRule::ChainMean>(k, isTarget, remainingTargets);
@@ -496,7 +496,7 @@ class Propagation {
       const std::int64_t step = static_cast<std::int64_t>(p2) - static_cast<std::int64_t>(p1);
       const std::int64_t count = static_cast<std::int64_t>(state_.size());
       std::int64_t guess = p2;
-      for (int m = 2; m < options_.k && guess >= 0 && guess < count; ++m, guess += step) {
+      for (int m = 2; m < memoryDepth<Domain>(options_) && guess >= 0 && guess < count; ++m, guess += step) {
         detail::prefetch(&state_[static_cast<std::size_t>(guess)]);
         detail::prefetch(&metric_[static_cast<std::size_t>(guess)]);
       }
@@ -884,16 +884,16 @@ PropagationResult propagate(const Domain& domain, const MetricField<Norm>& metri
     if (!domain.contains(t))
       throw std::invalid_argument("target vertex " + std::to_string(t) +
                                   " lies outside the domain");
-  if (options.method == Method::ShortTermVectorDijkstra &&
-      (options.k < 1 || options.k > kMaxMemoryDepth))
-    throw std::invalid_argument("STVD memory depth k = " + std::to_string(options.k) +
-                                " is outside 1.." + std::to_string(kMaxMemoryDepth));
+  const int k = memoryDepth<Domain>(options);
+  if (options.method == Method::ShortTermVectorDijkstra && (k < 1 || k > kMaxMemoryDepth))
+    throw std::invalid_argument("STVD memory depth k = " + std::to_string(k) + " is outside 1.." +
+                                std::to_string(kMaxMemoryDepth));
   if (std::isnan(options.maxDistance))
     throw std::invalid_argument("maximum distance is NaN");
   // ChainMeasure::Segment on a domain that measures along paths defers its
   // measurements, with a record of its own per vertex.
   if (options.method == Method::ShortTermVectorDijkstra && options.chainMeasure == ChainMeasure::Segment &&
-      options.k > 1 && CandidatePath<Domain, Norm>::measuresPaths())
+      k > 1 && CandidatePath<Domain, Norm>::measuresPaths())
     return detail::Propagation<Domain, Norm, true>(domain, metric, options).run(sources);
   return detail::Propagation<Domain, Norm, false>(domain, metric, options).run(sources);
 }
