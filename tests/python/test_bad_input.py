@@ -113,8 +113,9 @@ def test_paths_and_connectivity_refuse_what_the_tool_refuses(tmp_path, dipy_imag
         "no target: add --target-voxel I,J,K, --target-point X,Y,Z or --targets LABELS")
     labels = np.zeros(dipy_image.shape[:3], np.float32)
     labels[55, 54, 15] = 1.5
+    # The rule and words of the tool's label reader (stvd/itk/label_values.hpp).
     assert message_of(ValueError, lambda: stvd.connectivity(result, labels)) == (
-        "labels: label value 1.500 is not an integer")
+        "labels: voxel (55, 54, 15) holds 1.5, which is not an integer (a label image holds integer labels)")
     labels[55, 54, 15] = 1
     assert message_of(ValueError, lambda: stvd.connectivity(result, labels)) == (
         f"labels: fewer than two regions have voxels inside the domain of {DIPY_5D}")
