@@ -416,6 +416,7 @@ void bindVolumes(py::module_& m) {
       .def(
           "distance_map",
           [](const VolumePropagation& p, double unreachable) {
+            checkUnreachableValue(unreachable, py::str(py::float_(unreachable)));
             py::array_t<float> map = newFortranFloatArray(p.field->geometry().size);
             float* out = map.mutable_data();
             const float value = static_cast<float>(unreachable);
@@ -429,6 +430,7 @@ void bindVolumes(py::module_& m) {
           "write_distance_map",
           [](const VolumePropagation& p, files::OutputTransaction& outputs, const std::string& path,
              double unreachable) {
+            checkUnreachableValue(unreachable, py::str(py::float_(unreachable)));
             // The values and the writer of `stvd distance`: the same bytes.
             const float value = static_cast<float>(unreachable);
             py::gil_scoped_release release;
@@ -449,6 +451,7 @@ void bindVolumes(py::module_& m) {
             set.geometry = p.field->geometry();
             for (const py::handle& line : lines) {
               std::vector<Vec3d> lps;
+              // The flip between RAS and LPS is its own inverse.
               for (const Vec3d& ras : pointRows(line, "paths")) lps.push_back(imaging::lpsToRas(ras));
               set.lines.push_back(std::move(lps));
             }
