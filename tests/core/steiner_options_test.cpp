@@ -46,11 +46,6 @@ TEST(SteinerInput, RefusesWhatCannotBeComputed) {
   const RiemannianMetric small = RiemannianMetric::constant(10, test::toSymTensor(test::Mat3{}));
   EXPECT_THROW(steinerPropagate(s.domain, small, {v}), std::invalid_argument);
 
-  // A single slice has no cubes.
-  const VoxelGridDomain flat(test::obliqueGrid({9, 8, 1}), Stencil::full26());
-  const RiemannianMetric flatMetric = RiemannianMetric::constant(flat.vertexCount(), test::toSymTensor(test::Mat3{}));
-  EXPECT_THROW(steinerPropagate(flat, flatMetric, {0}), std::invalid_argument);
-
   // A source outside the mask.
   std::vector<std::uint8_t> mask(s.domain.vertexCount(), 1);
   mask[v] = 0;
