@@ -46,8 +46,8 @@ const char* kConnectivityHelp =
     "  -o, --output FILE       the table (required); written atomically.\n"
     "  --threads N             regions propagated in parallel (default: the number of cores);\n"
     "                          the table does not depend on N.\n"
-    "  --method, --k, --chain-measure, --stencil   as in stvd distance (defaults stvd, 8,\n"
-    "                          largest, 26).\n"
+    "  --method, --k, --chain-measure, --stencil, --domain-connectivity   as in stvd distance\n"
+    "                          (defaults stvd, 8, segment, 26, 6).\n"
     "  -q, --quiet             no summary on stdout.\n"
     "\n"
     "%TENSOR%"
@@ -153,7 +153,7 @@ int runConnectivity(int argc, char** argv) {
   if (regions.size() < 2)
     throw ToolError(kExitDomain, o.labels + ": fewer than two regions have voxels inside the domain of " + o.input);
 
-  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
+  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain, o.connectivity);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   const PropagationOptions propagation = propagationOptions(o);
   const std::size_t n = regions.size();
@@ -207,7 +207,7 @@ int runConnectivity(int argc, char** argv) {
     std::cout << "Connectivity of " << n << " regions of " << o.labels
               << (empty ? " (" + std::to_string(empty) + " more without voxels in the domain left out)" : std::string())
               << ": " << n * (n - 1) << " ordered pairs, " << methodText(o) << " on the " << o.stencil
-              << "-neighbour stencil, " << threadCount << (threadCount == 1 ? " thread" : " threads") << ". Took "
+              << "-neighbour stencil, " << connectivityText(o.connectivity) << ", " << threadCount << (threadCount == 1 ? " thread" : " threads") << ". Took "
               << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s. Wrote " << o.output
               << "." << std::endl;
   return kExitOk;

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -95,5 +96,9 @@ struct ToolRun {
 /// Runs the built `stvd` with these arguments (each passed as one word),
 /// capturing stdout and stderr.
 ToolRun runTool(const std::vector<std::string>& arguments);
+
+/// A tab-separated table with a header line (the TSV files of `stvd path`
+/// and `stvd connectivity`) as rows of named columns.
+std::vector<std::map<std::string, std::string>> readTsv(const std::string& path);
 
 }  // namespace stvd::testing

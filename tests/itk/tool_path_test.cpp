@@ -45,28 +45,6 @@ std::string triple(const std::array<int, 3>& v) {
   return std::to_string(v[0]) + "," + std::to_string(v[1]) + "," + std::to_string(v[2]);
 }
 
-/// The TSV summary as rows of named columns.
-std::vector<std::map<std::string, std::string>> readTsv(const std::string& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> header;
-  {
-    std::istringstream h(line);
-    std::string column;
-    while (std::getline(h, column, '\t')) header.push_back(column);
-  }
-  std::vector<std::map<std::string, std::string>> rows;
-  while (std::getline(in, line)) {
-    std::istringstream r(line);
-    std::map<std::string, std::string> row;
-    std::string value;
-    for (std::size_t c = 0; std::getline(r, value, '\t'); ++c) row[header.at(c)] = value;
-    rows.push_back(row);
-  }
-  return rows;
-}
-
 // seeds.tsv gives RAS to 2 decimals: 0.005 mm rounding, plus float32 storage.
 constexpr double kSeedTableTolerance = 0.006;
 
