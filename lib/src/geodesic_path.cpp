@@ -46,7 +46,7 @@ class PathTracer {
   PathTracer(const VoxelGridDomain& domain, const RiemannianMetric& metric,
              const PropagationResult& result, const PathTracingOptions& options)
       : domain_(domain), geometry_(domain.geometry()), metric_(metric), u_(result.distance),
-        result_(result), options_(options) {
+        reached_{domain, result.distance}, result_(result), options_(options) {
     const auto& s = geometry_.spacing;
     step_ = options.stepFraction * std::min({s[0], s[1], s[2]});
   }
@@ -100,13 +100,16 @@ class PathTracer {
         gradientAllowed = false;
       }
       ++path.fallbacks[static_cast<int>(why)];
-      // Jump to the lowest valid corner of the current cell, then follow the
-      // predecessor chain.
+      // Jump to the lowest corner of the smallest cell face that holds x
+      // (all of them reached, since x was), so that the jump stays in that
+      // face, then follow the predecessor chain.
       const CellSample cell = locateClamped(domain_, geometry_.physicalPointToIndex(x));
+      int moving;
+      const int face = detail::faceCorners(cell, moving);
       VertexId v = kNoVertex;
       for (int n = 0; n < 8; ++n) {
         const VertexId c = cell.corner[n];
-        if (domain_.contains(c) && std::isfinite(u_[c]) && (v == kNoVertex || u_[c] < u_[v])) v = c;
+        if (((face >> n) & 1) && reached_(c) && (v == kNoVertex || u_[c] < u_[v])) v = c;
       }
       if (v == kNoVertex) throw std::logic_error("path tracing lost the domain");
       points.push_back(domain_.physicalPoint(v));
@@ -126,7 +129,8 @@ class PathTracer {
   }
 
  private:
-  /// A source corner of the cell within one step of x, or kNoVertex.
+  /// A source corner of the cell within one step of x and joined to it
+  /// inside the region, or kNoVertex.
   VertexId nearbySource(const CellSample& cell, Vec3d x) const {
     VertexId best = kNoVertex;
     double bestDistance = step_;
@@ -134,7 +138,7 @@ class PathTracer {
       const VertexId c = cell.corner[n];
       if (!domain_.contains(c) || u_[c] != 0.0) continue;
       const double d = norm(domain_.physicalPoint(c) - x);
-      if (d <= bestDistance) {
+      if (d <= bestDistance && inRegion(x, domain_.physicalPoint(c))) {
         bestDistance = d;
         best = c;
       }
@@ -238,7 +242,21 @@ class PathTracer {
       why = PathFallback::LeavesImage;
       return false;
     }
-    return sampleDistance(next, unext, why);
+    if (!sampleDistance(next, unext, why)) return false;
+    // Both ends in the region is not enough: a step may cut a corner of the
+    // cells around an excluded voxel.
+    if (!inRegion(x, next)) {
+      why = PathFallback::LeavesDomain;
+      return false;
+    }
+    return true;
+  }
+
+  /// The segment between the physical points a and b keeps to the region of
+  /// the reached domain voxels (and the contacts the connectivity joins).
+  bool inRegion(Vec3d a, Vec3d b) const {
+    return detail::segmentInRegion(domain_, geometry_.physicalPointToIndex(a), geometry_.physicalPointToIndex(b),
+                                   reached_);
   }
 
   /// u at x when x's cell is valid.
@@ -282,10 +300,14 @@ class PathTracer {
   TracedPath& finish(TracedPath& path) const {
     std::vector<Vec3d>& p = path.points;
     std::reverse(p.begin(), p.end());
+    // A point is smoothed only where its segments to its neighbours (the
+    // one before already decided) stay in the region.
     for (int pass = 0; pass < options_.smoothingPasses && p.size() > 2; ++pass) {
-      std::vector<Vec3d> smoothed = p;
-      for (std::size_t n = 1; n + 1 < p.size(); ++n) smoothed[n] = 0.25 * p[n - 1] + 0.5 * p[n] + 0.25 * p[n + 1];
-      p.swap(smoothed);
+      const std::vector<Vec3d> before = p;
+      for (std::size_t n = 1; n + 1 < p.size(); ++n) {
+        const Vec3d smoothed = 0.25 * before[n - 1] + 0.5 * before[n] + 0.25 * before[n + 1];
+        if (inRegion(p[n - 1], smoothed) && inRegion(smoothed, p[n + 1])) p[n] = smoothed;
+      }
     }
     if (options_.refine) path.refinement = refineGeodesicPath(domain_, metric_, u_, p, options_.refinement);
     for (std::size_t n = 1; n < p.size(); ++n) {
@@ -300,6 +322,7 @@ class PathTracer {
   const GridGeometry& geometry_;
   const RiemannianMetric& metric_;
   const std::vector<double>& u_;
+  detail::ReachedVoxel reached_;  // the voxels of the domain the propagation reached
   const PropagationResult& result_;
   PathTracingOptions options_;
   double step_ = 0.0;
