@@ -115,10 +115,10 @@ TEST_F(ToolPath, EachStreamlineFormatLandsOnTheAnatomyInNibabel) {
 
 // Measured (Release, x86-64), tool defaults (refined paths):
 //   CC_body_R_lateral -> CC_body_L_lateral: crosses the midline plane
-//     i = 55 (CC_body's) at 0.41 voxel from CC_body, mean FA 0.808
-//     (traced only: 0.66 voxel, 0.813);
+//     i = 55 (CC_body's) at 0.42 voxel from CC_body, mean FA 0.807
+//     (traced only: 0.50 voxel, 0.812);
 //   CST_L_low -> CST_L_high: superior share of the path length 0.953
-//     (|dz| 36.9 mm of 38.7 mm; traced only: 0.936, of 39.4 mm).
+//     (|dz| 36.9 mm of 38.7 mm; traced only: 0.939, of 39.3 mm).
 // The issue's requirements: within 3 voxels, mean FA >= 0.5, "mainly
 // superior" (taken as a superior share of at least 2/3, twice the share of
 // a random direction, 1/3, and more than the other two axes together).
