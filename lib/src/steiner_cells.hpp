@@ -34,10 +34,13 @@ struct SteinerCellView {
 /// corners:
 /// - the complete cubes between voxel centres (all eight corners in the
 ///   domain);
+/// - every grid edge between two domain voxels, as a 1D cell with its M
+///   points, measured as Dijkstra measures the edge (the mean of its two
+///   ends), so that no distance exceeds Dijkstra's on the 6-neighbourhood:
+///   a one-voxel strand, and the edges along which the cubes' mean norms
+///   are dearer than the edge's own;
 /// - the complete squares (four corners in the domain) that lie in no
 ///   complete cube, as 2D cells: a one-voxel-thick sheet;
-/// - the grid edges between two domain voxels that lie in no complete
-///   square, as 1D cells with their M points: a one-voxel-thin strand;
 /// - with VoxelConnectivity::Edges or Corners, the diagonals between two
 ///   domain voxels that touch only along an edge (across a square) or, with
 ///   Corners, at a corner (across a cube), as 1D cells of their two ends.
@@ -74,11 +77,11 @@ class GridSteinerCells {
     const std::uint32_t n = slotDivisor_.divide(u);
     const std::uint32_t slot = u - n * slots_;
     const VoxelIndex c = domain_.indexOf(voxelOf(n));
-    // The cubes come first; the lower-dimensional cells exist only where
+    // The cubes and edges come first; squares and diagonals exist only where
     // the domain is thin, and never without a mask on a grid of at least two
     // voxels along every axis. One call site of f keeps it inlined.
     const std::vector<Incidence>& around = around_[slot];
-    const std::size_t count = hasLowerCells_ ? around.size() : cubesAround_[slot];
+    const std::size_t count = hasThinCells_ ? around.size() : cubesAndEdgesAround_[slot];
     for (std::size_t a = 0; a < count; ++a) {
       const Incidence& in = around[a];
       if (c.i < in.d[0] || c.j < in.d[1] || c.k < in.d[2]) continue;
@@ -144,11 +147,11 @@ class GridSteinerCells {
   std::vector<std::uint32_t> numberOfVoxel_;
   std::vector<VertexId> voxelOfNumber_;
   std::vector<Vec3d> slotIndexOffset_;          // per slot: continuous index offset from its voxel
-  std::vector<std::vector<Incidence>> around_;  // per slot: the cells around such a point, cubes first
-  std::vector<std::size_t> cubesAround_;        // per slot: how many of them are cubes
+  std::vector<std::vector<Incidence>> around_;  // per slot: the cells around such a point, cubes and edges first
+  std::vector<std::size_t> cubesAndEdgesAround_;  // per slot: how many of them are cubes or edges
   std::array<VertexId, 8> corners_{};
   std::vector<std::uint32_t> flags_;  // per base voxel: bit s set when the cell of shape s there is one
-  bool hasLowerCells_ = false;
+  bool hasThinCells_ = false;  // some square or diagonal is a cell
 };
 
 /// Tetrahedra; see steinerPointPosition for the numbering.

@@ -1,6 +1,7 @@
 // The Steiner-point layout over a voxel grid: the cells of the domain's
-// region (complete cubes, and where the domain is thin its complete squares,
-// edges and joined contact diagonals), their points numbered per voxel.
+// region (complete cubes and the edges between domain voxels, and where the
+// domain is thin its complete squares and joined contact diagonals), their
+// points numbered per voxel.
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -68,7 +69,7 @@ void GridSteinerCells::buildShapes() {
   const double step = 1.0 / (m_ + 1);
   slotIndexOffset_.assign(slots_, Vec3d{});
   around_.assign(slots_, {});
-  cubesAround_.assign(slots_, 0);
+  cubesAndEdgesAround_.assign(slots_, 0);
 
   auto setCorners = [&](int s, std::initializer_list<Index> corners) {
     Shape& shape = shapes_[s];
@@ -89,9 +90,9 @@ void GridSteinerCells::buildShapes() {
     shape.pointCorner.push_back(static_cast<std::uint8_t>(corner));
     shape.pointSlot.push_back(slot);
     slotIndexOffset_[slot] = inCell - toVec(d);
-    // The cube is built first, so its incidences come first.
+    // The cube and the edges are built first, so their incidences come first.
     around_[slot].push_back({d, 1u << s, s, local});
-    if (s == kCube) ++cubesAround_[slot];
+    if (s == kCube || (s >= kEdge && s < kEdge + 3)) ++cubesAndEdgesAround_[slot];
   };
   auto addCornerPoints = [&](int s) {
     const Shape& shape = shapes_[s];
@@ -140,6 +141,11 @@ void GridSteinerCells::buildShapes() {
     }
   }
   const Index origin{0, 0, 0};
+  for (int a = 0; a < 3; ++a) {  // the edge along a
+    setCorners(kEdge + a, {origin, unit(a)});
+    addCornerPoints(kEdge + a);
+    addEdgePoints(kEdge + a, origin, a);
+  }
   for (int a = 0; a < 3; ++a) {
     int b, c;
     otherAxes(a, b, c);
@@ -154,11 +160,7 @@ void GridSteinerCells::buildShapes() {
     addEdgePoints(square, origin, c);
     addEdgePoints(square, eb, c);
     addFacePoints(square, origin, a);
-    // The edge along a.
-    setCorners(kEdge + a, {origin, unit(a)});
-    addCornerPoints(kEdge + a);
-    addEdgePoints(kEdge + a, origin, a);
-    // The square's two diagonals.
+    // Its two diagonals.
     setCorners(kFaceDiagonal + 2 * a, {origin, eb + ec});
     setCorners(kFaceDiagonal + 2 * a + 1, {eb, ec});
     addCornerPoints(kFaceDiagonal + 2 * a);
@@ -192,9 +194,11 @@ void GridSteinerCells::findCells() {
   };
   forEachBase([&](const Index& p, VertexId v) {
     if (complete(p, kCube)) flags_[v] |= 1u << kCube;
+    for (int a = 0; a < 3; ++a)
+      if (complete(p, kEdge + a)) flags_[v] |= 1u << (kEdge + a);
   });
-  // Without a mask every square and edge lies in a complete cube, unless an
-  // axis has a single voxel.
+  // Without a mask every square lies in a complete cube, unless an axis has
+  // a single voxel.
   const bool thinPossible = domain_.hasMask() || size[0] < 2 || size[1] < 2 || size[2] < 2;
   if (!thinPossible) return;
 
@@ -212,15 +216,8 @@ void GridSteinerCells::findCells() {
   std::vector<std::uint32_t> lower(domain_.vertexCount(), 0);
   forEachBase([&](const Index& p, VertexId v) {
     for (int a = 0; a < 3; ++a) {
-      int b, c;
-      otherAxes(a, b, c);
       // A complete square in no complete cube (those at p and p - e_a).
       if (has(p, kSquare + a) && !has(p, kCube) && !has(p - unit(a), kCube)) lower[v] |= 1u << (kSquare + a);
-      // An edge between domain voxels in no complete square (the two
-      // normal to b and the two normal to c that hold it).
-      if (complete(p, kEdge + a) && !has(p, kSquare + b) && !has(p - unit(c), kSquare + b) &&
-          !has(p, kSquare + c) && !has(p - unit(b), kSquare + c))
-        lower[v] |= 1u << (kEdge + a);
       // An edge contact: a diagonal of an incomplete square.
       if (connectivity != VoxelConnectivity::Faces && !has(p, kSquare + a))
         for (int q = 0; q < 2; ++q)
@@ -232,9 +229,10 @@ void GridSteinerCells::findCells() {
       for (int n = 0; n < 4; ++n)
         if (complete(p, kBodyDiagonal + n)) lower[v] |= 1u << (kBodyDiagonal + n);
   });
+  const std::uint32_t cubeAndEdges = (1u << kCube) | (7u << kEdge);
   for (VertexId v = 0; v < domain_.vertexCount(); ++v) {
-    flags_[v] = (flags_[v] & (1u << kCube)) | lower[v];
-    hasLowerCells_ = hasLowerCells_ || lower[v] != 0;
+    flags_[v] = (flags_[v] & cubeAndEdges) | lower[v];
+    hasThinCells_ = hasThinCells_ || lower[v] != 0;
   }
 }
 

@@ -84,9 +84,10 @@ TEST(SteinerInput, MaskedVoxelsCarryNoPoints) {
   EXPECT_EQ(a.peakStateBytes, b.peakStateBytes);
 }
 
-TEST(SteinerInput, VoxelInNoCubeIsReachedOnlyAsASource) {
-  // Voxel (4, 4, 3) is in the mask, but its six neighbours are not, so each
-  // of the eight cubes around it has a masked corner.
+TEST(SteinerInput, VoxelWithoutADomainNeighbourAlongAnAxisIsReachedOnlyAsASource) {
+  // Voxel (4, 4, 3) is in the mask, but its six neighbours are not, so no
+  // edge, square or cube around it is a cell (and the default connectivity
+  // joins no diagonal).
   const SmallGrid s;
   std::vector<std::uint8_t> mask(s.domain.vertexCount(), 1);
   const int off[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};

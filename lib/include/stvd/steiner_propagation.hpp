@@ -73,17 +73,17 @@ struct SteinerPropagationResult : PropagationResult {
 /// Grid version. The graph covers the domain's region, the same region that
 /// Dijkstra's steps and STVD's candidates keep to (VoxelConnectivity), so
 /// every method reaches the same voxels. Its cells are the cubes whose eight
-/// corners are voxel centres inside the domain (image and mask); where the
-/// domain is thinner than a cube, the squares with four domain corners that
-/// lie in no such cube (a one-voxel sheet, or a single-slice image), the
-/// grid edges between two domain voxels that lie in no such square (a
-/// one-voxel strand or tunnel), and, as the domain's connectivity joins them,
-/// the diagonals between domain voxels that touch only along an edge
-/// (Edges) or at a corner (Corners). A cube with a corner outside the mask
-/// is not a cell, so paths never pass through it, which is what makes masked
-/// voxels obstacles. Each cell is measured with the mean of the norm
-/// parameters at its corners (CellNormRule: 8, 4 or 2), so under a constant
-/// metric no distance exceeds Dijkstra's on the 6-neighbourhood. A domain
+/// corners are voxel centres inside the domain (image and mask), every grid
+/// edge between two domain voxels (a one-voxel strand or tunnel, and the
+/// edges of the cubes), where the domain is thinner than a cube the squares
+/// with four domain corners that lie in no such cube (a one-voxel sheet, or
+/// a single-slice image), and, as the domain's connectivity joins them, the
+/// diagonals between domain voxels that touch only along an edge (Edges) or
+/// at a corner (Corners). A cube with a corner outside the mask is not a
+/// cell, so paths never pass through it, which is what makes masked voxels
+/// obstacles. Each cell is measured with the mean of the norm parameters at
+/// its corners (CellNormRule: 8, 4 or 2), an edge as Dijkstra measures it,
+/// so no distance exceeds Dijkstra's on the 6-neighbourhood. A domain
 /// voxel that belongs to no cell is reached only if it is a source. The
 /// domain's stencil is not used. Spacing and direction cosines are honoured;
 /// distances are in millimetres.
@@ -135,8 +135,8 @@ SteinerPropagationResult steinerPropagate(const SurfaceDomain& surface, const Ri
 /// the index axes i, j, k; m = 1..M), and slots 1 + 3M + a M^2 + (m_b - 1) M
 /// + (m_c - 1) are the face points (m_b, m_c) / (M + 1) of the square
 /// spanned at v by the two axes b < c other than a. The cells of every kind
-/// share these points: a square cell uses the edge and face points on it, an
-/// edge cell the points on it, and a diagonal cell only its two voxel
+/// share these points: an edge cell uses the points on it, a square cell the
+/// edge and face points on it, and a diagonal cell only its two voxel
 /// centres. Points that lie in no cell (on the image's last layer along
 /// their axis, or outside the domain's region) are never reached.
 Vec3d steinerPointPosition(const VoxelGridDomain& domain, int steinerPoints, SteinerPointId p);
