@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -169,6 +170,35 @@ TEST(PathRegion, TracedRefinedAndDiscretePathsKeepToTheRegionOfTheirConnectivity
                       polylineLength(traced.points), polylineLength(refined.points), exact);
         }
     }
+}
+
+TEST(PathRegion, TheDomainJudgesSegmentsBetweenVoxelCentresAsThisTestDoes) {
+  // VoxelGridDomain::segmentInDomain (a table for short segments, a walk
+  // through the cells for longer ones) against the region test above, on
+  // random masks with every connectivity.
+  for (unsigned seed : {11u, 12u}) {
+    test::Slab slab(16, 15, 14);
+    std::mt19937 random(seed);
+    for (std::size_t v = 0; v < slab.mask.size(); ++v)
+      if (random() % 100 < 12) slab.mask[v] = 0;
+    for (VoxelConnectivity c : test::kConnectivities) {
+      const VoxelGridDomain domain = slab.domain(Stencil::full26(), c);
+      std::size_t refused = 0, checked = 0;
+      for (int n = 0; n < 20000; ++n) {
+        const VertexId a = random() % domain.vertexCount(), b = random() % domain.vertexCount();
+        if (!domain.contains(a) || !domain.contains(b) || a == b) continue;
+        const bool inside = domain.segmentInDomain(a, b);
+        const std::string outside =
+            firstSegmentOutside(domain, {domain.physicalPoint(a), domain.physicalPoint(b)});
+        ASSERT_EQ(inside, outside.empty()) << "seed " << seed << ", connectivity " << connectivityName(c) << ": "
+                                           << outside;
+        refused += inside ? 0 : 1;
+        ++checked;
+      }
+      EXPECT_GT(refused, checked / 10);
+      EXPECT_LT(refused, checked);
+    }
+  }
 }
 
 }  // namespace
