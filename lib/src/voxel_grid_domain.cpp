@@ -182,7 +182,7 @@ VoxelGridDomain::VoxelGridDomain(const GridGeometry& geometry, Stencil stencil,
           segmentSupportStart_.push_back(static_cast<std::uint32_t>(segmentSupportOffset_.size()));
         }
   } else if (!mask_.empty()) {
-    computeClearance();
+    computeClearance();  // 255 everywhere
   }
 }
 
@@ -192,6 +192,9 @@ VoxelGridDomain::VoxelGridDomain(const GridGeometry& geometry, Stencil stencil,
 void VoxelGridDomain::computeClearance() {
   constexpr int kFar = 255;
   clearance_.assign(vertexCount_, kFar);
+  // A mask that keeps every voxel (the tool always passes one) needs no
+  // passes: they cost as much as a Dijkstra propagation of the grid.
+  if (domainVertexCount_ == vertexCount_) return;
   for (VertexId v = 0; v < vertexCount_; ++v)
     if (mask_[v] == 0) clearance_[v] = 0;
   // The neighbours that precede a voxel in raster order (k, then j, then i).
