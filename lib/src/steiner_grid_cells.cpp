@@ -187,10 +187,27 @@ void GridSteinerCells::findCells() {
       if (!inDomain(base + shape.cornerIndex[corner])) return false;
     return true;
   };
+  // Every cell has a domain voxel among the eight of the block at its base:
+  // the bases of a brain's background are skipped.
+  std::vector<std::uint8_t> nearDomain;
+  if (domain_.domainVertexCount() < domain_.vertexCount()) {
+    nearDomain.assign(domain_.vertexCount(), 0);
+    for (VertexId v = 0; v < domain_.vertexCount(); ++v) {
+      if (!domain_.contains(v)) continue;
+      const VoxelIndex c = domain_.indexOf(v);
+      for (int n = 0; n < 8; ++n) {
+        const int i = c.i - (n & 1), j = c.j - ((n >> 1) & 1), k = c.k - ((n >> 2) & 1);
+        if (i >= 0 && j >= 0 && k >= 0) nearDomain[domain_.vertexAt(i, j, k)] = 1;
+      }
+    }
+  }
   auto forEachBase = [&](auto&& visit) {
     for (int k = 0; k < size[2]; ++k)
       for (int j = 0; j < size[1]; ++j)
-        for (int i = 0; i < size[0]; ++i) visit(Index{i, j, k}, domain_.vertexAt(i, j, k));
+        for (int i = 0; i < size[0]; ++i) {
+          const VertexId v = domain_.vertexAt(i, j, k);
+          if (nearDomain.empty() || nearDomain[v]) visit(Index{i, j, k}, v);
+        }
   };
   forEachBase([&](const Index& p, VertexId v) {
     if (complete(p, kCube)) flags_[v] |= 1u << kCube;
