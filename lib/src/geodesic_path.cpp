@@ -193,17 +193,31 @@ class PathTracer {
     Sym3 g;
     Vec3d gradIndex;
     u = 0.0;
+    // Over the corners of the smallest face that holds x (a voxel centre
+    // next to an excluded voxel stays usable despite rounding), weights
+    // renormalised.
+    int moving;
+    const int face = detail::faceCorners(cell, moving);
+    double total = 0.0;
     for (int n = 0; n < 8; ++n) {
-      if (cell.weight[n] <= 0.0) continue;
+      if (!((face >> n) & 1)) continue;
       const VertexId c = cell.corner[n];
-      if (!domain_.contains(c) || !std::isfinite(u_[c])) {
+      if (!reached_(c)) {
         why = PathFallback::LeavesDomain;
         return false;
       }
       u += cell.weight[n] * u_[c];
       g.add(cell.weight[n], metric_[c]);
       gradIndex = gradIndex + cell.weight[n] * indexGradient(c);
+      total += cell.weight[n];
     }
+    if (!(total > 0.0)) {
+      why = PathFallback::LeavesDomain;
+      return false;
+    }
+    u /= total;
+    gradIndex = (1.0 / total) * gradIndex;
+    g.xx /= total, g.xy /= total, g.xz /= total, g.yy /= total, g.yz /= total, g.zz /= total;
     // grad_x f = D S^-1 grad_ijk f (x = origin + D S ijk).
     const auto& s = geometry_.spacing;
     Vec3d gradient =
@@ -243,9 +257,11 @@ class PathTracer {
       return false;
     }
     if (!sampleDistance(next, unext, why)) return false;
-    // Both ends in the region is not enough: a step may cut a corner of the
-    // cells around an excluded voxel.
-    if (!inRegion(x, next)) {
+    // A new point keeps closer to the region than rounding allows for the
+    // points it starts from; and both ends in the region is not enough: a
+    // step may cut a corner of the cells around an excluded voxel.
+    if (!detail::pointInRegion(domain_, geometry_.physicalPointToIndex(next), reached_, detail::kNewPointOnPlane) ||
+        !inRegion(x, next)) {
       why = PathFallback::LeavesDomain;
       return false;
     }
@@ -267,15 +283,24 @@ class PathTracer {
       return false;
     }
     u = 0.0;
+    int moving;
+    const int face = detail::faceCorners(cell, moving);
+    double total = 0.0;
     for (int n = 0; n < 8; ++n) {
-      if (cell.weight[n] <= 0.0) continue;
+      if (!((face >> n) & 1)) continue;
       const VertexId c = cell.corner[n];
-      if (!domain_.contains(c) || !std::isfinite(u_[c])) {
+      if (!reached_(c)) {
         why = PathFallback::LeavesDomain;
         return false;
       }
       u += cell.weight[n] * u_[c];
+      total += cell.weight[n];
     }
+    if (!(total > 0.0)) {
+      why = PathFallback::LeavesDomain;
+      return false;
+    }
+    u /= total;
     return true;
   }
 
@@ -369,16 +394,29 @@ TracedPath traceGeodesicPath(const VoxelGridDomain& domain, const RiemannianMetr
 
 double interpolateAtPoint(const VoxelGridDomain& domain, const std::vector<float>& values, Vec3d point) {
   if (values.size() != domain.vertexCount()) throw std::invalid_argument("value image and domain differ in size");
+  constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
   CellSample cell;
-  if (!locate(domain, domain.geometry().physicalPointToIndex(point), cell))
-    return std::numeric_limits<double>::quiet_NaN();
-  double sum = 0.0;
-  for (int n = 0; n < 8; ++n) {
-    if (cell.weight[n] <= 0.0) continue;
-    if (!domain.contains(cell.corner[n])) return std::numeric_limits<double>::quiet_NaN();
+  if (!locate(domain, domain.geometry().physicalPointToIndex(point), cell)) return kNan;
+  // The corners of the smallest face that holds the point: a weight of a
+  // rounding error on a voxel outside the domain does not count.
+  int moving;
+  const int face = detail::faceCorners(cell, moving);
+  auto inDomain = [&](VertexId v) { return domain.contains(v); };
+  double sum = 0.0, total = 0.0;
+  bool inside = true;
+  for (int n = 0; n < 8 && inside; ++n) {
+    if (!((face >> n) & 1)) continue;
+    inside = domain.contains(cell.corner[n]);
     sum += cell.weight[n] * values[cell.corner[n]];
+    total += cell.weight[n];
   }
-  return sum;
+  if (inside) return total > 0.0 ? sum / total : kNan;
+  // On a contact the connectivity joins: linear between its two voxels.
+  int from, to;
+  double t;
+  if (detail::onJoinedContact(domain, cell, face, moving, inDomain, from, to, t))
+    return (1.0 - t) * values[cell.corner[from]] + t * values[cell.corner[to]];
+  return kNan;
 }
 
 const char* pathFallbackName(PathFallback f) {

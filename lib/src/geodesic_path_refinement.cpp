@@ -184,8 +184,9 @@ class PathRefiner {
     return {std::clamp(c.x, 0.0, last_[0]), std::clamp(c.y, 0.0, last_[1]), std::clamp(c.z, 0.0, last_[2])};
   }
 
-  /// Every corner with a non-zero weight is in the domain and reached.
-  bool valid(Vec3d c) const { return detail::pointInRegion(domain_, c, reached_); }
+  /// Every corner with a non-zero weight is in the domain and reached: where
+  /// a point may move to (detail::kNewPointOnPlane).
+  bool valid(Vec3d c) const { return detail::pointInRegion(domain_, c, reached_, detail::kNewPointOnPlane); }
 
   /// Every point of the segment a -> b is valid, or lies on a contact that
   /// the domain's connectivity joins (detail::segmentInRegion: exact, piece

@@ -64,20 +64,31 @@ struct ReachedVoxel {
   bool operator()(VertexId v) const { return domain.contains(v) && std::isfinite(distance[v]); }
 };
 
+/// How close (index units) a point must be to a lattice plane to count as
+/// on it. The conversion from physical points to indices inverts the
+/// direction matrix by its transpose, and direction cosines read from
+/// single-precision headers are orthonormal only to about 1e-7: a voxel
+/// centre of the shipped brain comes back up to 1e-7 off its integer
+/// index, and other files may be off by 1e-5 at index 100. A path must not
+/// be refused, nor a jump misdirected, for that; a point may in exchange lie
+/// this far inside a cell with an excluded corner.
+inline constexpr double kOnPlane = 1e-4;
+/// The same for the points a path tracer or refinement places anew: they
+/// must lie this close to the region, so that after another conversion to
+/// physical space and back they still lie within kOnPlane of it.
+inline constexpr double kNewPointOnPlane = 1e-6;
+
 /// The corners of the smallest lattice face (vertex, edge, square or cube)
 /// that holds a located point, as a bit mask over cell.corner, and in
-/// `moving` a bit per axis along which that face extends. Fractions within
-/// 1e-12 of 0 or 1 count as 0 or 1: the conversions between physical points
-/// and indices round, and a path along a one-voxel tunnel must not be
-/// refused for a rounding error.
-inline int faceCorners(const CellSample& cell, int& moving) {
-  constexpr double kRounding = 1e-12;
+/// `moving` a bit per axis along which that face extends; fractions within
+/// `onPlane` of 0 or 1 count as 0 or 1.
+inline int faceCorners(const CellSample& cell, int& moving, double onPlane = kOnPlane) {
   int fixedHigh = 0;
   moving = 0;
   for (int axis = 0; axis < 3; ++axis) {
-    if (cell.frac[axis] >= 1.0 - kRounding)
+    if (cell.frac[axis] >= 1.0 - onPlane)
       fixedHigh |= 1 << axis;
-    else if (cell.frac[axis] > kRounding)
+    else if (cell.frac[axis] > onPlane)
       moving |= 1 << axis;
   }
   int corners = 0;
@@ -86,15 +97,58 @@ inline int faceCorners(const CellSample& cell, int& moving) {
   return corners;
 }
 
+/// Whether the domain's connectivity joins voxels diagonal across a face
+/// that extends along `moving` (a bit per axis): 2 axes with Edges or
+/// Corners, 3 with Corners.
+inline bool joinsDiagonalsAcross(VoxelConnectivity connectivity, int moving) {
+  const int axes = (moving & 1) + ((moving >> 1) & 1) + ((moving >> 2) & 1);
+  return (axes == 2 && connectivity != VoxelConnectivity::Faces) ||
+         (axes == 3 && connectivity == VoxelConnectivity::Corners);
+}
+
+/// Whether a located point whose smallest face (faceCorners) has corners
+/// outside `usable` lies on a contact that the domain's connectivity joins:
+/// the diagonal of that face between two usable opposite corners. Then
+/// `from` and `to` are those corners (indices into cell.corner) and t the
+/// point's place between them, 0 at `from`.
+template <class Usable>
+bool onJoinedContact(const VoxelGridDomain& domain, const CellSample& cell, int corners, int moving,
+                     const Usable& usable, int& from, int& to, double& t) {
+  if (!joinsDiagonalsAcross(domain.connectivity(), moving)) return false;
+  for (int corner = 0; corner < 8; ++corner) {
+    const int opposite = corner ^ moving;
+    if (!((corners >> corner) & 1) || opposite < corner || !usable(cell.corner[corner]) ||
+        !usable(cell.corner[opposite]))
+      continue;
+    // Along the diagonal every moving coordinate is the same distance from
+    // `corner`'s side.
+    double first = -1.0;
+    bool on = true;
+    for (int axis = 0; axis < 3 && on; ++axis) {
+      if (!((moving >> axis) & 1)) continue;
+      const double along = ((corner >> axis) & 1) ? 1.0 - cell.frac[axis] : cell.frac[axis];
+      if (first < 0.0) first = along;
+      on = std::abs(along - first) < kOnPlane;
+    }
+    if (on) {
+      from = corner;
+      to = opposite;
+      t = first;
+      return true;
+    }
+  }
+  return false;
+}
+
 /// Whether the continuous index c lies in the region of the voxels for which
 /// `usable(v)` holds (in the domain and, for paths, reached): every corner
 /// of the smallest face that holds it (faceCorners) is usable.
 template <class Usable>
-bool pointInRegion(const VoxelGridDomain& domain, Vec3d c, const Usable& usable) {
+bool pointInRegion(const VoxelGridDomain& domain, Vec3d c, const Usable& usable, double onPlane = kOnPlane) {
   CellSample cell;
   if (!locate(domain, c, cell)) return false;
   int moving;
-  const int corners = faceCorners(cell, moving);
+  const int corners = faceCorners(cell, moving, onPlane);
   for (int n = 0; n < 8; ++n)
     if (((corners >> n) & 1) && !usable(cell.corner[n])) return false;
   return true;
@@ -107,9 +161,9 @@ bool pointInRegion(const VoxelGridDomain& domain, Vec3d c, const Usable& usable)
 /// corner (Corners) of their voxels, as VoxelGridDomain::segmentInDomain
 /// decides for the segments between voxel centres. The segment is cut where
 /// it crosses integer planes; between two cuts it runs inside one cell or
-/// face, so testing the middle of each piece is exact. A piece on a contact
-/// lies on the diagonal between two opposite corners of its face, to within
-/// 1e-9 index units (points placed along such a diagonal by interpolation).
+/// face, so testing the middle of each piece is exact (up to kOnPlane). A
+/// piece on a contact lies on the diagonal between two opposite corners of
+/// its face, to within kOnPlane.
 /// Segments crossing more than kMaxSegmentCrossings planes along an axis
 /// (paths are tested in pieces well under a voxel) are refused.
 inline constexpr int kMaxSegmentCrossings = 24;
@@ -127,7 +181,6 @@ bool segmentInRegion(const VoxelGridDomain& domain, Vec3d a, Vec3d b, const Usab
       if (all) return true;
     }
   }
-  constexpr double kOnDiagonal = 1e-9;
   const double from[3] = {a.x, a.y, a.z}, to[3] = {b.x, b.y, b.z};
   double cuts[2 + 3 * kMaxSegmentCrossings];
   int count = 0;
@@ -152,10 +205,7 @@ bool segmentInRegion(const VoxelGridDomain& domain, Vec3d a, Vec3d b, const Usab
     for (int corner = 0; corner < 8 && inside; ++corner)
       if ((corners >> corner) & 1) inside = usable(cell.corner[corner]);
     if (inside) continue;
-    const int movingAxes = (moving & 1) + ((moving >> 1) & 1) + ((moving >> 2) & 1);
-    if (connectivity == VoxelConnectivity::Faces || movingAxes < 2 ||
-        (movingAxes == 3 && connectivity != VoxelConnectivity::Corners))
-      return false;
+    if (!joinsDiagonalsAcross(connectivity, moving)) return false;
     // The piece lies in the open square or cube spanned by the moving axes;
     // a joined contact is one of its diagonals, between usable corners.
     bool onContact = false;
@@ -168,7 +218,7 @@ bool segmentInRegion(const VoxelGridDomain& domain, Vec3d a, Vec3d b, const Usab
       const Vec3d c0{double(e0.i), double(e0.j), double(e0.k)};
       const Vec3d d = Vec3d{double(e1.i), double(e1.j), double(e1.k)} - c0;
       auto offLine = [&](Vec3d x) { return norm((x - c0) - (dot(x - c0, d) / dot(d, d)) * d); };
-      onContact = offLine(p) < kOnDiagonal && offLine(q) < kOnDiagonal;
+      onContact = offLine(p) < kOnPlane && offLine(q) < kOnPlane;
     }
     if (!onContact) return false;
   }
