@@ -193,7 +193,6 @@ bool segmentInRegion(const VoxelGridDomain& domain, Vec3d a, Vec3d b, const Usab
   }
   cuts[count++] = 1.0;
   std::sort(cuts, cuts + count);
-  const VoxelConnectivity connectivity = domain.connectivity();
   for (int n = 1; n < count; ++n) {
     if (!(cuts[n] > cuts[n - 1])) continue;
     const Vec3d p = a + cuts[n - 1] * (b - a), q = a + cuts[n] * (b - a);
@@ -205,22 +204,16 @@ bool segmentInRegion(const VoxelGridDomain& domain, Vec3d a, Vec3d b, const Usab
     for (int corner = 0; corner < 8 && inside; ++corner)
       if ((corners >> corner) & 1) inside = usable(cell.corner[corner]);
     if (inside) continue;
-    if (!joinsDiagonalsAcross(connectivity, moving)) return false;
-    // The piece lies in the open square or cube spanned by the moving axes;
-    // a joined contact is one of its diagonals, between usable corners.
-    bool onContact = false;
-    for (int corner = 0; corner < 8 && !onContact; ++corner) {
-      const int opposite = corner ^ moving;
-      if (!((corners >> corner) & 1) || opposite < corner || !usable(cell.corner[corner]) ||
-          !usable(cell.corner[opposite]))
-        continue;
-      const VoxelIndex e0 = domain.indexOf(cell.corner[corner]), e1 = domain.indexOf(cell.corner[opposite]);
-      const Vec3d c0{double(e0.i), double(e0.j), double(e0.k)};
-      const Vec3d d = Vec3d{double(e1.i), double(e1.j), double(e1.k)} - c0;
-      auto offLine = [&](Vec3d x) { return norm((x - c0) - (dot(x - c0, d) / dot(d, d)) * d); };
-      onContact = offLine(p) < kOnPlane && offLine(q) < kOnPlane;
-    }
-    if (!onContact) return false;
+    // The piece lies in the open square or cube spanned by the moving axes:
+    // in the region only along a joined contact, one of its diagonals.
+    int from, to;
+    double t;
+    if (!onJoinedContact(domain, cell, corners, moving, usable, from, to, t)) return false;
+    const VoxelIndex e0 = domain.indexOf(cell.corner[from]), e1 = domain.indexOf(cell.corner[to]);
+    const Vec3d c0{double(e0.i), double(e0.j), double(e0.k)};
+    const Vec3d d = Vec3d{double(e1.i), double(e1.j), double(e1.k)} - c0;
+    auto offLine = [&](Vec3d x) { return norm((x - c0) - (dot(x - c0, d) / dot(d, d)) * d); };
+    if (!(offLine(p) < kOnPlane && offLine(q) < kOnPlane)) return false;
   }
   return true;
 }
