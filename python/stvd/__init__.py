@@ -64,13 +64,9 @@ defaults = _Defaults(_core.defaults())
 
 
 def _connectivity(value):
-    """domain_connectivity as an int (6, 18, 26; "6" as well), None kept."""
-    if value is None:
-        return None
-    try:
-        return int(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"--domain-connectivity: '{value}' is not one of 6, 18, 26") from None
+    """domain_connectivity (6, 18 or 26, or the same as text) as the tool's
+    option text, which the library checks; None kept."""
+    return None if value is None else str(value)
 
 
 def _tensor_options(tensor_order, tensor_frame, tensor_kind, diffusion_metric, max_anisotropy, fa_threshold,
@@ -303,7 +299,7 @@ def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tenso
         given = tensors._result
         options = dict(method=given.method, k=given.k if given.method == "stvd" else None,
                        chain_measure=given.chain_measure if given.method == "stvd" else None, stencil=given.stencil,
-                       domain_connectivity=given.domain_connectivity)
+                       domain_connectivity=str(given.domain_connectivity))
     else:
         field = tensor_field(tensors, affine, mask, _tensor_options(tensor_order, tensor_frame, tensor_kind,
                                                                     diffusion_metric, max_anisotropy, fa_threshold,
