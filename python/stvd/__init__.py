@@ -30,12 +30,12 @@ class _Defaults:
     """The library's defaults, read-only: ``stvd.defaults.k``, ...
 
     method, k (on volumes), surface_k, tet_mesh_k (the k of each kind of
-    domain when none is given), chain_measure, stencil, domain_connectivity
-    (volumes), surface_chain_measure
-    (the same measure), tensor_kind, diffusion_metric, max_anisotropy (None:
-    the metric as given), accept_implausible_tensors, unreachable_value,
-    step, smooth, refine (paths), max_k, max_steiner. The values are the
-    library's, the ones the ``stvd`` tool uses.
+    domain when none is given), chain_measure, surface_chain_measure (the
+    same measure), stencil, domain_connectivity (volumes), tensor_kind,
+    diffusion_metric, max_anisotropy (None: the metric as given),
+    accept_implausible_tensors, unreachable_value, step, smooth, refine
+    (paths), max_k, max_steiner. The values are the library's, the ones the
+    ``stvd`` tool uses.
     """
 
     def __init__(self, values):
