@@ -32,7 +32,8 @@ class _Defaults:
     method, k (on volumes), surface_k, tet_mesh_k (the k of each kind of
     domain when none is given), chain_measure, surface_chain_measure (the
     same measure), stencil, domain_connectivity (volumes), tensor_kind,
-    diffusion_metric, max_anisotropy (None: the metric as given),
+    diffusion_metric, max_anisotropy (None: diffusion tensors capped at
+    diffusion_max_anisotropy, a metric taken as given),
     accept_implausible_tensors, unreachable_value, step, smooth, refine
     (paths), max_k, max_steiner. The values are the library's, the ones the
     ``stvd`` tool uses.
