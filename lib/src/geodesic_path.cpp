@@ -419,6 +419,39 @@ double interpolateAtPoint(const VoxelGridDomain& domain, const std::vector<float
   return kNan;
 }
 
+TracedPath discreteGeodesicPath(const VoxelGridDomain& domain, const PropagationResult& result, VertexId target) {
+  if (result.distance.size() != domain.vertexCount() || result.predecessor.size() != domain.vertexCount())
+    throw std::invalid_argument("propagation result and domain differ in size");
+  if (target >= domain.vertexCount())
+    throw std::invalid_argument("target vertex " + std::to_string(target) + " is out of range");
+  TracedPath path;
+  path.discrete = predecessorPath(result, target);
+  if (path.discrete.empty()) return path;
+  path.geodesicLength = result.distance[target];
+  for (VertexId v : path.discrete) path.points.push_back(domain.physicalPoint(v));
+  path.discretePoints = path.points.size();
+  for (std::size_t p = 1; p < path.points.size(); ++p) path.euclideanLength += norm(path.points[p] - path.points[p - 1]);
+  path.metricLength = std::numeric_limits<double>::quiet_NaN();
+  return path;
+}
+
+PathSamples sampleAlongPath(const VoxelGridDomain& domain, const std::vector<float>& values,
+                            const std::vector<Vec3d>& points) {
+  PathSamples samples;
+  for (const Vec3d& p : points) samples.values.push_back(static_cast<float>(interpolateAtPoint(domain, values, p)));
+  double sum = 0.0, length = 0.0;
+  for (std::size_t n = 1; n < points.size(); ++n) {
+    const double l = norm(points[n] - points[n - 1]);
+    sum += 0.5 * l * (static_cast<double>(samples.values[n - 1]) + samples.values[n]);
+    length += l;
+  }
+  if (points.size() == 1)
+    samples.lengthWeightedMean = samples.values[0];
+  else
+    samples.lengthWeightedMean = length > 0.0 ? sum / length : std::numeric_limits<double>::quiet_NaN();
+  return samples;
+}
+
 const char* pathFallbackName(PathFallback f) {
   switch (f) {
     case PathFallback::GradientVanishes: return "gradient_vanishes";

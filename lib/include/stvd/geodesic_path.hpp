@@ -118,6 +118,23 @@ TracedPath traceGeodesicPath(const VoxelGridDomain& domain, const RiemannianMetr
 /// on it, for the rounding of single-precision direction cosines).
 double interpolateAtPoint(const VoxelGridDomain& domain, const std::vector<float>& values, Vec3d point);
 
+/// The discrete path of `target` in the form of a traced one: the voxel
+/// centres of its predecessor chain (predecessorPath) as points, its
+/// geodesic and Euclidean lengths; no metric length (NaN), gradient steps,
+/// fallbacks or refinement. Empty when the target was not reached.
+TracedPath discreteGeodesicPath(const VoxelGridDomain& domain, const PropagationResult& result, VertexId target);
+
+/// A per-voxel scalar (e.g. FA) along a path: its value at each point
+/// (interpolateAtPoint) and their mean weighted by the path's length
+/// (trapezoid rule; the value itself for a single point; NaN when a value
+/// is missing or the path has no length).
+struct PathSamples {
+  std::vector<float> values;
+  double lengthWeightedMean = 0.0;
+};
+PathSamples sampleAlongPath(const VoxelGridDomain& domain, const std::vector<float>& values,
+                            const std::vector<Vec3d>& points);
+
 /// Text name of a fallback kind: "gradient_vanishes", "leaves_image", ...
 const char* pathFallbackName(PathFallback f);
 
