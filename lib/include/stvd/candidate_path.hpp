@@ -4,6 +4,8 @@
 #pragma once
 
 #include <limits>
+#include <type_traits>
+#include <utility>
 
 #include "stvd/metric_field.hpp"
 #include "stvd/types.hpp"
@@ -30,13 +32,17 @@ inline constexpr float kRefusedCandidate = std::numeric_limits<float>::infinity(
 /// no interpolation along a segment. It accepts every candidate, and
 /// measuresPaths() is false, so ChainMeasure::Segment falls back to
 /// ChainMeasure::LargestEdgeNorm there, the chain rule that cannot go below
-/// the admissible bound (docs/architecture.md). Voxel grids specialise it.
+/// the admissible bound (docs/architecture.md). Voxel grids and tetrahedral
+/// meshes specialise it.
 template <class Domain, class Norm>
 class CandidatePath {
  public:
   CandidatePath(const Domain&, const MetricField<Norm>&) {}
 
-  /// Whether length() measures along the path (ChainMeasure::Segment).
+  /// Whether length() measures along the path (ChainMeasure::Segment). A
+  /// specialisation whose domain type covers domains of both kinds (a cell
+  /// mesh built from tetrahedra or only from edges) also defines
+  /// `bool measuresOnThisDomain() const`, which the propagation asks too.
   static constexpr bool measuresPaths() { return false; }
 
   /// The chain of the vertex just finalised, and its vertices placed in the
@@ -56,5 +62,23 @@ class CandidatePath {
   /// v -> w in the common frame.
   float length(int, VertexId, Vec3f) { return kRefusedCandidate; }
 };
+
+namespace detail {
+template <class Path, class = void>
+struct HasMeasuresOnThisDomain : std::false_type {};
+template <class Path>
+struct HasMeasuresOnThisDomain<Path, std::void_t<decltype(std::declval<const Path&>().measuresOnThisDomain())>>
+    : std::true_type {};
+}  // namespace detail
+
+/// Whether `path` measures along its paths on the domain it was made for:
+/// measuresPaths(), and measuresOnThisDomain() where the specialisation has it.
+template <class Path>
+bool measuresOnThisDomain(const Path& path) {
+  if constexpr (detail::HasMeasuresOnThisDomain<Path>::value)
+    return Path::measuresPaths() && path.measuresOnThisDomain();
+  else
+    return Path::measuresPaths();
+}
 
 }  // namespace stvd

@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "stvd/candidate_path.hpp"
+#include "stvd/cell_mesh_candidate_path.hpp"
 #include "stvd/chain_unfolding.hpp"
 #include "stvd/detail/front_queue.hpp"
 #include "stvd/large_array.hpp"
@@ -292,7 +293,8 @@ class Propagation {
       loop(isTarget, remainingTargets, [this](VertexId v) { relaxDijkstra(v); });
     } else if (options_.chainMeasure == ChainMeasure::ProjectionWeighted) {
       runVector<ChainRule::ProjectionWeighted, false>(k, isTarget, remainingTargets);
-    } else if (options_.chainMeasure == ChainMeasure::LargestEdgeNorm || !kMeasures) {
+    } else if (options_.chainMeasure == ChainMeasure::LargestEdgeNorm || !kMeasures ||
+               !measuresOnThisDomain(path_)) {
       // A domain that cannot measure along a path (CandidatePath) falls back
       // from the segment measure to the rule that cannot go below the
       // admissible bound.
