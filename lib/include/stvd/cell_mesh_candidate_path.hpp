@@ -15,15 +15,17 @@
 namespace stvd {
 
 /// Where along a candidate's segment the metric is sampled
-/// (docs/tet_meshes.md compares them).
+/// (docs/tet_meshes.md compares them on exact metrics).
 enum class MeshSegmentRule {
-  /// One sample at the segment's midpoint.
-  Midpoint,
   /// One sample per chain edge the segment replaces, at the midpoints of i
-  /// equal pieces (the grids' rule).
+  /// equal pieces: the grids' rule, and CellMeshDomain's.
   EqualPieces,
+  /// One sample at the segment's midpoint: on a curved metric it goes below
+  /// the exact distance by up to 1 % at k = 8 and more for longer chains.
+  Midpoint,
   /// One sample per tetrahedron crossed, at the midpoint of the part of the
-  /// segment inside it, weighted by that part's length.
+  /// segment inside it, weighted by that part's length: as accurate as
+  /// EqualPieces, with about twice the samples.
   PerTetrahedron,
 };
 
@@ -35,11 +37,11 @@ enum class MeshSegmentRule {
 /// TetrahedralRegion::convexReach of v cannot leave it and is not walked:
 /// in a convex mesh none is.
 ///
-/// length(): the same walk, and the norm at each sample is the barycentric
-/// interpolation of the four corners' parameters in the tetrahedron holding
-/// it (for Riemannian norms the tensors G; as on grids, a convex combination
-/// of valid parameters is valid, so no sample is cheaper than the cheapest
-/// corner).
+/// length(): the same walk, sampling the norm as Rule says; at a sample
+/// the norm is the barycentric interpolation of the four corners'
+/// parameters in the tetrahedron holding it (for Riemannian norms the
+/// tensors G; as on grids, a convex combination of valid parameters is
+/// valid, so no sample is cheaper than the cheapest corner).
 ///
 /// A mesh without tetrahedra (CellMeshDomain::fromEdges, fromPolyhedra)
 /// measures nothing (measuresOnThisDomain() is false) and refuses nothing.
@@ -139,7 +141,7 @@ class TetrahedralCandidatePath {
 };
 
 /// The rule CellMeshDomain uses (docs/tet_meshes.md: the error table).
-inline constexpr MeshSegmentRule kMeshSegmentRule = MeshSegmentRule::PerTetrahedron;
+inline constexpr MeshSegmentRule kMeshSegmentRule = MeshSegmentRule::EqualPieces;
 
 template <class Norm>
 class CandidatePath<CellMeshDomain, Norm> : public TetrahedralCandidatePath<Norm, kMeshSegmentRule> {
