@@ -71,9 +71,11 @@ const char* kTetDistanceHelp =
     "                          (default; exit 3) or mask (left out of the domain).\n"
     "\n"
     "Propagation: --method stvd|dijkstra|lanthier, --k N (default 8), --chain-measure\n"
-    "largest|projection, --max-distance D, as for grids. lanthier: Steiner points on the edges\n"
-    "and faces of the tetrahedra, joined through each tetrahedron (--steiner M points per edge,\n"
-    "1..16, required; docs/steiner.md).\n"
+    "segment|projection|largest (default segment: each candidate's straight segment is walked\n"
+    "through the tetrahedra, refused where it leaves the domain and measured with the metric\n"
+    "interpolated in each tetrahedron it crosses; docs/tet_meshes.md), --max-distance D.\n"
+    "lanthier: Steiner points on the edges and faces of the tetrahedra, joined through each\n"
+    "tetrahedron (--steiner M points per edge, 1..16, required; docs/steiner.md).\n"
     "\n"
     "Output:\n"
     "  -o, --output FILE       .vtk (legacy VTK), .vtu (VTK XML) or .csv (vertex,distance with\n"
@@ -88,7 +90,8 @@ const char* kTetDistanceHelp =
     "  -q, --quiet             no summary on stdout.\n"
     "\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
-    "mesh or tensors (bad counts, indices out of range, inverted or degenerate tetrahedra);\n"
+    "mesh or tensors (bad counts, indices out of range, inverted or degenerate tetrahedra, a\n"
+    "face of more than two tetrahedra);\n"
     "4 nothing to compute (seed out of range, outside the mesh or the domain); 5 output cannot\n"
     "be written.\n";
 
@@ -429,19 +432,21 @@ int runTetMeshDistance(int argc, char** argv) {
 
   const double setupSeconds = secondsSince(start);
   const Clock::time_point propagationStart = Clock::now();
-  const CellMeshDomain domain =
-      CellMeshDomain::fromTetrahedra(tetmesh::permutedPoints(points, order), tetmesh::permutedTets(tets, order));
+  const std::vector<Vec3d> orderedPoints = tetmesh::permutedPoints(points, order);
+  const std::vector<CellMeshDomain::Tetrahedron> orderedTets = tetmesh::permutedTets(tets, order);
   const RiemannianMetric metric(std::move(orderedTensors), &orderedInDomain);
   PropagationResult result;
+  std::size_t edgeCount = 0;
   if (o.lanthier) {
     // The cells are the domain's tetrahedra (those with four usable
     // corners), so vertices outside the domain are never reached.
     std::optional<TetrahedralCells> cells;
     try {
-      cells.emplace(tetmesh::permutedPoints(points, order), tetmesh::permutedTets(tets, order));
+      cells.emplace(orderedPoints, orderedTets);
     } catch (const std::invalid_argument& e) {  // e.g. a face shared by more than two tetrahedra
       throw ToolError(kExitInput, o.input + ": " + e.what());
     }
+    edgeCount = cells->edges().size();
     SteinerOptions steiner;
     steiner.steinerPoints = o.steinerPoints;
     steiner.maxDistance = o.maxDistance;
@@ -451,9 +456,18 @@ int runTetMeshDistance(int argc, char** argv) {
       throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
     }
   } else {
+    // The edges for the propagation, and the tetrahedra that STVD walks its
+    // candidates' segments through (refused where they leave the domain).
+    std::optional<CellMeshDomain> domain;
+    try {
+      domain.emplace(CellMeshDomain::fromTetrahedra(orderedPoints, orderedTets));
+    } catch (const std::invalid_argument& e) {  // a face shared by more than two tetrahedra
+      throw ToolError(kExitInput, eleFile + ": " + e.what());
+    }
+    edgeCount = domain->edgeCount();
     PropagationOptions options = propagationOptions(o);
     options.maxDistance = o.maxDistance;
-    result = propagate(domain, metric, orderedSources, options);
+    result = propagate(*domain, metric, orderedSources, options);
   }
   const double propagationSeconds = secondsSince(propagationStart);
   {
@@ -498,19 +512,22 @@ int runTetMeshDistance(int argc, char** argv) {
     std::ostringstream s;
     s << "Read " << nodeFile << ": " << withThousands(mesh.vertexCount()) << " vertices, "
       << withThousands(mesh.tets.size()) << " tetrahedra (" << withThousands(tets.size()) << " in the domain), "
-      << withThousands(domain.edgeCount()) << " edges, numbered from " << mesh.firstIndex << ".\n"
+      << withThousands(edgeCount) << " edges, numbered from " << mesh.firstIndex << ".\n"
       << "Metric: " << vt.description << ".\n"
       << (o.lanthier ? "Lanthier Steiner points, M = " + std::to_string(o.steinerPoints) + " per edge"
           : o.method == Method::Dijkstra ? std::string("Dijkstra")
-                                       : "STVD k = " + std::to_string(o.k) + " (" +
-                                             (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? "largest edge norm"
-                                                                                              : "projection-weighted") +
-                                             ")")
+                                       : "STVD k = " + std::to_string(o.k) + " (" + chainMeasureName(o.chainMeasure) +
+                                             " measure)")
       << " from " << sources.size() << " seed vertex" << (sources.size() == 1 ? "" : "es") << ": reached "
       << withThousands(reached) << " of " << withThousands(mesh.vertexCount()) << " vertices, farthest "
       << fixed(farthest, 2) << "; " << withThousands(result.relaxedEdges)
       << (o.lanthier ? " segments measured in " : " edges relaxed in ")
-      << fixed(propagationSeconds, 3) << " s (setup " << fixed(setupSeconds, 3) << " s).\n"
+      << fixed(propagationSeconds, 3) << " s (setup " << fixed(setupSeconds, 3) << " s)"
+      << (o.lanthier || o.method == Method::Dijkstra
+              ? std::string()
+              : "; " + withThousands(result.measuredCandidates) + " candidates measured along their segments, " +
+                    withThousands(result.refusedCandidates) + " refused (leaving the domain)")
+      << ".\n"
       << "Wrote " << o.output << (o.reference.empty() ? "" : " on the grid of " + o.reference) << ".";
     std::cout << s.str() << std::endl;
   }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -76,13 +77,13 @@ TetrahedralRegion::TetrahedralRegion(const std::vector<Vec3d>& points, std::vect
   std::vector<std::uint64_t> next(firstAround_.begin(), firstAround_.end() - 1);
   for (std::size_t t = 0; t < cells_.size(); ++t)
     for (VertexId v : cells_[t].corner) around_[next[v]++] = static_cast<std::uint32_t>(t);
-  findNeighbors();
+  findNeighbors(points);
   measureClearance(points);
 }
 
 // The tetrahedron across a face is found among those around one of its
 // corners: the one other than t that has the two other corners too.
-void TetrahedralRegion::findNeighbors() {
+void TetrahedralRegion::findNeighbors(const std::vector<Vec3d>& points) {
   for (std::size_t t = 0; t < cells_.size(); ++t) {
     const Tetrahedron& c = cells_[t].corner;
     for (int f = 0; f < 4; ++f) {
@@ -91,9 +92,20 @@ void TetrahedralRegion::findNeighbors() {
       int found = 0;
       for (const std::uint32_t* u = tetrahedraAroundBegin(a); u != tetrahedraAroundEnd(a); ++u) {
         if (*u == t || !hasCorner(cells_[*u].corner, b) || !hasCorner(cells_[*u].corner, d)) continue;
-        if (++found > 1)
-          throw std::invalid_argument("face (" + std::to_string(a) + ", " + std::to_string(b) + ", " +
-                                      std::to_string(d) + ") belongs to more than two tetrahedra");
+        if (++found > 1) {
+          // Positions rather than vertex numbers, in lexicographic order:
+          // the same in every numbering of the mesh's vertices.
+          std::array<Vec3d, 3> corners{points[a], points[b], points[d]};
+          std::sort(corners.begin(), corners.end(), [](Vec3d p, Vec3d q) {
+            return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
+          });
+          std::ostringstream message;
+          message << "the face with corners at";
+          for (int k = 0; k < 3; ++k)
+            message << (k == 0 ? " (" : ", (") << corners[k].x << ", " << corners[k].y << ", " << corners[k].z << ")";
+          message << " belongs to more than two tetrahedra";
+          throw std::invalid_argument(message.str());
+        }
         cells_[t].neighbor[f] = *u;
         const Tetrahedron& o = cells_[*u].corner;
         for (int g = 0; g < 4; ++g)

@@ -93,7 +93,7 @@ class TetrahedralRegion {
   /// `points` (CellMeshDomain::fromTetrahedra checks them). Throws
   /// std::invalid_argument for a face shared by more than two tetrahedra.
   TetrahedralRegion(const std::vector<Vec3d>& points, std::vector<Tetrahedron> tets);
-  void findNeighbors();
+  void findNeighbors(const std::vector<Vec3d>& points);
   void measureClearance(const std::vector<Vec3d>& points);
 
   // How far a point may lie outside a tetrahedron, in barycentric
