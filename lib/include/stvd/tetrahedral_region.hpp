@@ -170,8 +170,8 @@ bool TetrahedralRegion::walk(const Vec3d* points, VertexId from, VertexId to, in
   VertexId first = from, second = kNoVertex;
   std::uint32_t across = kNoTetrahedron, previous = kNoTetrahedron;
   double s = 0.0;
+  SegmentPiece best, candidate;
   for (int step = 0; step < maxSteps; ++step) {
-    SegmentPiece best, candidate;
     double bestEnd = s;
     // Locates the segment in t; when it lies in t from s on, and further
     // than in the best so far, t becomes the best. Returns kFlat for a
