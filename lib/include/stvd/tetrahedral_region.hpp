@@ -34,7 +34,7 @@ struct SegmentPiece {
 /// every tetrahedron, its neighbour across each face, the tetrahedra around
 /// each vertex, and per vertex how far a chain may reach before one of its
 /// candidate segments could leave the region. 48 bytes per tetrahedron and
-/// 12 per vertex (docs/tet_meshes.md).
+/// 16 per vertex (docs/tet_meshes.md).
 ///
 /// The mesh is taken to be conforming, as TetGen's are: two tetrahedra meet
 /// in a shared face, edge or vertex, or not at all. A face shared by more
