@@ -90,6 +90,37 @@ echo "evaluate.sh: surfaces"
 echo "evaluate.sh: Lanthier on surfaces (${surface_size}^2)"
 "$bench/stvd_surface_steiner_table" --size "$surface_size" --max-steiner "$surface_steiner_max" \
   >"$run_dir/section_surface_steiner.md"
+# Surfaces against exact polyhedral geodesics (CGAL's data meshes and the
+# test oracle, built when CGAL is found) and, under the curvature metric,
+# against Lanthier M = 16: the tables of docs/surfaces.md.
+oracle="$build_dir/tests/surface/stvd_exact_geodesic_oracle"
+if cmake --build "$build_dir" --target help | grep stvd_exact_geodesic_oracle >/dev/null; then
+  cmake --build "$build_dir" -j"$(nproc)" --target stvd_exact_geodesic_oracle stvd_surface_exact_table
+  surface_meshes="armadillo elephant cheese fandisk turbine blade" surface_repeats=5
+  if [[ $quick == 1 ]]; then surface_meshes="elephant" surface_repeats=1; fi
+  mesh_dir="$run_dir/meshes"
+  mkdir -p "$mesh_dir"
+  header=()
+  for mesh in $surface_meshes; do
+    echo "evaluate.sh: surface $mesh against exact geodesics"
+    (cd "$mesh_dir" && cmake -E tar xzf /usr/share/doc/libcgal-dev/data.tar.gz "data/meshes/$mesh.off")
+    for source in 0 2000; do
+      "$oracle" "$mesh_dir/data/meshes/$mesh.off" "$source" "$mesh_dir/$mesh.$source.txt"
+      "$bench/stvd_surface_exact_table" "$mesh_dir/data/meshes/$mesh.off" --source "$source" \
+        --exact "$mesh_dir/$mesh.$source.txt" --repeats "$surface_repeats" "${header[@]}" >>"$run_dir/surface_exact.tsv"
+      header=(--no-header)
+    done
+  done
+  header=()
+  for gamma in 10 20; do
+    for mesh in $surface_meshes; do
+      echo "evaluate.sh: surface $mesh, curvature metric $gamma, against Lanthier M = 16"
+      "$bench/stvd_surface_exact_table" "$mesh_dir/data/meshes/$mesh.off" --source 0 --curvature "$gamma" \
+        --repeats "$surface_repeats" "${header[@]}" >>"$run_dir/surface_curvature.tsv"
+      header=(--no-header)
+    done
+  done
+fi
 if [[ -x $bench/stvd_tet_mesh_speed ]]; then
   echo "evaluate.sh: tetrahedral meshes"
   tet_filter=.

@@ -357,7 +357,7 @@ def tet_mesh_tables(path):
     rules = [(a, b) for (name, a), b in runs if name == "tetMeshRule"]
     if rules:
         scene_name = {0: "box, constant γ = 12", 1: "box, curved γ = 12", 2: "L-shaped prism"}
-        rule_name = ["segment: equal pieces (default)", "segment: midpoint", "segment: per tetrahedron",
+        rule_name = ["segment: per tetrahedron (default)", "segment: midpoint", "segment: equal pieces",
                      "largest-norm rule", "paper's rule"]
         ks = sorted({a["k"] for a, _ in rules})
         out += ["### How a candidate is measured: the error table", "",
@@ -507,6 +507,46 @@ def brain_section(run_dir):
     return ["```json", json.dumps(s, indent=2), "```", ""]
 
 
+def surface_exact_section(run_dir):
+    """The tables of stvd_surface_exact_table: one row per mesh, source and
+    method, isotropic against exact geodesics and under the curvature metric
+    against Lanthier M = 16."""
+    out = []
+    for name, title, reference, below in [
+            ("surface_exact.tsv", "Surfaces against exact geodesics",
+             "exact polyhedral distances (CGAL's Surface_mesh_shortest_path, the test oracle)",
+             "below exact by more than 1e-5"),
+            ("surface_curvature.tsv", "Surfaces under the curvature metric",
+             "Lanthier M = 16 (the same face-wise metric)", "more than 1 % below it")]:
+        path = os.path.join(run_dir, name)
+        if not os.path.exists(path):
+            continue
+        with open(path) as f:
+            rows = list(csv.DictReader(f, delimiter="\t"))
+        if not rows:
+            continue
+        out += ["## " + title, "",
+                "`stvd_surface_exact_table` on meshes of CGAL's data (Debian's libcgal-demo), against "
+                + reference + ". Mean and max relative error, the mean signed error, the vertices "
+                + below + ", and times as ratios to Dijkstra's in the same process (medians of "
+                "alternating runs): the propagation alone, and the whole process (mesh read, "
+                "surface built, metric, propagation). Measured and refused candidates per vertex "
+                "(STVD's segment measure).", "",
+                "| mesh | source | method | mean | signed | max | below | propagation / Dijkstra "
+                "| whole / Dijkstra | measured / refused per vertex |",
+                "|---|---|---|---|---|---|---|---|---|---|"]
+        for r in rows:
+            metric = "" if r["metric"] == "isotropic" else " (" + r["metric"] + ")"
+            out.append("| {} ({} vertices){} | {} | {} | {:.3f} % | {:+.3f} % | {:.2f} % | {} | {} | {} "
+                       "| {} / {} |".format(r["mesh"], r["vertices"], metric, r["source"], r["method"],
+                                             100 * float(r["mean"]), 100 * float(r["mean_signed"]),
+                                             100 * float(r["max"]), r["below"], r["propagation_ratio"],
+                                             r["whole_ratio"], r["measured_per_vertex"],
+                                             r["refused_per_vertex"]))
+        out.append("")
+    return out
+
+
 def include(path, top_level=None):
     """The lines of a tool's Markdown output. Its headings are demoted below
     this document's: by two levels, or (top_level) so that its highest
@@ -640,6 +680,8 @@ def main():
         doc += ["## Surfaces: time per relaxed edge", "",
                 "`stvd_surface_speed`: Dijkstra and STVD (k = 5, 8) on polygon surfaces "
                 "(docs/surfaces.md; arguments: scene, k with 0 = Dijkstra).", ""] + surfaces
+
+    doc += surface_exact_section(run_dir)
 
     extra = sorted(f for f in os.listdir(run_dir) if f.startswith("section_") and f.endswith(".md"))
     for name in extra:

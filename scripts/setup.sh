@@ -5,12 +5,17 @@ set -euo pipefail
 
 # Compiler and build tools; GoogleTest and Google Benchmark; the libraries of
 # the adapters (ITK, Eigen, TetGen, OpenVDB; Debian's FindOpenVDB.cmake also
-# wants Boost.Iostreams); Python with NiBabel and NumPy for the tests that
-# check written NIfTI files independently of ITK.
+# wants Boost.Iostreams; zlib for .mif.gz and the checks of gzip streams);
+# Python with NiBabel and NumPy for the tests that check written NIfTI files
+# independently of ITK; clang with its sanitizer and libFuzzer runtimes for
+# the sanitizer and fuzzing builds (scripts/sanitize.sh, scripts/fuzz.sh);
+# CGAL (header-only, GPL) for the exact-geodesic oracle of the surface tests
+# only, and CGAL's data archive (libcgal-demo), whose meshes those tests read.
 packages=(
-  g++ cmake make libgtest-dev libbenchmark-dev
-  libinsighttoolkit5-dev libeigen3-dev libtet1.5-dev libopenvdb-dev libboost-iostreams-dev
+  g++ cmake make libgtest-dev libbenchmark-dev clang-14 libclang-rt-14-dev
+  libinsighttoolkit5-dev libeigen3-dev libtet1.5-dev libopenvdb-dev libboost-iostreams-dev zlib1g-dev
   python3-nibabel python3-numpy
+  libcgal-dev libcgal-demo
 )
 # Scripts with needs of their own name extra packages as arguments
 # (scripts/evaluate.sh: gnuplot for its plots).

@@ -1,13 +1,20 @@
 #include "command_line.hpp"
 
+#include <sys/resource.h>
+
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/mrtrix_image.hpp"
 #include "stvd/itk/scalar_image.hpp"
+#include "stvd/itk/tensor_plausibility.hpp"
 
 namespace stvd::tool {
 
@@ -124,11 +131,50 @@ bool parseTensorInputOption(const std::string& option, ArgumentReader& args, Ten
     options.metric.faThreshold = t;
   } else if (option == "--mask") {
     options.maskPath = args.value(option);
+  } else if (option == "--accept-implausible-tensors") {
+    args.noValue(option);
+    options.acceptImplausible = true;
   } else {
     return false;
   }
   return true;
 }
+
+double parseUnreachableValue(const std::string& option, const std::string& text) {
+  if (text == "nan" || text == "NaN") return std::numeric_limits<double>::quiet_NaN();
+  const double value = parseNumber(option, text);
+  if (!(std::abs(value) <= std::numeric_limits<float>::max()))
+    usageError(option + ": '" + text + "' does not fit in a float32 map (magnitude at most 3.4e38)");
+  return value;
+}
+
+void checkImageOutputSpelling(const std::string& path) {
+  // MRtrix images are written by our own code, in any letter case.
+  if (!imaging::hasImageExtension(path) || imaging::isMrtrixImagePath(path)) return;
+  for (const char* ext : {".nii", ".nii.gz", ".nrrd", ".nhdr"}) {
+    const std::size_t n = std::char_traits<char>::length(ext);
+    if (path.size() > n && path.compare(path.size() - n, n, ext) == 0) return;
+  }
+  usageError(path + ": write the extension in lower case (.nii, .nii.gz, .nrrd or .nhdr)");
+}
+
+namespace {
+std::vector<std::string>& noted() {
+  static std::vector<std::string> warnings;
+  return warnings;
+}
+}  // namespace
+
+void noteInputWarnings(const std::string& path, const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) {
+    const std::string line = path + ": " + w;
+    if (std::find(noted().begin(), noted().end(), line) != noted().end()) continue;
+    noted().push_back(line);
+    std::cerr << "stvd: warning: " << line << std::endl;
+  }
+}
+
+const std::vector<std::string>& inputWarnings() { return noted(); }
 
 TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options) {
   TensorInput input;
@@ -137,6 +183,7 @@ TensorInput readTensorInput(const std::string& path, const TensorInputOptions& o
   } catch (const imaging::ImageIoError& e) {
     throw ToolError(kExitInput, e.what());
   }
+  noteInputWarnings(path, input.read.info.warnings);
   input.mask = input.read.volume.mask;
   if (!input.mask.empty()) input.maskDescription = "the file's confidence channel";
   if (!options.maskPath.empty()) {
@@ -146,6 +193,7 @@ TensorInput readTensorInput(const std::string& path, const TensorInputOptions& o
     } catch (const imaging::ImageIoError& e) {
       throw ToolError(kExitInput, e.what());
     }
+    noteInputWarnings(options.maskPath, mask.warnings);
     const std::string mismatch = imaging::geometryMismatch(mask.geometry, input.read.volume.geometry);
     if (!mismatch.empty())
       throw ToolError(kExitInput, options.maskPath + ": the mask is on another grid than " + path + " (" +
@@ -158,6 +206,23 @@ TensorInput readTensorInput(const std::string& path, const TensorInputOptions& o
                                 : options.maskPath + " and " + input.maskDescription;
   }
   return input;
+}
+
+imaging::MetricFromTensors buildCheckedMetric(const std::string& path, const TensorInput& input,
+                                             const TensorInputOptions& options) {
+  imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, options.metric);
+  const std::string reason = imaging::implausibleTensorsReason(built.counts);
+  if (!reason.empty() && !options.acceptImplausible) {
+    const imaging::TensorFileInfo& info = input.read.info;
+    throw ToolError(kExitInput, path + ": " + reason + " as read (" + imaging::tensorFileLayoutName(info.layout) +
+                                    ", order " + imaging::tensorOrderName(info.order) + " = " +
+                                    imaging::tensorOrderComponents(info.order) + ", " +
+                                    imaging::tensorFrameName(info.frame) +
+                                    " frame): most likely a wrong --tensor-order; check it, --tensor-frame and "
+                                    "--tensor-kind (stvd info " + path +
+                                    " tries each order), or go on with --accept-implausible-tensors");
+  }
+  return built;
 }
 
 std::string orientationCode(const GridGeometry& geometry) {
@@ -180,6 +245,8 @@ std::string tensorInputHelp(bool withMetricOptions) {
       "    standard: lower), or six volumes X Y Z 6, whose order must be stated.\n"
       "  NRRD (.nrrd, .nhdr): kind 3D-symmetric-matrix, or 3D-masked-symmetric-matrix whose\n"
       "    confidence channel (>= 0.5) becomes a mask. Order fixed: xx,xy,xz,yy,yz,zz.\n"
+      "  MRtrix (.mif, .mif.gz, .mih): X Y Z 6 as dwi2tensor writes it (order mrtrix and the\n"
+      "    world frame unless stated).\n"
       "  --tensor-order ORDER    component order of a six-volume NIfTI file (no default):\n"
       "                          lower  = xx,xy,yy,xz,yz,zz (NIfTI standard, DIPY, ANTs; alias nifti)\n"
       "                          fsl    = xx,xy,xz,yy,yz,zz (FSL dtifit; alias upper)\n"
@@ -201,9 +268,15 @@ std::string tensorInputHelp(bool withMetricOptions) {
         "                          tissue costs 1 per mm (O'Donnell et al. 2002);\n"
         "                          adjugate: G = adj(D/MD), anisotropic tissue cheaper still\n"
         "                          (Fuster et al. 2016).\n"
-        "  --max-anisotropy A      raise eigenvalues below lambda_max/A to it (default 100), which\n"
-        "                          also repairs zero and negative eigenvalues.\n"
+        "  --max-anisotropy A      raise eigenvalues below lambda_max/A to it, which also repairs\n"
+        "                          zero and negative eigenvalues (default 100 for diffusion\n"
+        "                          tensors; a metric is taken as given, with only zero and\n"
+        "                          negative eigenvalues raised to lambda_max/100).\n"
         "  --fa-threshold T        only voxels whose tensor has FA >= T (diffusion tensors).\n"
+        "  --accept-implausible-tensors\n"
+        "                          go on although more than 10 % of the tensors are not positive\n"
+        "                          definite, which a wrong --tensor-order gives (default: exit 3;\n"
+        "                          stvd info tries each order).\n"
         "  Voxels with a zero, NaN or infinite tensor, or no positive eigenvalue, are outside.\n";
   else
     text += "  --max-anisotropy A      count tensors with lambda_max/lambda_min above A (default 100).\n";
@@ -219,6 +292,37 @@ std::string withThousands(unsigned long long n) {
     out += digits[i];
   }
   return out;
+}
+
+std::string jsonString(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
+      out += buffer;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::string jsonNumber(double x) {
+  if (!std::isfinite(x)) return "null";
+  std::ostringstream s;
+  s.precision(10);
+  s << x;
+  return s.str();
+}
+
+std::uint64_t peakMemoryBytes() {
+  rusage usage{};
+  ::getrusage(RUSAGE_SELF, &usage);
+  return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
 }
 
 std::string fixed(double x, int decimals) {

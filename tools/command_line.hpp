@@ -24,6 +24,7 @@ enum ExitCode : int {
   kExitInput = 3,     ///< an input file cannot be read or used (format, layout, geometry)
   kExitDomain = 4,    ///< nothing to compute: empty domain, seed outside the image or domain
   kExitOutput = 5,    ///< an output file cannot be written
+  kExitMemory = 6,    ///< the run needs more memory than is available
 };
 
 /// A failure with its exit code; what() is the one-line message.
@@ -73,6 +74,9 @@ struct TensorInputOptions {
   std::optional<imaging::TensorFrame> frame;
   imaging::MetricOptions metric;
   std::string maskPath;
+  /// --accept-implausible-tensors: go on when the tensors look like a wrong
+  /// layout (imaging::implausibleTensorsReason).
+  bool acceptImplausible = false;
 };
 
 /// When `option` is one of the tensor input options, reads its value from
@@ -88,9 +92,36 @@ struct TensorInput {
   std::string maskDescription;
 };
 
-/// Reads the tensor file and the mask. Throws ToolError(kExitInput) naming
-/// the file: unreadable, wrong layout, or a mask on another grid.
+/// Reads the tensor file and the mask (noting their warnings). Throws
+/// ToolError(kExitInput) naming the file: unreadable, wrong layout, or a
+/// mask on another grid.
 TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options);
+
+/// imaging::buildMetric on the input's tensors and mask, then the check of
+/// the layout: when the tensors are implausible (most of them not positive
+/// definite, see tensor_plausibility.hpp), ToolError(kExitInput) naming the
+/// file, the order and frame as read and the options to check, unless
+/// options.acceptImplausible.
+imaging::MetricFromTensors buildCheckedMetric(const std::string& path, const TensorInput& input,
+                                             const TensorInputOptions& options);
+
+/// --unreachable-value: "nan" or a number that a float32 map can hold
+/// (1e300 would become infinity, which is refused as such). Usage error
+/// otherwise.
+double parseUnreachableValue(const std::string& option, const std::string& text);
+
+/// An image output path whose extension ITK's writers will recognise: they
+/// take .nii, .nii.gz, .nrrd and .nhdr in lower case only, so "D.NII.GZ"
+/// is a usage error here rather than a failed write after the computation
+/// (.mif and .mif.gz, written by stvd itself, may be spelt in any case).
+void checkImageOutputSpelling(const std::string& path);
+
+/// Says each warning about an input file once, in the tool's words, as a
+/// line "stvd: warning: FILE: text" on stderr (also with --quiet: it is
+/// about the data, not progress), and keeps it for inputWarnings().
+void noteInputWarnings(const std::string& path, const std::vector<std::string>& warnings);
+/// Every warning noted so far, each "FILE: text", for --stats.
+const std::vector<std::string>& inputWarnings();
 
 /// "LAS"-style orientation code: the RAS direction each index axis points
 /// to most (L/R, P/A, I/S), as NIfTI tools print it.
@@ -110,5 +141,11 @@ bool takeInputOrHelp(const std::string& argument, const ArgumentReader& args, st
 std::string withThousands(unsigned long long n);
 /// Fixed-point with `decimals` digits.
 std::string fixed(double x, int decimals);
+/// A JSON string literal (quotes and control characters escaped).
+std::string jsonString(const std::string& s);
+/// A JSON number with 10 significant digits; null for NaN and infinities.
+std::string jsonNumber(double x);
+/// The peak resident set size of the process (getrusage), in bytes.
+std::uint64_t peakMemoryBytes();
 
 }  // namespace stvd::tool

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -13,8 +12,11 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
+#include "memory_check.hpp"
+#include "run_files.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/geodesic_path.hpp"
-#include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/parallel_tasks.hpp"
@@ -43,23 +45,35 @@ const char* kConnectivityHelp =
     "A. d(A, B) and d(B, A) are computed separately and agree up to discretisation.\n"
     "\n"
     "  --labels LABELS         the region image (required).\n"
-    "  -o, --output FILE       the table (required); written atomically.\n"
+    "  -o, --output FILE       the table (required). The table and matrices appear together,\n"
+    "                          complete, or not at all; none may be an input.\n"
+    "  --matrix FILE.csv       also the square N x N matrix of geodesic distances (mm): row A,\n"
+    "                          column B holds d(A, B); rows and columns in label order, the labels\n"
+    "                          in a '# labels:' header line; 0 on the diagonal, inf where B is not\n"
+    "                          reachable from A (numpy.loadtxt(FILE, delimiter=',') and MRtrix's\n"
+    "                          matrix readers skip the '#' lines, as for tck2connectome output).\n"
+    "  --matrix-index FILE.csv the same matrix of the connectivity index; 0 on the diagonal and\n"
+    "                          where B is not reachable.\n"
     "  --threads N             regions propagated in parallel (default: the number of cores);\n"
     "                          the table does not depend on N.\n"
     "  --method, --k, --chain-measure, --stencil   as in stvd distance (defaults stvd, 8,\n"
     "                          largest, 26).\n"
+    "  --no-memory-check       run even when the memory the propagations need (one per thread)\n"
+    "                          exceeds the memory available.\n"
     "  -q, --quiet             no summary on stdout.\n"
     "\n"
     "%TENSOR%"
     "\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
     "input (also labels on another grid or not integers); 4 fewer than two regions with voxels\n"
-    "in the domain; 5 output cannot be written.\n";
+    "in the domain; 5 output cannot be written; 6 not enough memory for the run.\n";
 
 struct ConnectivityOptions : PropagationChoice {
   std::string input;
   std::string labels;
   std::string output;
+  std::string matrix;       // --matrix
+  std::string matrixIndex;  // --matrix-index
   TensorInputOptions tensor;
   unsigned threads = 0;
   bool quiet = false;
@@ -75,6 +89,10 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
       o.output = args.value(a);
     } else if (a == "--labels") {
       o.labels = args.value(a);
+    } else if (a == "--matrix") {
+      o.matrix = args.value(a);
+    } else if (a == "--matrix-index") {
+      o.matrixIndex = args.value(a);
     } else if (a == "--threads") {
       const int n = parseInteger(a, args.value(a));
       if (n < 1 || n > 1024) usageError("--threads must be between 1 and 1024");
@@ -95,7 +113,7 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
 }
 
 struct Region {
-  long label = 0;
+  std::int64_t label = 0;
   std::vector<VertexId> voxels;  // in the domain
 };
 
@@ -108,38 +126,66 @@ struct PairResult {
 
 std::string number(double x) { return std::isfinite(x) ? fixed(x, 4) : "n/a"; }
 
+/// The connectivity index of a pair: path length over geodesic length.
+double connectivityIndex(const PairResult& r) {
+  return std::isfinite(r.geodesic) && r.geodesic > 0.0 ? r.pathLength / r.geodesic
+                                                         : std::numeric_limits<double>::quiet_NaN();
+}
+
+/// One square matrix as CSV: '#' header lines, then row a, column b.
+std::string matrixCsv(const std::string& what, const std::vector<Region>& regions,
+                      const std::vector<PairResult>& table, bool index) {
+  const std::size_t n = regions.size();
+  std::ostringstream csv;
+  csv << "# stvd connectivity: " << what << " from the region of the row to the region of the column\n# labels: ";
+  for (std::size_t a = 0; a < n; ++a) csv << (a ? "," : "") << regions[a].label;
+  csv << "\n";
+  for (std::size_t a = 0; a < n; ++a) {
+    for (std::size_t b = 0; b < n; ++b) {
+      const PairResult& r = table[a * n + b];
+      csv << (b ? "," : "");
+      if (a == b) csv << "0";
+      else if (index) csv << (std::isfinite(connectivityIndex(r)) ? fixed(connectivityIndex(r), 6) : "0");
+      else csv << (std::isfinite(r.geodesic) ? fixed(r.geodesic, 4) : "inf");
+    }
+    csv << "\n";
+  }
+  return csv.str();
+}
+
 }  // namespace
 
 int runConnectivity(int argc, char** argv) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   const ConnectivityOptions o = parseConnectivityOptions(argc, argv);
-  try {
-    imaging::checkOutputPath(o.output);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputImage("tensor input", o.input);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("label image", o.labels);
+  files.outputFile("connectivity table", o.output);
+  files.outputFile("distance matrix", o.matrix);
+  files.outputFile("connectivity-index matrix", o.matrixIndex);
+  files.check();
   const TensorInput input = readTensorInput(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
-  imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
+  imaging::MetricFromTensors built = buildCheckedMetric(o.input, input, o.tensor);
 
-  imaging::ScalarImage labels;
+  imaging::LabelImage labels;
   try {
-    labels = imaging::readScalarImage(o.labels);
+    labels = imaging::readLabelImage(o.labels);
   } catch (const imaging::ImageIoError& e) {
     throw ToolError(kExitInput, e.what());
   }
+  noteInputWarnings(o.labels, labels.warnings);
   const std::string mismatch = imaging::geometryMismatch(labels.geometry, g);
   if (!mismatch.empty())
     throw ToolError(kExitInput, o.labels + ": the labels are on another grid than " + o.input + " (" + mismatch + ")");
-  std::map<long, Region> byLabel;
-  for (std::size_t v = 0; v < labels.values.size(); ++v) {
-    const float value = labels.values[v];
-    if (value == 0.f || std::isnan(value)) continue;
-    if (value != std::round(value))
-      throw ToolError(kExitInput, o.labels + ": label value " + fixed(value, 3) + " is not an integer");
-    Region& r = byLabel[std::lround(value)];
-    r.label = std::lround(value);
+  std::map<std::int64_t, Region> byLabel;
+  for (std::size_t v = 0; v < labels.labels.size(); ++v) {
+    if (labels.labels[v] == 0) continue;
+    Region& r = byLabel[labels.labels[v]];
+    r.label = labels.labels[v];
     if (built.inDomain[v]) r.voxels.push_back(static_cast<VertexId>(v));
   }
   std::vector<Region> regions;
@@ -153,6 +199,12 @@ int runConnectivity(int argc, char** argv) {
   if (regions.size() < 2)
     throw ToolError(kExitDomain, o.labels + ": fewer than two regions have voxels inside the domain of " + o.input);
 
+  // One propagation at a time on each thread, each with its own state and result.
+  const unsigned threadCount = threadCountFor(o.threads, regions.size());
+  checkMemory(o.input, threadCount * propagationMemoryEstimate(g.voxelCount(), built.counts.domain),
+              std::to_string(threadCount) + (threadCount == 1 ? " propagation" : " propagations at once") + " on " +
+                  withThousands(built.counts.domain) + " domain voxels",
+              !o.memoryCheck);
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   const PropagationOptions propagation = propagationOptions(o);
@@ -177,7 +229,6 @@ int runConnectivity(int argc, char** argv) {
       r.straight = norm(path.points.back() - path.points.front());
     }
   };
-  const unsigned threadCount = threadCountFor(o.threads, n);
   forEachTaskInParallel(n, threadCount, work);
 
   std::ostringstream tsv;
@@ -186,21 +237,22 @@ int runConnectivity(int argc, char** argv) {
     for (std::size_t b = 0; b < n; ++b) {
       if (a == b) continue;
       const PairResult& r = table[a * n + b];
-      const double index = std::isfinite(r.geodesic) && r.geodesic > 0.0 ? r.pathLength / r.geodesic
-                                                                          : std::numeric_limits<double>::quiet_NaN();
+      const double index = connectivityIndex(r);
       tsv << regions[a].label << "\t" << regions[b].label << "\t" << number(r.geodesic) << "\t" << number(r.pathLength)
           << "\t" << number(r.straight) << "\t" << number(index) << "\t" << regions[a].voxels.size() << "\t"
           << regions[b].voxels.size() << "\n";
     }
+  // The table and the matrices appear together or not at all.
+  std::vector<std::pair<std::string, std::string>> texts{{o.output, tsv.str()}};
+  if (!o.matrix.empty()) texts.emplace_back(o.matrix, matrixCsv("geodesic distance (mm)", regions, table, false));
+  if (!o.matrixIndex.empty())
+    texts.emplace_back(o.matrixIndex, matrixCsv("connectivity index (path_mm / geodesic_mm)", regions, table, true));
+  files::OutputTransaction outputs;
   try {
-    imaging::AtomicOutput output(o.output);
-    {
-      std::ofstream file(output.stagingPath());
-      file << tsv.str();
-      if (!file.flush()) throw imaging::ImageIoError(o.output, "cannot write the table");
-    }
-    output.commit();
-  } catch (const imaging::ImageIoError& e) {
+    for (const auto& [path, text] : texts)
+      outputs.write(path, [&](const std::string& staging) { files::writeFileContents(staging, text); });
+    outputs.commit();
+  } catch (const files::OutputError& e) {
     throw ToolError(kExitOutput, e.what());
   }
   if (!o.quiet)
@@ -209,6 +261,7 @@ int runConnectivity(int argc, char** argv) {
               << ": " << n * (n - 1) << " ordered pairs, " << methodText(o) << " on the " << o.stencil
               << "-neighbour stencil, " << threadCount << (threadCount == 1 ? " thread" : " threads") << ". Took "
               << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s. Wrote " << o.output
+              << (o.matrix.empty() ? "" : ", " + o.matrix) << (o.matrixIndex.empty() ? "" : ", " + o.matrixIndex)
               << "." << std::endl;
   return kExitOk;
 }

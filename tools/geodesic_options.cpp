@@ -56,6 +56,9 @@ bool parsePropagationOption(const std::string& a, ArgumentReader& args, Propagat
     else
       usageError("--chain-measure: '" + m + "' is not one of segment, projection, largest");
     o.chainMeasureGiven = true;
+  } else if (a == "--no-memory-check") {
+    args.noValue(a);
+    o.memoryCheck = false;
   } else if (a == "--stencil") {
     o.stencil = args.value(a);
     o.stencilGiven = true;
@@ -199,6 +202,7 @@ std::vector<Seed> resolveSeeds(const std::string& inputPath, const SeedOptions& 
     } catch (const imaging::ImageIoError& e) {
       throw ToolError(kExitInput, e.what());
     }
+    noteInputWarnings(o.seedLabels, labels.warnings);
     const std::string mismatch = imaging::geometryMismatch(labels.geometry, g);
     if (!mismatch.empty())
       throw ToolError(kExitInput, o.seedLabels + ": the seed labels are on another grid than " + inputPath + " (" +

@@ -22,7 +22,7 @@ struct SeedOptions {
   std::string seedLabels;
 };
 
-/// --method, --steiner, --k, --chain-measure, --stencil.
+/// --method, --steiner, --k, --chain-measure, --stencil, --no-memory-check.
 struct PropagationChoice {
   Method method = Method::ShortTermVectorDijkstra;
   bool lanthier = false;  // Steiner-point propagation instead of `method`
@@ -33,6 +33,8 @@ struct PropagationChoice {
   bool chainMeasureGiven = false;
   std::string stencil = "26";
   bool stencilGiven = false;
+  /// --no-memory-check: run even when the estimate exceeds the available memory.
+  bool memoryCheck = true;
 };
 
 /// When `option` is a seed option, reads it into `seeds` and returns true.

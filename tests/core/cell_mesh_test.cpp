@@ -173,8 +173,8 @@ struct RandomCandidates {
 template <class Norm>
 void expectSegmentsMeasuredExactly(const CellMeshDomain& mesh, const typename Norm::VertexParams& p) {
   const MetricField<Norm> metric = MetricField<Norm>::constant(mesh.vertexCount(), p);
+  ASSERT_TRUE((measuresPathsOn<CellMeshDomain, Norm>(mesh)));
   CandidatePath<CellMeshDomain, Norm> path(mesh, metric);
-  ASSERT_TRUE(measuresOnThisDomain(path));
   for (const auto& c : RandomCandidates(mesh, 8, 17).all) {
     Vec3f placed[kMaxMemoryDepth];
     for (std::size_t j = 0; j < c.chain.size(); ++j) placed[j] = mesh.displacement(c.chain[0], c.chain[j]);
@@ -185,6 +185,8 @@ void expectSegmentsMeasuredExactly(const CellMeshDomain& mesh, const typename No
       const Vec3f segment = e - placed[i - 1];  // from c_{i-1} to w
       const float expected = Norm::length(Norm::edgeParams(p, p), segment.x, segment.y, segment.z);
       EXPECT_NEAR(path.length(i, c.w, e), expected, 4e-6 * expected) << "candidate " << i << " of " << c.w;
+      // A pending candidate is measured from its end points alone.
+      EXPECT_NEAR(path.segmentLength(c.chain[i - 1], c.w), expected, 4e-6 * expected) << "candidate " << i;
     }
   }
 }

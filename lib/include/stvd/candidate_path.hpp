@@ -42,8 +42,17 @@ class CandidatePath {
   /// Whether length() measures along the path (ChainMeasure::Segment). A
   /// specialisation whose domain type covers domains of both kinds (a cell
   /// mesh built from tetrahedra or only from edges) also defines
-  /// `bool measuresOnThisDomain() const`, which the propagation asks too.
+  ///   static bool measuresPathsOn(const Domain&),
+  /// which the propagation asks too (measuresPathsOn below).
   static constexpr bool measuresPaths() { return false; }
+  /// Whether a pending candidate's length depends on the chain between its
+  /// two ends (a surface's unfolding): then the propagation rebuilds the
+  /// chain and calls beginChain() and length(). Otherwise it calls
+  ///   float segmentLength(VertexId from, VertexId w),
+  /// the length of the candidate from `from` = c_{i-1} to w, and asks the
+  /// data for it ahead of time with
+  ///   void prefetchSegment(VertexId from, VertexId w) const.
+  static constexpr bool usesPlacedChain() { return true; }
 
   /// The chain of the vertex just finalised, and its vertices placed in the
   /// common frame of ChainUnfolding<Domain> (placed[0] = 0 at v).
@@ -64,19 +73,21 @@ class CandidatePath {
 };
 
 namespace detail {
-template <class Path, class = void>
-struct HasMeasuresOnThisDomain : std::false_type {};
-template <class Path>
-struct HasMeasuresOnThisDomain<Path, std::void_t<decltype(std::declval<const Path&>().measuresOnThisDomain())>>
+template <class Path, class Domain, class = void>
+struct HasMeasuresPathsOn : std::false_type {};
+template <class Path, class Domain>
+struct HasMeasuresPathsOn<Path, Domain, std::void_t<decltype(Path::measuresPathsOn(std::declval<const Domain&>()))>>
     : std::true_type {};
 }  // namespace detail
 
-/// Whether `path` measures along its paths on the domain it was made for:
-/// measuresPaths(), and measuresOnThisDomain() where the specialisation has it.
-template <class Path>
-bool measuresOnThisDomain(const Path& path) {
-  if constexpr (detail::HasMeasuresOnThisDomain<Path>::value)
-    return Path::measuresPaths() && path.measuresOnThisDomain();
+/// Whether CandidatePath<Domain, Norm> measures along paths on `domain`:
+/// measuresPaths(), and measuresPathsOn(domain) where the specialisation
+/// has it.
+template <class Domain, class Norm>
+bool measuresPathsOn(const Domain& domain) {
+  using Path = CandidatePath<Domain, Norm>;
+  if constexpr (detail::HasMeasuresPathsOn<Path, Domain>::value)
+    return Path::measuresPaths() && Path::measuresPathsOn(domain);
   else
     return Path::measuresPaths();
 }

@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
-#include <vector>
 #include <type_traits>
+#include <vector>
 
 #include "stvd/candidate_path.hpp"
 #include "stvd/cell_mesh_domain.hpp"
@@ -19,16 +19,17 @@ namespace stvd {
 /// Where along a candidate's segment the metric is sampled
 /// (docs/tet_meshes.md compares them on exact metrics).
 enum class MeshSegmentRule {
+  /// One sample per tetrahedron crossed, at the midpoint of the part of the
+  /// segment inside it, weighted by that part's length: the mesh's
+  /// counterpart of the grids' one sample per voxel step, and
+  /// CellMeshDomain's rule.
+  PerTetrahedron,
   /// One sample per chain edge the segment replaces, at the midpoints of i
-  /// equal pieces: the grids' rule, and CellMeshDomain's.
+  /// equal pieces: as accurate, but it needs the chain to know i.
   EqualPieces,
   /// One sample at the segment's midpoint: on a curved metric it goes below
   /// the exact distance by up to 1 % at k = 8 and more for longer chains.
   Midpoint,
-  /// One sample per tetrahedron crossed, at the midpoint of the part of the
-  /// segment inside it, weighted by that part's length: as accurate as
-  /// EqualPieces, with about twice the samples.
-  PerTetrahedron,
 };
 
 /// The candidate i of neighbour w is the segment from c_{i-1} to w.
@@ -39,14 +40,16 @@ enum class MeshSegmentRule {
 /// TetrahedralRegion::convexReach of v cannot leave it and is not walked:
 /// in a convex mesh none is.
 ///
-/// length(): the same walk, sampling the norm as Rule says; at a sample
-/// the norm is the barycentric interpolation of the four corners'
-/// parameters in the tetrahedron holding it (for Riemannian norms the
-/// tensors G; as on grids, a convex combination of valid parameters is
-/// valid, so no sample is cheaper than the cheapest corner).
+/// length() and segmentLength(): the same walk (so a pending candidate that
+/// accepts() let through unwalked is still refused if it leaves the mesh),
+/// sampling the norm as Rule says; at a sample the norm is the barycentric
+/// interpolation of the four corners' parameters in the tetrahedron holding
+/// it (for Riemannian norms the tensors G; as on grids, a convex
+/// combination of valid parameters is valid, so no sample is cheaper than
+/// the cheapest corner).
 ///
 /// A mesh without tetrahedra (CellMeshDomain::fromEdges, fromPolyhedra)
-/// measures nothing (measuresOnThisDomain() is false) and refuses nothing.
+/// measures nothing (measuresPathsOn() is false) and refuses nothing.
 template <class Norm, MeshSegmentRule Rule>
 class TetrahedralCandidatePath {
  public:
@@ -58,7 +61,10 @@ class TetrahedralCandidatePath {
       : points_(domain.points().data()), region_(domain.tetrahedra()), metric_(metric) {}
 
   static constexpr bool measuresPaths() { return true; }
-  bool measuresOnThisDomain() const { return region_ != nullptr; }
+  static bool measuresPathsOn(const CellMeshDomain& domain) { return domain.tetrahedra() != nullptr; }
+  /// Only equal pieces need the chain (to know i); the other rules measure a
+  /// pending candidate from its two end points (segmentLength).
+  static constexpr bool usesPlacedChain() { return Rule == MeshSegmentRule::EqualPieces; }
 
   STVD_ALWAYS_INLINE void beginChain(const VertexId* chain, int count, const Vec3f* placed) {
     chain_ = chain;
@@ -85,38 +91,58 @@ class TetrahedralCandidatePath {
     Walked& walked = walked_[(key * 0x9e3779b97f4a7c15ull) >> (64 - kWalkedLog2)];
     if (walked.key != key) {
       walked.key = key;
-      walked.inside = region_->walk(points_, w, chain_[i - 1], maxSteps(i), [](const SegmentPiece&) {});
+      walked.inside = region_->walk(points_, w, chain_[i - 1], kMaxSteps, [](const SegmentPiece&) {});
     }
     return walked.inside;
   }
 
   float length(int i, VertexId w, Vec3f e) const {
     if (region_ == nullptr) return kRefusedCandidate;
-    const Vec3f segment = e - placed_[i - 1];  // from c_{i-1} to w
+    return measure(chain_[i - 1], w, e - placed_[i - 1], Rule == MeshSegmentRule::EqualPieces ? i : 1);
+  }
+
+  /// length() from the candidate's end points alone, for a pending candidate.
+  float segmentLength(VertexId from, VertexId w) const {
+    static_assert(Rule != MeshSegmentRule::EqualPieces, "equal pieces need the chain (usesPlacedChain)");
+    return measure(from, w, toFloat(points_[w] - points_[from]), 1);
+  }
+
+  /// Asks for the start of segmentLength's walk: the tetrahedra around w and
+  /// the far end's position.
+  void prefetchSegment(VertexId from, VertexId w) const {
+    if (region_ == nullptr) return;
+    detail::prefetch(&points_[from]);
+    region_->prefetchAround(w);
+  }
+
+ private:
+  static constexpr int kFloats = static_cast<int>(sizeof(Params) / sizeof(float));
+  // A segment of i chain edges crosses a few tetrahedra per edge (18 for
+  // k = 8 on TetGen's quality meshes); a walk that needs far more than any
+  // chain could has gone astray and is refused.
+  static constexpr int kMaxSteps = 32 + 32 * kMaxMemoryDepth;
+
+  // The segment from `from` to w (its vector `segment`, from `from` to w),
+  // walked from w's end and measured as Rule says; `pieces` is i for
+  // EqualPieces.
+  float measure(VertexId from, VertexId w, Vec3f segment, int pieces) const {
     double total = 0.0;
     bool inside;
     if constexpr (Rule == MeshSegmentRule::PerTetrahedron) {
-      inside = region_->walk(points_, w, chain_[i - 1], maxSteps(i), [&](const SegmentPiece& p) {
+      inside = region_->walk(points_, w, from, kMaxSteps, [&](const SegmentPiece& p) {
         total += (p.s1 - p.s0) * normAt(p, 0.5 * (p.s0 + p.s1), segment);
       });
     } else {
       // Samples at s = (2m + 1) / (2n), m = 0..n-1, each for 1/n of the segment.
-      const int n = Rule == MeshSegmentRule::Midpoint ? 1 : i;
+      const int n = pieces;
       int m = 0;
-      inside = region_->walk(points_, w, chain_[i - 1], maxSteps(i), [&](const SegmentPiece& p) {
+      inside = region_->walk(points_, w, from, kMaxSteps, [&](const SegmentPiece& p) {
         for (double s; m < n && (s = (2.0 * m + 1.0) / (2.0 * n)) <= p.s1; ++m) total += normAt(p, s, segment);
       });
       total /= n;
     }
     return inside ? static_cast<float>(total) : kRefusedCandidate;
   }
-
- private:
-  static constexpr int kFloats = static_cast<int>(sizeof(Params) / sizeof(float));
-
-  // A segment of i chain edges crosses a few tetrahedra per edge; a walk
-  // that needs far more has gone astray and is refused.
-  static int maxSteps(int i) { return 32 + 32 * i; }
 
   // The norm of `segment` at point s of the piece: the corners' parameters
   // weighted by their barycentric coordinates there (clamped to the
@@ -164,7 +190,7 @@ class TetrahedralCandidatePath {
 };
 
 /// The rule CellMeshDomain uses (docs/tet_meshes.md: the error table).
-inline constexpr MeshSegmentRule kMeshSegmentRule = MeshSegmentRule::EqualPieces;
+inline constexpr MeshSegmentRule kMeshSegmentRule = MeshSegmentRule::PerTetrahedron;
 
 template <class Norm>
 class CandidatePath<CellMeshDomain, Norm> : public TetrahedralCandidatePath<Norm, kMeshSegmentRule> {

@@ -5,6 +5,8 @@
 #include <type_traits>
 #include <utility>
 
+#include "stvd/metric_field.hpp"
+#include "stvd/propagation.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd {
@@ -37,7 +39,13 @@ struct HasPlaceChain<Domain, std::void_t<decltype(std::declval<const Domain&>().
 /// every edge shares the one world frame, so it is Norm::edgeParams of the
 /// end points, the same expression the propagation used before the hook. A
 /// surface's norms live in tangent planes and must be carried into the frame
-/// the chain was unfolded into, which is why the edge vector is handed over.
+/// the chain was unfolded into, which is why the edge vector is handed over;
+/// and a surface edge is measured in its faces (the cheaper of the two), so
+/// that it is never shorter than a path through a face under the face-wise
+/// metric (for Dijkstra and ChainMeasure::Segment; the chain rules keep the
+/// paper's per-edge norms). What such a rule needs beyond the end points'
+/// norms (on a surface, a tensor per edge) is made once per propagation by
+/// edgeMetric() and handed to every edgeNorm() call; in R^3 it is empty.
 template <class Domain>
 struct ChainUnfolding {
   /// Whether edgeNorm() is Norm::edgeParams of the end points, the mean of
@@ -55,9 +63,15 @@ struct ChainUnfolding {
       for (int i = 1; i < count; ++i) p[i] = domain.displacement(chain[0], chain[i]);
     }
   }
+  /// Nothing beyond the end points' norms.
+  struct EdgeMetric {};
+  template <class Norm>
+  static EdgeMetric edgeMetric(const Domain&, const MetricField<Norm>&, const PropagationOptions&) {
+    return {};
+  }
   template <class Norm>
   STVD_ALWAYS_INLINE static typename Norm::EdgeParams edgeNorm(
-      const Domain&, const typename Norm::VertexParams& from,
+      const Domain&, const EdgeMetric&, const typename Norm::VertexParams& from,
       const typename Norm::VertexParams& to, VertexId, VertexId, Vec3f) {
     return Norm::edgeParams(from, to);
   }

@@ -87,6 +87,13 @@ class TetrahedralRegion {
   template <class Piece>
   bool walk(const Vec3d* points, VertexId from, VertexId to, int maxSteps, Piece&& piece) const;
 
+  /// Asks for the first tetrahedron a walk from v reads (a prefetch: only
+  /// the caches change).
+  void prefetchAround(VertexId v) const {
+    const std::uint64_t first = firstAround_[v];
+    if (first != firstAround_[v + 1]) detail::prefetch(&cells_[around_[first]]);
+  }
+
  private:
   friend class CellMeshDomain;
   /// Takes tetrahedra whose corners are valid, distinct vertex numbers of

@@ -3,7 +3,9 @@
 // measured with the metric interpolated along it.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
@@ -22,16 +24,18 @@ namespace stvd {
 /// not join. A chain that stays farther from every excluded voxel than it
 /// reaches is not checked at all.
 ///
-/// length(): the midpoint rule with one sample per chain edge the segment
-/// replaces. The segment spans i edges, so the samples sit at the midpoints
-/// of i equal sub-intervals, and at each the norm is the trilinear
-/// interpolation of the voxels' parameters (for Riemannian norms, of the
-/// tensors G; every norm's parameters here are plain structs of floats,
-/// interpolated component by component, which keeps them valid: a convex
-/// combination of positive-definite tensors, or of Randers parameters, is
-/// one). The sample positions are rationals with denominator 2i, computed
-/// exactly, so a sample on a cell face never gives weight to, or reads, a
-/// voxel beyond it: all voxels read are those segmentInDomain checked.
+/// length(): the midpoint rule with one sample per voxel step along the
+/// segment (n = its length in index space under the maximum norm, which is
+/// at most i for a chain of i edges of the 26-neighbourhood): the samples sit
+/// at the midpoints of n equal sub-intervals, and at each the norm is the
+/// trilinear interpolation of the voxels' parameters (for Riemannian norms,
+/// of the tensors G; every norm's parameters here are plain structs of
+/// floats, interpolated component by component, which keeps them valid: a
+/// convex combination of positive-definite tensors, or of Randers
+/// parameters, is one). The sample positions are rationals with denominator
+/// 2n, computed exactly, so a sample on a cell face never gives weight to,
+/// or reads, a voxel beyond it: all voxels read are those segmentInDomain
+/// checked.
 template <class Norm>
 class CandidatePath<VoxelGridDomain, Norm> {
  public:
@@ -43,12 +47,13 @@ class CandidatePath<VoxelGridDomain, Norm> {
       : domain_(domain), metric_(metric) {}
 
   static constexpr bool measuresPaths() { return true; }
+  /// A pending candidate is measured from its two end points alone
+  /// (segmentLength), without its chain.
+  static constexpr bool usesPlacedChain() { return false; }
 
   STVD_ALWAYS_INLINE void beginChain(const VertexId* chain, int count, const Vec3f* placed) {
+    (void)placed;  // a segment's vector comes from its end points' indices
     chain_ = chain;
-    placed_ = placed;
-    count_ = count;
-    for (int c = 0; c < count; ++c) index_[c] = domain_.indexOf(chain[c]);
     // Every candidate's segment stays within (count - 1) stencil radii of
     // v, and within one of v at w: with no excluded voxel that near, none
     // can leave the domain.
@@ -58,14 +63,22 @@ class CandidatePath<VoxelGridDomain, Norm> {
 
   bool mayRefuse() const { return mayRefuse_; }
 
-  STVD_ALWAYS_INLINE bool accepts(int i, VertexId w) { return !mayRefuse_ || domain_.segmentInDomain(chain_[i - 1], w); }
+  STVD_ALWAYS_INLINE bool accepts(int i, VertexId w) const {
+    return !mayRefuse_ || domain_.segmentInDomain(chain_[i - 1], w);
+  }
 
-  STVD_ALWAYS_INLINE float length(int i, VertexId w, Vec3f e) {
-    if (!accepts(i, w)) return kRefusedCandidate;
-    const VoxelIndex a = index_[i - 1], b = domain_.indexOf(w);
-    // The segment's vector in physical space, as the screen had it, split
-    // into i equal pieces.
-    const Vec3f piece = (1.f / static_cast<float>(i)) * (e - placed_[i - 1]);
+  STVD_ALWAYS_INLINE float length(int i, VertexId w, Vec3f) {
+    return accepts(i, w) ? segmentLength(chain_[i - 1], w) : kRefusedCandidate;
+  }
+
+  /// The length of the segment from the centre of `from` to the centre of
+  /// w: length() without a chain, for a pending candidate, which accepts()
+  /// let through when it became pending.
+  STVD_ALWAYS_INLINE float segmentLength(VertexId from, VertexId w) const {
+    const VoxelIndex a = domain_.indexOf(from), b = domain_.indexOf(w);
+    const int i = samplesAlong(a, b);
+    // The segment's vector in physical space, split into i equal pieces.
+    const Vec3f piece = (1.f / static_cast<float>(i)) * domain_.indexOffsetVector(b.i - a.i, b.j - a.j, b.k - a.k);
     // Sample m lies at a + (2m + 1) d / (2i) in index space. Per axis it is
     // kept exactly as low + remainder / (2i), 0 <= remainder < 2i, and
     // stepped by 2d per sample.
@@ -117,8 +130,42 @@ class CandidatePath<VoxelGridDomain, Norm> {
     return total;
   }
 
+  /// Asks for the voxel rows that segmentLength(from, w) will read.
+  STVD_ALWAYS_INLINE void prefetchSegment(VertexId from, VertexId w) const {
+    const VoxelIndex a = domain_.indexOf(from), b = domain_.indexOf(w);
+    const int samples = samplesAlong(a, b);
+    const int denominator = 2 * samples;
+    const int d[3] = {b.i - a.i, b.j - a.j, b.k - a.k};
+    int low[3] = {a.i, a.j, a.k}, remainder[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      remainder[axis] = d[axis];
+      normalise(low[axis], remainder[axis], denominator);
+    }
+    const VertexId strideJ = static_cast<VertexId>(domain_.geometry().size[0]);
+    const VertexId strideK = strideJ * static_cast<VertexId>(domain_.geometry().size[1]);
+    for (int m = 0; m < samples; ++m) {
+      const VertexId row = domain_.vertexAt(low[0], low[1], low[2]);
+      const VertexId nextJ = remainder[1] != 0 ? strideJ : 0, nextK = remainder[2] != 0 ? strideK : 0;
+      for (const VertexId r : {row, row + nextJ, row + nextK, row + nextJ + nextK})
+        detail::prefetchRange(&metric_[r], &metric_[r + (remainder[0] != 0 ? 1 : 0)]);
+      for (int axis = 0; axis < 3; ++axis) {
+        remainder[axis] += 2 * d[axis];
+        normalise(low[axis], remainder[axis], denominator);
+      }
+    }
+  }
+
  private:
   static constexpr int kFloats = static_cast<int>(sizeof(Params) / sizeof(float));
+
+  // One sample per voxel step along the segment: its length in index space
+  // under the maximum norm, the number of steps of a 26-connected line of
+  // voxels from one end to the other. A chain of i edges of the 6-, 18- or
+  // 26-neighbourhood spans at most i such steps; a longer stencil's edge
+  // spans several.
+  STVD_ALWAYS_INLINE static int samplesAlong(const VoxelIndex& a, const VoxelIndex& b) {
+    return std::max({std::abs(b.i - a.i), std::abs(b.j - a.j), std::abs(b.k - a.k), 1});
+  }
 
   // Brings remainder into [0, denominator), moving low by whole steps: a
   // sample moves by |d| / i <= the stencil radius per axis, so this loops
@@ -137,10 +184,7 @@ class CandidatePath<VoxelGridDomain, Norm> {
   const VoxelGridDomain& domain_;
   const MetricField<Norm>& metric_;
   const VertexId* chain_ = nullptr;
-  const Vec3f* placed_ = nullptr;
-  int count_ = 0;
   bool mayRefuse_ = false;
-  VoxelIndex index_[kMaxMemoryDepth];
 };
 
 }  // namespace stvd

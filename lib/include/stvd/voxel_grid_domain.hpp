@@ -123,11 +123,14 @@ class VoxelGridDomain {
     p[0] = Vec3f{};
     for (int c = 1; c < count; ++c) {
       const VoxelIndex q = indexOf(chain[c]);
-      const float di = static_cast<float>(q.i - o.i), dj = static_cast<float>(q.j - o.j),
-                  dk = static_cast<float>(q.k - o.k);
-      p[c] = Vec3f{axisI_.x * di + axisJ_.x * dj + axisK_.x * dk, axisI_.y * di + axisJ_.y * dj + axisK_.y * dk,
-                   axisI_.z * di + axisJ_.z * dj + axisK_.z * dk};
+      p[c] = indexOffsetVector(q.i - o.i, q.j - o.j, q.k - o.k);
     }
+  }
+  /// The physical vector of a (small) index offset, in single precision.
+  Vec3f indexOffsetVector(int di, int dj, int dk) const {
+    const float a = static_cast<float>(di), b = static_cast<float>(dj), c = static_cast<float>(dk);
+    return Vec3f{axisI_.x * a + axisJ_.x * b + axisK_.x * c, axisI_.y * a + axisJ_.y * b + axisK_.y * c,
+                 axisI_.z * a + axisJ_.z * b + axisK_.z * c};
   }
 
   /// Calls f(first, last) for every run of consecutive vertex numbers that

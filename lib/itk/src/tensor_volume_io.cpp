@@ -3,13 +3,17 @@
 // keeps ITK's tensor headers (and the Eigen copy they carry) out of stvd.
 #include <itkMetaDataObject.h>
 
+#include <cmath>
+#include <limits>
 #include <sstream>
 #include <utility>
 
 #include "itk_io_support.hpp"
 #include "nrrd_header.hpp"
-#include "stvd/itk/atomic_output.hpp"
+#include "written_files.hpp"
+#include "stvd/itk/image_files.hpp"
 #include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/mrtrix_image.hpp"
 #include "stvd/itk/tensor_volume.hpp"
 
 namespace stvd::imaging {
@@ -46,10 +50,61 @@ void checkStatedOrder(const std::string& path, const TensorReadOptions& options,
                                  tensorOrderName(*options.order) + " contradicts it");
 }
 
+/// The tensor of six stored components, brought into LPS. A NaN or
+/// infinite component makes every component NaN, in every format: the
+/// file has no tensor there, and the voxel lies outside the domain.
+SymTensor3 tensorInLps(const float* c, TensorOrder order, const Matrix3& toLps) {
+  for (int q = 0; q < 6; ++q)
+    if (!std::isfinite(c[q])) {
+      const float nan = std::numeric_limits<float>::quiet_NaN();
+      return {nan, nan, nan, nan, nan, nan};
+    }
+  return changeTensorFrame(tensorFromComponents(c, order), toLps);
+}
+
+/// Components of voxel v, q = 0..5, in `values` one volume after the other,
+/// brought into LPS.
+void tensorsFromVolumes(const std::vector<float>& values, TensorOrder order, const Matrix3& toLps,
+                        std::vector<SymTensor3>& tensors) {
+  const std::size_t n = values.size() / 6;
+  tensors.resize(n);
+  float c[6];
+  for (std::size_t v = 0; v < n; ++v) {
+    for (int q = 0; q < 6; ++q) c[q] = values[v + n * q];
+    tensors[v] = tensorInLps(c, order, toLps);
+  }
+}
+
+/// An MRtrix tensor image: X Y Z 6, as dwi2tensor writes it (components
+/// D11 D22 D33 D12 D13 D23 along the scanner's RAS axes).
+TensorReadResult readMrtrixTensorVolume(const std::string& path, const TensorReadOptions& options) {
+  MrtrixImage image = readMrtrixImage(path);
+  const std::vector<std::size_t>& size = image.header.size;
+  if (!(size.size() == 4 && size[3] == 6)) {
+    std::string dim;
+    for (std::size_t s : size) dim += (dim.empty() ? "" : ",") + std::to_string(s);
+    throw ImageIoError(path, "not a tensor volume: an MRtrix tensor image has four axes with 6 volumes "
+                             "(dim X,Y,Z,6), this one has dim " + dim);
+  }
+  TensorReadResult result;
+  TensorFileInfo& info = result.info;
+  info.layout = TensorFileLayout::MrtrixSixVolumes;
+  info.order = options.order.value_or(TensorOrder::Mrtrix);
+  info.frameWasStated = options.frame.has_value();
+  info.frame = options.frame.value_or(defaultTensorFrame(info.layout, info.order));
+  info.componentType = image.header.datatype;
+  result.volume.geometry = image.geometry;
+  info.componentsToLps = info.frame == TensorFrame::Voxel ? voxelAxes(image.geometry) : rasToLps();
+  tensorsFromVolumes(image.values, info.order, info.componentsToLps, result.volume.tensors);
+  return result;
+}
+
 }  // namespace
 
 TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options) {
-  itk::ImageIOBase::Pointer io = detail::openImageForReading(path);
+  if (isMrtrixImagePath(path)) return readMrtrixTensorVolume(path, options);
+  detail::OpenedImage image = detail::openImageForReading(path);
+  itk::ImageIOBase::Pointer io = image.io;
   const std::string ioClass = io->GetNameOfClass();
   const unsigned dims = io->GetNumberOfDimensions();
   const unsigned components = io->GetNumberOfComponents();
@@ -57,6 +112,7 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
 
   TensorReadResult result;
   TensorFileInfo& info = result.info;
+  info.warnings = image.screened.warnings;
   info.componentType = itk::ImageIOBase::GetComponentTypeAsString(io->GetComponentType());
   // How the components sit in ITK's buffer: interleaved per voxel (true) or
   // one volume after the other (false).
@@ -77,7 +133,10 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
     // ITK hands the six tensor values over in NRRD's own order, xx xy xz yy yz zz.
     bufferOrder = TensorOrder::Fsl;
   } else if (ioClass == "NiftiImageIO") {
-    if (dims == 3 && components == 6 && tensorPixel) {
+    // ITK drops the third axis of a 5D file of one slice (geometryOf()
+    // takes it back from the header).
+    const bool oneSlice = dims < 3 && image.screened.niftiDim[0] == 5 && image.screened.niftiDim[3] == 1;
+    if ((dims == 3 || oneSlice) && components == 6 && tensorPixel) {
       info.layout = TensorFileLayout::NiftiSymMatrix5D;
       info.order = TensorOrder::Lower;
       checkStatedOrder(path, options, info.layout, info.order);
@@ -111,18 +170,20 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
   info.frame = options.frame.value_or(defaultTensorFrame(info.layout, info.order));
 
   TensorVolume& volume = result.volume;
-  volume.geometry = detail::geometryOf(*io, path);
-  const std::vector<float> values = detail::readAllComponents(*io, path);
+  volume.geometry = detail::geometryOf(image, path);
+  const std::vector<float> values = detail::readAllComponents(image, path);
   const std::size_t n = volume.geometry.voxelCount();
   if (values.size() != 6 * n)
     throw ImageIoError(path, "holds " + std::to_string(values.size()) + " values, expected 6 per voxel");
 
   const Matrix3 toLps = fileToLps(info, volume.geometry);
-  volume.tensors.resize(n);
-  float c[6];
-  for (std::size_t v = 0; v < n; ++v) {
-    for (int q = 0; q < 6; ++q) c[q] = interleaved ? values[6 * v + q] : values[v + n * q];
-    volume.tensors[v] = changeTensorFrame(tensorFromComponents(c, bufferOrder), toLps);
+  info.componentsToLps = toLps;
+  if (interleaved) {
+    volume.tensors.resize(n);
+    for (std::size_t v = 0; v < n; ++v)
+      volume.tensors[v] = tensorInLps(&values[6 * v], bufferOrder, toLps);
+  } else {
+    tensorsFromVolumes(values, bufferOrder, toLps, volume.tensors);
   }
 
   if (info.layout == TensorFileLayout::NrrdMaskedSymMatrix) {
@@ -156,7 +217,8 @@ void writeTensorVolume(const std::string& path, const TensorVolume& volume,
     toLps = nrrd ? Matrix3{1, 0, 0, 0, 1, 0, 0, 0, 1} : rasToLps();
   const Matrix3 fromLps = transpose(toLps);
 
-  const bool sixVolumes = options.layout == TensorFileLayout::NiftiSixVolumes;
+  const bool mrtrix = options.layout == TensorFileLayout::MrtrixSixVolumes;
+  const bool sixVolumes = options.layout == TensorFileLayout::NiftiSixVolumes || mrtrix;
   const TensorOrder order = sixVolumes ? options.order : TensorOrder::Fsl;
   std::vector<float> buffer(6 * n);
   float c[6];
@@ -165,24 +227,32 @@ void writeTensorVolume(const std::string& path, const TensorVolume& volume,
     for (int q = 0; q < 6; ++q) (sixVolumes ? buffer[v + n * q] : buffer[6 * v + q]) = c[q];
   }
 
-  AtomicOutput output(path);
-  itk::ImageIOBase::Pointer io =
-      sixVolumes ? detail::createFloatWriter(output.stagingPath(), path, g, 1, itk::IOPixelEnum::SCALAR, 6)
-                 : detail::createFloatWriter(output.stagingPath(), path, g, 6,
-                                             itk::IOPixelEnum::SYMMETRICSECONDRANKTENSOR);
-  const std::string ioClass = io->GetNameOfClass();
-  if (nrrd != (ioClass == "NrrdImageIO"))
+  if (mrtrix != isMrtrixImagePath(path))
     throw ImageIoError(path, "the extension does not match the layout " + tensorFileLayoutName(options.layout));
-  if (nrrd && options.frame == TensorFrame::Voxel) {
-    // The measurement frame's columns are the index axes in LPS.
-    std::vector<std::vector<double>> frame(3, std::vector<double>(3));
-    for (int col = 0; col < 3; ++col)
-      for (int r = 0; r < 3; ++r) frame[col][r] = toLps[3 * r + col];
-    itk::EncapsulateMetaData<std::vector<std::vector<double>>>(io->GetMetaDataDictionary(),
-                                                               "NRRD_measurement frame", frame);
-  }
-  detail::writeFloatData(*io, path, buffer.data());
-  output.commit();
+  detail::writeAtomically(path, [&](const std::string& staging) {
+    if (mrtrix) {
+      writeMrtrixImage(staging, path, g, buffer, 6);
+      detail::checkWrittenImage(staging, path, buffer);
+      return;
+    }
+    itk::ImageIOBase::Pointer io =
+        sixVolumes ? detail::createFloatWriter(staging, path, g, 1, itk::IOPixelEnum::SCALAR, 6)
+                   : detail::createFloatWriter(staging, path, g, 6, itk::IOPixelEnum::SYMMETRICSECONDRANKTENSOR);
+    const std::string ioClass = io->GetNameOfClass();
+    if (nrrd != (ioClass == "NrrdImageIO"))
+      throw ImageIoError(path, "the extension does not match the layout " + tensorFileLayoutName(options.layout));
+    if (nrrd && options.frame == TensorFrame::Voxel) {
+      // The measurement frame's columns are the index axes in LPS.
+      std::vector<std::vector<double>> frame(3, std::vector<double>(3));
+      for (int col = 0; col < 3; ++col)
+        for (int r = 0; r < 3; ++r) frame[col][r] = toLps[3 * r + col];
+      itk::EncapsulateMetaData<std::vector<std::vector<double>>>(io->GetMetaDataDictionary(),
+                                                                 "NRRD_measurement frame", frame);
+    }
+    checkImageOutputCompanions(path);
+    detail::writeFloatData(*io, path, buffer.data());
+    detail::checkWrittenImage(staging, path, buffer);
+  });
 }
 
 }  // namespace stvd::imaging

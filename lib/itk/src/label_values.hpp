@@ -1,0 +1,26 @@
+// What a stored value means as a label, whatever the file format: the rules
+// of readLabelImage (scalar_image.hpp), shared by the ITK path and the
+// MRtrix reader. Private to the adapter.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "stvd/grid_geometry.hpp"
+
+namespace stvd::imaging::detail {
+
+/// "(i, j, k)" of voxel number `v` of `g`, for messages.
+std::string voxelText(const GridGeometry& g, std::size_t v);
+
+/// The label of an unsigned 64-bit value; a value beyond 2^63 - 1 throws
+/// ImageIoError naming `path` and the voxel.
+std::int64_t labelOfUnsigned64(std::uint64_t value, const std::string& path, const GridGeometry& g, std::size_t v);
+
+/// The label of a floating-point value: NaN is 0 (no label), an integer of
+/// magnitude at most 2^53 is itself; any other value throws ImageIoError
+/// naming `path`, the voxel and the value.
+std::int64_t labelOfReal(double x, const std::string& path, const GridGeometry& g, std::size_t v);
+
+}  // namespace stvd::imaging::detail
