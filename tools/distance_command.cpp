@@ -70,7 +70,7 @@ const char* kDistanceHelp =
     "                          slow accurate reference (needs --steiner; docs/steiner.md).\n"
     "  --steiner M             lanthier: Steiner points per cube edge, 1..16; time and memory grow\n"
     "                          like M^4 and M^2 (shipped brain: M = 2 3 s, M = 8 4 min, 1.1 GB).\n"
-    "  --k N                   STVD memory depth, 1..16 (default 8; see docs/cli.md).\n"
+    "  --k N                   STVD memory depth, 1..16 (default 6; see docs/cli.md).\n"
     "  --chain-measure R       how STVD measures a sum of chain edges: largest (default; with the\n"
     "                          most expensive edge norm on the chain, robust on noisy tensor\n"
     "                          fields) or projection (the paper's rule, which underestimates on\n"

@@ -54,7 +54,7 @@ const char* kPathHelp =
     "\n"
     "Propagation (as in stvd distance):\n"
     "  --method M              stvd (default) or dijkstra.\n"
-    "  --k N                   STVD memory depth, 1..16 (default 8).\n"
+    "  --k N                   STVD memory depth, 1..16 (default 6).\n"
     "  --chain-measure R       largest (default) or projection.\n"
     "  --stencil S             6, 18, 26 (default), 98 or 290.\n"
     "  --no-memory-check       run even when the estimate of the memory needed exceeds the\n"

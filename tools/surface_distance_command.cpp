@@ -174,6 +174,7 @@ SurfaceOptions parse(int argc, char** argv) {
   if (!needsGamma && o.anisotropyGiven)
     usageError("--anisotropy applies to the curvature and field metrics only");
   checkMeshPropagationChoice(o, "face edge", 4);
+  if (!o.kGiven) o.k = defaultMemoryDepth<SurfaceDomain>();
   return o;
 }
 

@@ -73,7 +73,7 @@ const char* kTetDistanceHelp =
     "  --outside-image P       with an image, for vertices beyond the image's extent: error\n"
     "                          (default; exit 3) or mask (left out of the domain).\n"
     "\n"
-    "Propagation: --method stvd|dijkstra|lanthier, --k N (default 8), --chain-measure\n"
+    "Propagation: --method stvd|dijkstra|lanthier, --k N (default 6), --chain-measure\n"
     "segment|projection|largest (default segment: each candidate's straight segment is walked\n"
     "through the tetrahedra, refused where it leaves the domain and measured with the metric\n"
     "interpolated in each tetrahedron it crosses; docs/tet_meshes.md), --max-distance D.\n"
@@ -185,6 +185,7 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
   if (o.seedVertices.empty() && o.seedPoints.empty())
     usageError("no seed: give --seed-vertex or --seed-point");
   checkMeshPropagationChoice(o, "tetrahedron edge", 2);
+  if (!o.kGiven) o.k = defaultMemoryDepth<CellMeshDomain>();
   tetmesh::TetMeshOutputFormat format;
   if (imaging::hasImageExtension(o.output)) {
     checkImageOutputSpelling(o.output);

@@ -147,7 +147,7 @@ TEST_P(RealMeshAgainstExactGeodesics, TheDefaultBeatsDijkstraAndLanthierWithFour
   for (const VertexId source : kSources) {
     const Scene s = loadScene(GetParam(), source);
     const std::string label = std::string(GetParam().name) + " from " + std::to_string(source);
-    const double stvd = stvdErrors(s, label, kDefaultMemoryDepth).mean();
+    const double stvd = stvdErrors(s, label, kDefaultSurfaceMemoryDepth).mean();
     const double dijkstra = dijkstraErrors(s, label).mean();
     const double lanthier = lanthierErrors(s, label, 4).mean();
     if (GetParam().curved) {
@@ -197,7 +197,7 @@ TEST_P(RealMeshUnderTheCurvatureMetric, StaysAboveLanthierWithSixteenSteinerPoin
       const RelativeErrors e = stvdErrors(s, label, k);
       EXPECT_GT(e.minSigned(), -GetParam().belowLanthier) << label << ", k = " << k;
       EXPECT_LT(e.mean(), 1.05 * previous) << label << ", k = " << k;
-      if (k == kDefaultMemoryDepth) {
+      if (k == kDefaultSurfaceMemoryDepth) {
         EXPECT_LT(2.0 * e.mean(), d.mean()) << label;
       }
       previous = e.mean();

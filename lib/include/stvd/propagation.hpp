@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "stvd/cell_mesh_domain.hpp"
@@ -78,9 +79,22 @@ enum class SegmentScreen {
 
 /// Largest supported short-term memory depth k.
 inline constexpr int kMaxMemoryDepth = 16;
-/// Default k of the library and the tool, chosen from the accuracy/time
-/// tables in docs/benchmarks.md.
-inline constexpr int kDefaultMemoryDepth = 8;
+/// Default k on volumes (voxel grids, tetrahedral and polyhedral meshes), in
+/// the library and the tool alike, chosen from the accuracy/time tables in
+/// docs/benchmarks.md: on curved metrics the segment measure's error falls
+/// little beyond it (anisotropy 20: 1.48 % at k = 6, 1.41 % at 8), while its
+/// cost grows by about a third of Dijkstra's per step of k.
+inline constexpr int kDefaultMemoryDepth = 6;
+/// Default k on surfaces (docs/surfaces.md): lines across badly shaped
+/// triangles need longer chains (CAD mesh "cheese": 5.8 % at k = 4, 1.9 % at
+/// k = 8 against exact geodesics).
+inline constexpr int kDefaultSurfaceMemoryDepth = 8;
+/// The default k of a domain: kDefaultMemoryDepth, or for surfaces
+/// kDefaultSurfaceMemoryDepth (specialised in surface_domain.hpp).
+template <class Domain>
+constexpr int defaultMemoryDepth() {
+  return kDefaultMemoryDepth;
+}
 /// Default rule of the library and the tool.
 inline constexpr ChainMeasure kDefaultChainMeasure = ChainMeasure::Segment;
 
@@ -93,8 +107,9 @@ struct PropagationProgress {
 
 struct PropagationOptions {
   Method method = Method::ShortTermVectorDijkstra;
-  /// STVD memory depth, 1..kMaxMemoryDepth. k = 1 is Dijkstra exactly.
-  int k = kDefaultMemoryDepth;
+  /// STVD memory depth, 1..kMaxMemoryDepth (k = 1 is Dijkstra exactly);
+  /// unset: the domain's default (defaultMemoryDepth).
+  std::optional<int> k;
   /// How STVD measures a candidate.
   ChainMeasure chainMeasure = kDefaultChainMeasure;
   /// How ChainMeasure::Segment ranks candidates before measuring one.
@@ -148,6 +163,12 @@ struct PropagationResult {
 /// result's 12 bytes per slot. For checking a run against the memory
 /// available before it starts (stvd/system_memory.hpp).
 std::uint64_t propagationMemoryEstimate(std::uint64_t vertexCount, std::uint64_t domainVertexCount);
+
+/// The memory depth a run of `options` over a Domain uses.
+template <class Domain>
+int memoryDepth(const PropagationOptions& options) {
+  return options.k.value_or(defaultMemoryDepth<Domain>());
+}
 
 /// Propagates distances from `sources` (distance 0) over `domain` under
 /// `metric`. Throws std::invalid_argument when the metric's size differs from

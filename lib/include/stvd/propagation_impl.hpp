@@ -310,20 +310,6 @@ STVD_ALWAYS_INLINE bool measuresWhileChecking(const Path& path) {
     return false;
 }
 
-/// CandidatePath::usesPlacedChain(), where a path offers it; true (the
-/// chain is rebuilt and length() called) where it does not.
-template <class Path, class = void>
-struct OffersUsesPlacedChain : std::false_type {};
-template <class Path>
-struct OffersUsesPlacedChain<Path, std::void_t<decltype(Path::usesPlacedChain())>> : std::true_type {};
-template <class Path>
-constexpr bool usesPlacedChain() {
-  if constexpr (OffersUsesPlacedChain<Path>::value)
-    return Path::usesPlacedChain();
-  else
-    return true;
-}
-
 /// A domain's CandidatePath, given the options where it takes them (a
 /// surface checks the segment measure's lines only, and leaves the chain
 /// rules as the paper defines them).
@@ -374,7 +360,7 @@ class Propagation {
 
     // STVD with k = 1 runs the vector code with an empty memory; that it
     // matches Dijkstra bit for bit is tested.
-    const int k = options_.k;
+    const int k = memoryDepth<Domain>(options_);
     if constexpr (Deferred) {
       if (options_.segmentScreen == SegmentScreen::ChainMean && ChainUnfolding<Domain>::kEdgeNormIsMean)
         runVector<ChainRule::ChainMean>(k, isTarget, remainingTargets);
@@ -488,7 +474,7 @@ class Propagation {
   // candidate was found when the front was one edge behind) is asked for
   // while the current vertex is relaxed.
   STVD_ALWAYS_INLINE void prefetchPending(VertexId u) {
-    if constexpr (!usesPlacedChain<CandidatePath<Domain, Norm>>()) {
+    if constexpr (!CandidatePath<Domain, Norm>::usesPlacedChain()) {
       const VertexId base = state_[u].pendingBase;
       if (base == kNoVertex) return;
       detail::prefetch(&state_[base]);
@@ -511,7 +497,7 @@ class Propagation {
       const std::int64_t step = static_cast<std::int64_t>(p2) - static_cast<std::int64_t>(p1);
       const std::int64_t count = static_cast<std::int64_t>(state_.size());
       std::int64_t guess = p2;
-      for (int m = 2; m < options_.k && guess >= 0 && guess < count; ++m, guess += step) {
+      for (int m = 2; m < memoryDepth<Domain>(options_) && guess >= 0 && guess < count; ++m, guess += step) {
         detail::prefetch(&state_[static_cast<std::size_t>(guess)]);
         detail::prefetch(&metric_[static_cast<std::size_t>(guess)]);
       }
@@ -791,7 +777,7 @@ class Propagation {
     const VertexId v = sw.predecessor, base = sw.pendingBase;
     sw.pendingBase = kNoVertex;
     float l;
-    if constexpr (usesPlacedChain<CandidatePath<Domain, Norm>>()) {
+    if constexpr (CandidatePath<Domain, Norm>::usesPlacedChain()) {
       // The path depends on the chain between c_{i-1} and v (a surface's
       // unfolding): rebuild it.
       VertexId chain[kMaxMemoryDepth];
@@ -899,16 +885,16 @@ PropagationResult propagate(const Domain& domain, const MetricField<Norm>& metri
     if (!domain.contains(t))
       throw std::invalid_argument("target vertex " + std::to_string(t) +
                                   " lies outside the domain");
-  if (options.method == Method::ShortTermVectorDijkstra &&
-      (options.k < 1 || options.k > kMaxMemoryDepth))
-    throw std::invalid_argument("STVD memory depth k = " + std::to_string(options.k) +
-                                " is outside 1.." + std::to_string(kMaxMemoryDepth));
+  const int k = memoryDepth<Domain>(options);
+  if (options.method == Method::ShortTermVectorDijkstra && (k < 1 || k > kMaxMemoryDepth))
+    throw std::invalid_argument("STVD memory depth k = " + std::to_string(k) + " is outside 1.." +
+                                std::to_string(kMaxMemoryDepth));
   if (std::isnan(options.maxDistance))
     throw std::invalid_argument("maximum distance is NaN");
   // ChainMeasure::Segment on a domain that measures along paths defers its
   // measurements, with a record of its own per vertex.
   if (options.method == Method::ShortTermVectorDijkstra && options.chainMeasure == ChainMeasure::Segment &&
-      options.k > 1 && measuresPathsOn<Domain, Norm>(domain))
+      k > 1 && measuresPathsOn<Domain, Norm>(domain))
     return detail::Propagation<Domain, Norm, true>(domain, metric, options).run(sources);
   return detail::Propagation<Domain, Norm, false>(domain, metric, options).run(sources);
 }

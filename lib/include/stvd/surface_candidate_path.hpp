@@ -54,6 +54,9 @@ class CandidatePath<SurfaceDomain, RiemannianNorm> {
   CandidatePath(const SurfaceDomain& surface, const RiemannianMetric& metric, const PropagationOptions& options);
 
   static constexpr bool measuresPaths() { return true; }
+  /// A line's length depends on the chain it was unfolded along: a pending
+  /// candidate is measured through beginChain() and length().
+  static constexpr bool usesPlacedChain() { return true; }
 
   void beginChain(const VertexId* chain, int count, const Vec3f*) {
     chain_ = chain;

@@ -178,6 +178,11 @@ class SurfaceDomain {
 /// (paper, figure 8). Nothing of the surface's embedding beyond lengths and
 /// corner angles is used.
 template <>
+constexpr int defaultMemoryDepth<SurfaceDomain>() {
+  return kDefaultSurfaceMemoryDepth;
+}
+
+template <>
 struct ChainUnfolding<SurfaceDomain> {
   /// Edge norms are carried into the unfolded frame, not plain means.
   static constexpr bool kEdgeNormIsMean = false;
