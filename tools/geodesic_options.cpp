@@ -59,6 +59,17 @@ bool parsePropagationOption(const std::string& a, ArgumentReader& args, Propagat
   } else if (a == "--no-memory-check") {
     args.noValue(a);
     o.memoryCheck = false;
+  } else if (a == "--domain-connectivity") {
+    const std::string c = args.value(a);
+    if (c == "6")
+      o.connectivity = VoxelConnectivity::Faces;
+    else if (c == "18")
+      o.connectivity = VoxelConnectivity::Edges;
+    else if (c == "26")
+      o.connectivity = VoxelConnectivity::Corners;
+    else
+      usageError("--domain-connectivity: '" + c + "' is not one of 6, 18, 26");
+    o.connectivityGiven = true;
   } else if (a == "--stencil") {
     o.stencil = args.value(a);
     o.stencilGiven = true;
@@ -96,10 +107,23 @@ void checkPropagationChoice(const PropagationChoice& o, bool lanthierAllowed) {
     usageError("--method lanthier gives distances but no predecessors, which paths need; use stvd or dijkstra");
   checkCommonChoice(o, /*stvdOnly=*/true, "cube edge", 2);
   if (o.lanthier && o.stencilGiven) usageError("--stencil does not apply to --method lanthier (it uses cubes)");
+  // Every method must reach the same voxels: a stencil has to contain the
+  // steps across the contacts that the connectivity joins (the 98 and 290
+  // stencils contain all 26 unit steps).
+  if (!o.lanthier) {
+    const bool edgeSteps = o.stencil != "6", cornerSteps = edgeSteps && o.stencil != "18";
+    if (o.connectivity == VoxelConnectivity::Edges && !edgeSteps)
+      usageError("--domain-connectivity 18 joins voxels that touch along an edge, which the 6-neighbour stencil "
+                 "cannot step between; use --stencil 18 or larger");
+    if (o.connectivity == VoxelConnectivity::Corners && !cornerSteps)
+      usageError("--domain-connectivity 26 joins voxels that touch at a corner, which the " + o.stencil +
+                 "-neighbour stencil cannot step between; use --stencil 26 or larger");
+  }
 }
 
 void checkMeshPropagationChoice(const PropagationChoice& o, const std::string& cellEdge, int suggestedSteinerPoints) {
   checkCommonChoice(o, /*stvdOnly=*/false, cellEdge, suggestedSteinerPoints);
+  if (o.connectivityGiven) usageError("--domain-connectivity applies to voxel grids only");
 }
 
 PropagationOptions propagationOptions(const PropagationChoice& o) {
@@ -118,6 +142,15 @@ std::string methodText(const PropagationChoice& o) {
                         : o.chainMeasure == ChainMeasure::LargestEdgeNorm ? " (largest-norm chain measure)"
                                                                           : " (projection chain measure)";
   return "STVD with k = " + std::to_string(o.k) + measure;
+}
+
+std::string connectivityText(VoxelConnectivity c) {
+  switch (c) {
+    case VoxelConnectivity::Faces: return "domain connectivity 6 (voxels joined through faces only)";
+    case VoxelConnectivity::Edges: return "domain connectivity 18 (voxels also joined across edge contacts)";
+    case VoxelConnectivity::Corners: return "domain connectivity 26 (voxels also joined across edge and corner contacts)";
+  }
+  return "?";
 }
 
 std::string voxelText(const VoxelIndex& v) {

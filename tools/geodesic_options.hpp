@@ -22,7 +22,8 @@ struct SeedOptions {
   std::string seedLabels;
 };
 
-/// --method, --steiner, --k, --chain-measure, --stencil, --no-memory-check.
+/// --method, --steiner, --k, --chain-measure, --stencil, --domain-connectivity,
+/// --no-memory-check.
 struct PropagationChoice {
   Method method = Method::ShortTermVectorDijkstra;
   bool lanthier = false;  // Steiner-point propagation instead of `method`
@@ -35,20 +36,26 @@ struct PropagationChoice {
   bool stencilGiven = false;
   /// --no-memory-check: run even when the estimate exceeds the available memory.
   bool memoryCheck = true;
+  /// Which contacts between domain voxels paths may pass (volumes only).
+  VoxelConnectivity connectivity = VoxelConnectivity::Faces;
+  bool connectivityGiven = false;
 };
 
 /// When `option` is a seed option, reads it into `seeds` and returns true.
 bool parseSeedOption(const std::string& option, ArgumentReader& args, SeedOptions& seeds);
 /// When `option` is a propagation option, reads it into `choice` and returns true.
 bool parsePropagationOption(const std::string& option, ArgumentReader& args, PropagationChoice& choice);
-/// Usage errors for combinations that make no sense (--k with Dijkstra, ...).
-/// Commands that need predecessors (paths) refuse lanthier, which has none.
+/// Usage errors for combinations that make no sense (--k with Dijkstra, a
+/// stencil that cannot step across the contacts --domain-connectivity
+/// joins, ...). Commands that need predecessors (paths) refuse lanthier,
+/// which has none.
 void checkPropagationChoice(const PropagationChoice& choice, bool lanthierAllowed);
 /// The same rules for the tetrahedral-mesh and surface commands, which have
 /// no stencil (parse them with parsePropagationOption but not --stencil)
 /// and, as they always have, accept and ignore --k and --chain-measure with
-/// dijkstra. `cellEdge` names the edges that carry the Steiner points in
-/// messages ("tetrahedron edge", "face edge").
+/// dijkstra; --domain-connectivity applies to voxel grids only. `cellEdge`
+/// names the edges that carry the Steiner points in messages ("tetrahedron
+/// edge", "face edge").
 void checkMeshPropagationChoice(const PropagationChoice& choice, const std::string& cellEdge,
                                 int suggestedSteinerPoints);
 /// The propagation options of the choice (k = 1 for Dijkstra; not lanthier).
@@ -56,6 +63,9 @@ PropagationOptions propagationOptions(const PropagationChoice& choice);
 /// "STVD with k = 8 (largest-norm chain measure)", "Dijkstra" or the
 /// Steiner-point method with its M.
 std::string methodText(const PropagationChoice& choice);
+/// What the domain's connectivity joins, for summaries: "connectivity 6
+/// (voxels joined through faces only)".
+std::string connectivityText(VoxelConnectivity connectivity);
 
 /// A voxel the user named, and how (for messages).
 struct Seed {

@@ -57,6 +57,8 @@ const char* kPathHelp =
     "  --k N                   STVD memory depth, 1..16 (default 6).\n"
     "  --chain-measure R       largest (default) or projection.\n"
     "  --stencil S             6, 18, 26 (default), 98 or 290.\n"
+    "  --domain-connectivity C 6 (default), 18 or 26: which domain voxels touch; paths keep to\n"
+    "                          the same region as the distances.\n"
     "  --no-memory-check       run even when the estimate of the memory needed exceeds the\n"
     "                          memory available.\n"
     "\n"
@@ -246,7 +248,7 @@ int runPath(int argc, char** argv) {
   checkMemory(o.input,
               propagationMemoryEstimate(g.voxelCount(), built.counts.domain) + 2 * sizeof(float) * g.voxelCount(),
               methodText(o) + " on " + withThousands(built.counts.domain) + " domain voxels", !o.memoryCheck);
-  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
+  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain, o.connectivity);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   std::vector<VertexId> sources;
   for (const Seed& s : seeds) sources.push_back(domain.vertexAt(s.index.i, s.index.j, s.index.k));
@@ -357,7 +359,8 @@ int runPath(int argc, char** argv) {
   }
   if (!o.quiet) {
     std::cout << summary.str();
-    std::cout << "Method: " << methodText(o) << " on the " << o.stencil << "-neighbour stencil; " << seeds.size()
+    std::cout << "Method: " << methodText(o) << " on the " << o.stencil << "-neighbour stencil, "
+              << connectivityText(o.connectivity) << "; " << seeds.size()
               << (seeds.size() == 1 ? " seed voxel" : " seed voxels") << ". Took "
               << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s (propagation "
               << fixed(propagationSeconds, 2) << ", paths " << fixed(tracingSeconds, 3) << "). Wrote " << o.output
