@@ -4,12 +4,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
+#include "report_request.hpp"
+#include "run_statistics.hpp"
 #include "stvd/geodesic_path.hpp"
 #include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
@@ -46,6 +47,10 @@ const char* kConnectivityHelp =
     "                          the table does not depend on N.\n"
     "  --method, --k, --chain-measure, --stencil   as in stvd distance (defaults stvd, 8,\n"
     "                          largest, 26).\n"
+    "  --stats FILE.json       parameters, counts and seconds as JSON (as stvd distance writes).\n"
+    "  --report FILE.html      a self-contained QC page: the regions over FA, the matrices as heat\n"
+    "                          maps, the statistics and the warnings (Python 3 and matplotlib;\n"
+    "                          docs/report.md).\n"
     "  -q, --quiet             no summary on stdout.\n"
     "\n"
     "%TENSOR%"
@@ -58,6 +63,8 @@ struct ConnectivityOptions : PropagationChoice {
   std::string input;
   std::string labels;
   std::string output;
+  std::string statsPath;
+  std::string reportPath;
   TensorInputOptions tensor;
   unsigned threads = 0;
   bool quiet = false;
@@ -73,6 +80,10 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
       o.output = args.value(a);
     } else if (a == "--labels") {
       o.labels = args.value(a);
+    } else if (a == "--stats") {
+      o.statsPath = args.value(a);
+    } else if (a == "--report") {
+      o.reportPath = args.value(a);
     } else if (a == "--threads") {
       const int n = parseInteger(a, args.value(a));
       if (n < 1 || n > 1024) usageError("--threads must be between 1 and 1024");
@@ -102,9 +113,12 @@ int runConnectivity(int argc, char** argv) {
   const ConnectivityOptions o = parseConnectivityOptions(argc, argv);
   try {
     imaging::checkOutputPath(o.output);
+    if (!o.statsPath.empty()) imaging::checkOutputPath(o.statsPath);
   } catch (const imaging::ImageIoError& e) {
     throw ToolError(kExitOutput, e.what());
   }
+  ReportRequest report;
+  report.start(o.reportPath);
   const TensorInput input = readTensorInput(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
   imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
@@ -139,14 +153,23 @@ int runConnectivity(int argc, char** argv) {
           << "\t" << number(r.straight) << "\t" << number(index) << "\t" << regions[a].voxels.size() << "\t"
           << regions[b].voxels.size() << "\n";
     }
+  report.requireReady();  // nothing is written when the report could not be drawn
+  RunStatistics run;
+  run.command = "connectivity";
+  run.commandLine = commandLineText(argc, argv);
+  run.input = o.input;
+  run.output = o.output;
+  run.choice = &o;
+  run.tensor = &o.tensor;
+  run.tensorInput = &input;
+  run.counts = built.counts;
+  run.labels = o.labels;
+  run.extraMembers = {"\"regions\": {\"count\": " + std::to_string(n) + ", \"left_out\": " + std::to_string(empty) +
+                      ", \"threads\": " + std::to_string(threadCount) + "}"};
+  run.seconds = {{"total", std::chrono::duration<double>(Clock::now() - start).count()}};
   try {
-    imaging::AtomicOutput output(o.output);
-    {
-      std::ofstream file(output.stagingPath());
-      file << tsv.str();
-      if (!file.flush()) throw imaging::ImageIoError(o.output, "cannot write the table");
-    }
-    output.commit();
+    writeTextAtomically(o.output, tsv.str());
+    if (!o.statsPath.empty()) writeTextAtomically(o.statsPath, statisticsJson(run));
   } catch (const imaging::ImageIoError& e) {
     throw ToolError(kExitOutput, e.what());
   }
@@ -157,6 +180,16 @@ int runConnectivity(int argc, char** argv) {
               << "-neighbour stencil, " << threadCount << (threadCount == 1 ? " thread" : " threads") << ". Took "
               << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s. Wrote " << o.output
               << "." << std::endl;
+  if (report.requested()) {
+    ScratchFolder scratch;
+    const std::string statsPath = o.statsPath.empty() ? scratch.file("run.json") : o.statsPath;
+    try {
+      if (o.statsPath.empty()) writeTextAtomically(statsPath, statisticsJson(run));
+    } catch (const imaging::ImageIoError& e) {
+      throw ToolError(kExitOutput, e.what());
+    }
+    report.write({"--stats", statsPath}, o.quiet);
+  }
   return kExitOk;
 }
 

@@ -11,6 +11,8 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
+#include "report_request.hpp"
+#include "run_statistics.hpp"
 #include "stvd/geodesic_path.hpp"
 #include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
@@ -75,6 +77,10 @@ const char* kPathHelp =
     "                          entries), and FA per point (.trk scalars, .vtk point data).\n"
     "  --tsv FILE              the per-path summary table (default: FILE with the extension\n"
     "                          replaced by .tsv).\n"
+    "  --stats FILE.json       parameters, counts and seconds as JSON (as stvd distance writes).\n"
+    "  --report FILE.html      a self-contained QC page: the paths over the distance map and FA,\n"
+    "                          their figures, the statistics and the warnings (Python 3 and\n"
+    "                          matplotlib; docs/report.md).\n"
     "  -q, --quiet             no summary on stdout.\n"
     "  -h, --help              this text.\n"
     "\n"
@@ -87,6 +93,8 @@ struct PathOptions : SeedOptions, PropagationChoice {
   std::string input;
   std::string output;
   std::string tsvPath;
+  std::string statsPath;
+  std::string reportPath;
   std::vector<std::array<int, 3>> targetVoxels;
   std::vector<std::array<double, 3>> targetPoints;
   std::string targetLabels;
@@ -113,6 +121,10 @@ PathOptions parsePathOptions(int argc, char** argv) {
       o.output = args.value(a);
     } else if (a == "--tsv") {
       o.tsvPath = args.value(a);
+    } else if (a == "--stats") {
+      o.statsPath = args.value(a);
+    } else if (a == "--report") {
+      o.reportPath = args.value(a);
     } else if (a == "--target-voxel") {
       o.targetVoxels.push_back(parseIntegerTriple(a, args.value(a)));
     } else if (a == "--target-point") {
@@ -159,16 +171,6 @@ using Target = imaging::PathTarget;
 
 std::string tsvNumber(double x, int decimals) { return std::isfinite(x) ? fixed(x, decimals) : "n/a"; }
 
-void writeTextAtomically(const std::string& path, const std::string& text) {
-  imaging::AtomicOutput output(path);
-  {
-    std::ofstream file(output.stagingPath());
-    file << text;
-    if (!file.flush()) throw imaging::ImageIoError(path, "cannot write the file");
-  }
-  output.commit();
-}
-
 }  // namespace
 
 int runPath(int argc, char** argv) {
@@ -177,9 +179,12 @@ int runPath(int argc, char** argv) {
   try {
     imaging::checkOutputPath(o.output);
     imaging::checkOutputPath(o.tsvPath);
+    if (!o.statsPath.empty()) imaging::checkOutputPath(o.statsPath);
   } catch (const imaging::ImageIoError& e) {
     throw ToolError(kExitOutput, e.what());
   }
+  ReportRequest report;
+  report.start(o.reportPath);
 
   const TensorInput input = readTensorInput(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
@@ -272,6 +277,25 @@ int runPath(int argc, char** argv) {
   }
   const double tracingSeconds = std::chrono::duration<double>(Clock::now() - tracingStart).count();
 
+  report.requireReady();  // nothing is written when the report could not be drawn
+  RunStatistics run;
+  run.command = "path";
+  run.commandLine = commandLineText(argc, argv);
+  run.input = o.input;
+  run.output = o.output;
+  run.outputs = {{"paths", o.output}, {"paths_table", o.tsvPath}};
+  run.choice = &o;
+  run.tensor = &o.tensor;
+  run.tensorInput = &input;
+  run.counts = built.counts;
+  run.seedLabels = o.seedLabels;
+  run.seeds = &seeds;
+  run.labelSeedsLeftOut = leftOut;
+  run.result = &result;
+  run.extraMembers = {"\"path_count\": " + std::to_string(targets.size())};
+  run.seconds = {{"propagate", propagationSeconds},
+                 {"paths", tracingSeconds},
+                 {"total", std::chrono::duration<double>(Clock::now() - start).count()}};
   try {
     // The table first: when the paths file then fails, the table is removed
     // again, so no half result stays behind.
@@ -282,6 +306,7 @@ int runPath(int argc, char** argv) {
       std::remove(o.tsvPath.c_str());
       throw;
     }
+    if (!o.statsPath.empty()) writeTextAtomically(o.statsPath, statisticsJson(run));
   } catch (const imaging::ImageIoError& e) {
     throw ToolError(kExitOutput, e.what());
   }
@@ -291,7 +316,25 @@ int runPath(int argc, char** argv) {
               << (seeds.size() == 1 ? " seed voxel" : " seed voxels") << ". Took "
               << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s (propagation "
               << fixed(propagationSeconds, 2) << ", paths " << fixed(tracingSeconds, 3) << "). Wrote " << o.output
-              << " and " << o.tsvPath << "." << std::endl;
+              << " and " << o.tsvPath << (o.statsPath.empty() ? "" : " and " + o.statsPath) << "." << std::endl;
+  }
+  if (report.requested()) {
+    // The report shows the paths over the distance map, which `stvd path`
+    // does not write: it goes to a scratch folder, with the statistics when
+    // they were not asked for.
+    ScratchFolder scratch;
+    const std::string statsPath = o.statsPath.empty() ? scratch.file("run.json") : o.statsPath;
+    std::vector<float> values(result.distance.size());
+    for (std::size_t v = 0; v < values.size(); ++v)
+      values[v] = std::isfinite(result.distance[v]) ? static_cast<float>(result.distance[v])
+                                                    : std::numeric_limits<float>::quiet_NaN();
+    try {
+      if (o.statsPath.empty()) writeTextAtomically(statsPath, statisticsJson(run));
+      imaging::writeScalarImage(scratch.file("distance.nii"), g, values);
+    } catch (const std::runtime_error& e) {
+      throw ToolError(kExitOutput, e.what());
+    }
+    report.write({"--stats", statsPath, "--distance", scratch.file("distance.nii")}, o.quiet);
   }
   return kExitOk;
 }
