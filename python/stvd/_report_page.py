@@ -30,7 +30,7 @@ window.addEventListener('load', function () {
 """
 
 STYLE = """
-body { font: 14px/1.45 system-ui, sans-serif; margin: 0 auto; max-width: 1400px; padding: 0 20px 40px;
+body { font: 14px/1.45 system-ui, sans-serif; margin: 0 auto; max-width: 1500px; padding: 0 20px 40px;
        color: #1d1d1f; background: #fff; }
 h1 { font-size: 22px; margin: 18px 0 4px; } h2 { font-size: 17px; margin: 26px 0 8px; border-bottom: 1px solid #ddd; }
 .status { display: inline-block; padding: 1px 8px; border-radius: 4px; font-weight: 600; color: #fff; }

@@ -29,7 +29,7 @@ PLANES = {
     "sagittal": (0, 1, 2),
 }
 
-PIXELS_PER_MM = 2.0
+PIXELS_PER_MM = 1.75
 MAX_SIDE_PIXELS = 640
 
 
@@ -190,7 +190,7 @@ def draw_panel(panel, layers, scale=1.0):
                     alpha=0.75, **show)
     if layers.distance is not None:
         distance = panel.image(layers.distance)
-        axes.imshow(np.ma.masked_invalid(distance), cmap="viridis", vmin=0.0, vmax=layers.distance_max, alpha=0.6,
+        axes.imshow(np.ma.masked_invalid(distance), cmap="viridis", vmin=0.0, vmax=layers.distance_max, alpha=0.5,
                     **show)
         if layers.contour_step and np.isfinite(distance).any():
             ny, nx = distance.shape
