@@ -4,7 +4,6 @@ overwrite an input, leave half a file)."""
 
 import base64
 import io
-import json
 import os
 import re
 import subprocess
