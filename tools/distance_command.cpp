@@ -6,17 +6,18 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <sstream>
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
+#include "memory_check.hpp"
 #include "report_request.hpp"
+#include "run_files.hpp"
 #include "run_statistics.hpp"
-#include "stvd/itk/atomic_output.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/symmetric_eigen.hpp"
 #include "stvd/itk/tensor_frames.hpp"
@@ -43,18 +44,19 @@ double secondsSince(Clock::time_point start) {
 
 const char* kDistanceHelp =
     "Usage: stvd distance INPUT -o OUTPUT [options]\n"
-    "       (polygon surfaces: stvd distance MESH.obj|off|ply --help)\n"
+    "       stvd distance MESH.obj|off|ply|stl -o OUT.ply|vtk|csv --seed-vertex N|--seed-point X,Y,Z\n"
+    "       stvd distance MESH.node -o OUT.vtk|vtu|csv|nii.gz --seed-vertex N|--seed-point X,Y,Z\n"
     "\n"
     "Anisotropic geodesic distance (millimetres) from seed voxels over a diffusion or metric\n"
-    "tensor volume. The output format follows the extension: .nii, .nii.gz, .nrrd or .nhdr give a\n"
-    "float32 image on exactly the input's grid (same size, spacing, origin and direction\n"
-    "cosines), in which voxels not reached (outside the domain, disconnected from the seeds, or\n"
+    "tensor volume. The output format follows the extension: .nii, .nii.gz, .nrrd, .nhdr, .mif or\n"
+    ".mif.gz give a float32 image on exactly the input's grid (same size, spacing, origin and\n"
+    "direction cosines), in which voxels not reached (outside the domain, disconnected from the seeds, or\n"
     "beyond --max-distance) hold the unreachable value, -1 unless --unreachable-value says\n"
     "otherwise; .vdb gives an OpenVDB FloatGrid named \"distance\" whose transform places the\n"
     "voxels in RAS millimetres and in which voxels not reached are inactive. All coordinates\n"
     "are millimetres; distances are measured in physical space (spacing and direction cosines\n"
-    "applied). A TetGen tetrahedral mesh (INPUT ending in .node or .ele) has options of its own:\n"
-    "see stvd distance MESH.node --help and docs/tet_meshes.md.\n"
+    "applied). Polygon surfaces (.obj, .off, .ply, .stl) and TetGen tetrahedral meshes (.node,\n"
+    ".ele) take the options of their own sections below.\n"
     "\n"
     "Seeds (at least one; all given seeds are sources at distance 0):\n"
     "  --seed-voxel I,J,K      0-based voxel index (repeatable).\n"
@@ -67,25 +69,35 @@ const char* kDistanceHelp =
     "Propagation:\n"
     "  --method M              stvd (default): Short-Term Vector Dijkstra (Campen et al. 2013);\n"
     "                          dijkstra: shortest paths along stencil edges;\n"
-    "                          lanthier: Steiner points on the cubes between voxel centres, the\n"
+    "                          lanthier: Steiner points on the cells between voxel centres, the\n"
     "                          slow accurate reference (needs --steiner; docs/steiner.md).\n"
     "  --steiner M             lanthier: Steiner points per cube edge, 1..16; time and memory grow\n"
     "                          like M^4 and M^2 (shipped brain: M = 2 3 s, M = 8 4 min, 1.1 GB).\n"
-    "  --k N                   STVD memory depth, 1..16 (default 8; see docs/cli.md).\n"
+    "  --k N                   STVD memory depth, 1..16 (default 6; see docs/cli.md).\n"
     "  --chain-measure R       how STVD measures a sum of chain edges: largest (default; with the\n"
     "                          most expensive edge norm on the chain, robust on noisy tensor\n"
     "                          fields) or projection (the paper's rule, which underestimates on\n"
     "                          DTI data for k > 3; see docs/cli.md).\n"
     "  --stencil S             neighbourhood: 6, 18, 26 (default), 98 (5x5x5) or 290 (7x7x7).\n"
+    "  --domain-connectivity C which domain voxels touch, with a mask or --fa-threshold: 6\n"
+    "                          (default): only through the cells between voxel centres whose\n"
+    "                          corners are all in the domain, so no path passes a gap of zero\n"
+    "                          width; 18: also two voxels that share only an edge; 26: also two\n"
+    "                          that share only a corner. Every method keeps to it (docs/cli.md).\n"
     "  --max-distance D        stop at D mm; farther voxels are unreachable.\n"
+    "  --no-memory-check       run even when the estimate of the memory the propagation needs\n"
+    "                          exceeds the memory available (exit code 6 otherwise).\n"
     "\n"
     "%TENSOR%"
     "\n"
     "Output:\n"
-    "  -o, --output FILE       the distance map (required): .nii, .nii.gz, .nrrd, .nhdr or .vdb.\n"
-    "                          Its folder must exist. Written under a temporary name in the same\n"
-    "                          folder and renamed when complete.\n"
-    "  --unreachable-value V   value of voxels not reached: a number or nan (default -1).\n"
+    "  -o, --output FILE       the distance map (required): .nii, .nii.gz, .nrrd, .nhdr, .mif,\n"
+    "                          .mif.gz or .vdb.\n"
+    "                          Its folder must exist; it must not be an input. Written with the\n"
+    "                          statistics into a staging folder next to it and moved into place\n"
+    "                          when both are complete.\n"
+    "  --unreachable-value V   value of voxels not reached: a number or nan (default -1; nan keeps\n"
+    "                          them out of mrstats and most viewers' statistics).\n"
     "  --stats FILE.json       parameters, counts, seconds per phase and peak memory as JSON.\n"
     "  --report FILE.html      a self-contained QC page: slices of the map over FA through the\n"
     "                          seed, the statistics and the warnings (Python 3 and matplotlib;\n"
@@ -98,15 +110,28 @@ const char* kDistanceHelp =
     "\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
     "input (format, layout, geometry of mask or labels); 4 nothing to compute (empty domain, a\n"
-    "seed outside the image or the domain); 5 output cannot be written. On failure one line on\n"
-    "stderr names the file and the problem, and no output file is left behind.\n";
+    "seed outside the image or the domain); 5 output cannot be written; 6 not enough memory for\n"
+    "the run. On failure one line on stderr names the file and the problem, and no output file\n"
+    "is left behind.\n";
+
+/// The whole help: volumes, then surfaces and tetrahedral meshes in
+/// sections of their own.
+const std::string& distanceHelp() {
+  static const std::string help =
+      std::string(kDistanceHelp) +
+      "\n=== Polygon surfaces: stvd distance MESH.obj|off|ply|stl -o OUT.ply|vtk|csv (docs/surfaces.md) ===\n\n" +
+      surfaceOptionsHelp() +
+      "\n=== Tetrahedral meshes: stvd distance MESH.node -o OUT.vtk|vtu|csv|nii.gz (docs/tet_meshes.md) ===\n\n" +
+      tetMeshOptionsHelp();
+  return help;
+}
 
 struct DistanceOptions : SeedOptions, PropagationChoice {
   std::string input;
   std::string output;
   double maxDistance = std::numeric_limits<double>::infinity();
   TensorInputOptions tensor;
-  float unreachableValue = static_cast<float>(kFrontEndUnreachableValue);
+  float unreachableValue = static_cast<float>(kDefaultUnreachableValue);
   std::string statsPath;
   std::string reportPath;
   bool quiet = false;
@@ -121,7 +146,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   ArgumentReader args(argc, argv, 2);
   while (!args.done()) {
     const std::string a = args.take();
-    if (takeInputOrHelp(a, args, o.input, kDistanceHelp, true)) continue;
+    if (takeInputOrHelp(a, args, o.input, distanceHelp().c_str(), true)) continue;
     if (a == "-o" || a == "--output") {
       o.output = args.value(a);
     } else if (parseSeedOption(a, args, o) || parsePropagationOption(a, args, o)) {
@@ -130,8 +155,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
       if (!(o.maxDistance > 0.0)) usageError("--max-distance must be positive");
     } else if (a == "--unreachable-value") {
       const std::string v = args.value(a);
-      o.unreachableValue = (v == "nan" || v == "NaN") ? std::numeric_limits<float>::quiet_NaN()
-                                                       : static_cast<float>(parseNumber(a, v));
+      o.unreachableValue = static_cast<float>(parseUnreachableValue(a, v));
     } else if (a == "--stats") {
       o.statsPath = args.value(a);
     } else if (a == "--report") {
@@ -147,11 +171,12 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   if (o.output.empty()) usageError("no output file: add -o OUTPUT");
   if (isVdbPath(o.output)) {
 #ifndef STVD_WITH_VDB_OUTPUT
-    usageError(o.output + ": this stvd was built without OpenVDB; use .nii, .nii.gz, .nrrd or .nhdr");
+    usageError(o.output + ": this stvd was built without OpenVDB; use .nii, .nii.gz, .nrrd, .nhdr, .mif or .mif.gz");
 #endif
   } else if (!imaging::hasImageExtension(o.output)) {
-    usageError(o.output + ": unsupported output format; use .nii, .nii.gz, .nrrd, .nhdr or .vdb");
+    usageError(o.output + ": unsupported output format; use .nii, .nii.gz, .nrrd, .nhdr, .mif, .mif.gz or .vdb");
   }
+  checkImageOutputSpelling(o.output);
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
     usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
   checkPropagationChoice(o, /*lanthierAllowed=*/true);
@@ -197,7 +222,8 @@ struct Timings {
 /// The statistics file's record of the run.
 RunStatistics runStatistics(const DistanceOptions& o, const std::string& commandLine, const TensorInput& input,
                             const imaging::MetricVoxelCounts& counts, const std::vector<Seed>& seeds,
-                            std::size_t labelSeedsLeftOut, const PropagationResult& result, const Timings& t) {
+                            std::size_t labelSeedsLeftOut, const PropagationResult& result,
+                            const MemoryCheck& memory, const Timings& t) {
   RunStatistics run;
   run.command = "distance";
   run.commandLine = commandLine;
@@ -214,6 +240,7 @@ RunStatistics runStatistics(const DistanceOptions& o, const std::string& command
   run.seeds = &seeds;
   run.labelSeedsLeftOut = labelSeedsLeftOut;
   run.result = &result;
+  run.memory = &memory;
   run.seconds = {{"read", t.read}, {"metric", t.metric}, {"propagate", t.propagate}, {"write", t.write},
                  {"total", t.total}};
   return run;
@@ -239,8 +266,11 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
       << " from the diffusion tensors";
   else
     s << "The file's tensors are the metric";
-  s << ", eigenvalue ratio capped at " << fixed(o.tensor.metric.maxAnisotropy, 0) << "; "
-    << withThousands(counts.domain) << " voxels in the domain";
+  if (const auto cap = imaging::anisotropyCap(o.tensor.metric))
+    s << ", eigenvalue ratio capped at " << fixed(*cap, 0);
+  else
+    s << ", taken as given (no eigenvalue ratio cap)";
+  s << "; " << withThousands(counts.domain) << " voxels in the domain";
   if (!input.maskDescription.empty()) s << " (mask: " << input.maskDescription << ")";
   s << ", of which " << withThousands(counts.repaired()) << " were repaired ("
     << withThousands(counts.repairedNonPositive) << " with a non-positive eigenvalue, "
@@ -260,8 +290,9 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
     s << withThousands(seeds.size()) << " seed voxels";
   }
   if (labelSeedsLeftOut) s << " (" << withThousands(labelSeedsLeftOut) << " label voxels outside the domain left out)";
-  s << ". Method: " << methodText(o);
+  s << ". Method: " << methodText(o, memoryDepthOf<VoxelGridDomain>(o));
   if (!o.lanthier) s << " on the " << o.stencil << "-neighbour stencil";
+  if (counts.domain < counts.total) s << ", " << connectivityText(o.connectivity);
   if (std::isfinite(o.maxDistance)) s << ", stopping at " << fixed(o.maxDistance, 1) << " mm";
   s << ". Reached " << withThousands(stats.reached) << " of " << withThousands(counts.domain) << " domain voxels";
   if (result.termination == Termination::MaxDistanceReached) s << " before the distance limit";
@@ -285,7 +316,7 @@ void writeDistanceReport(ReportRequest& report, const DistanceOptions& o, const 
   ScratchFolder scratch;
   std::string statsPath = o.statsPath, mapPath = o.output;
   try {
-    if (statsPath.empty()) writeTextAtomically(statsPath = scratch.file("run.json"), statisticsJson(run));
+    if (statsPath.empty()) files::writeFileContents(statsPath = scratch.file("run.json"), statisticsJson(run));
     const std::string name = std::filesystem::path(o.output).filename().string();
     const bool nifti = name.size() > 4 && (name.substr(name.size() - 4) == ".nii" ||
                                            (name.size() > 7 && name.substr(name.size() - 7) == ".nii.gz"));
@@ -310,22 +341,27 @@ int runDistance(int argc, char** argv) {
   Timings t;
 
   // Output problems are found before the work, not after it.
-  try {
-    imaging::checkOutputPath(o.output);
-    if (!o.statsPath.empty()) imaging::checkOutputPath(o.statsPath);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputImage("tensor input", o.input);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("seed labels", o.seedLabels);
+  if (isVdbPath(o.output))
+    files.outputFile("distance map", o.output);
+  else
+    files.outputImage("distance map", o.output);
+  files.outputFile("statistics file", o.statsPath);
+  files.outputFile("QC report", o.reportPath);
+  files.check();
   ReportRequest report;
   report.start(o.reportPath);
 
   Clock::time_point phase = Clock::now();
-  const TensorInput input = readTensorInput(o.input, o.tensor);
+  const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
   t.read = secondsSince(phase);
 
   phase = Clock::now();
-  imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
+  imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.input, input, o.tensor);
   imaging::requireNonEmptyDomain(o.input, built.counts, !input.mask.empty(), o.tensor.metric);
   t.metric = secondsSince(phase);
 
@@ -334,8 +370,19 @@ int runDistance(int argc, char** argv) {
   const std::vector<Seed> seeds = resolveSeeds(o.input, o, input, o.tensor.metric, built.inDomain, labelSeedsLeftOut);
   t.read += secondsSince(phase);
 
+  const std::uint64_t voxels = g.voxelCount(), domainVoxels = built.counts.domain;
+  const std::uint64_t needed =
+      (o.lanthier ? steinerMemoryEstimate(steinerGridPointCount(domainVoxels, o.steinerPoints), voxels) +
+                        2 * sizeof(VertexId) * voxels  // the grid cells' numbering of domain voxels
+                  : propagationMemoryEstimate(voxels, domainVoxels)) +
+      kOutputBytesPerVoxel * voxels;
+  const MemoryCheck memory = checkMemory(
+      o.input, needed,
+      methodText(o, memoryDepthOf<VoxelGridDomain>(o)) + " on " + withThousands(domainVoxels) + " domain voxels",
+      !o.memoryCheck);
+
   phase = Clock::now();
-  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
+  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain, o.connectivity);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   t.metric += secondsSince(phase);
 
@@ -357,7 +404,7 @@ int runDistance(int argc, char** argv) {
     steiner.progress = options.progress;
     try {
       result = steinerPropagate(domain, metric, sources, steiner);
-    } catch (const std::invalid_argument& e) {  // a grid too thin for cubes, or too large a graph
+    } catch (const std::invalid_argument& e) {  // too large a graph
       throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
     }
   } else {
@@ -372,29 +419,30 @@ int runDistance(int argc, char** argv) {
   for (std::size_t v = 0; v < values.size(); ++v)
     values[v] = std::isfinite(result.distance[v]) ? static_cast<float>(result.distance[v]) : o.unreachableValue;
   const DistanceStatistics stats = summariseDistances(result.distance);
+  // The map and the statistics appear together or not at all.
+  files::OutputTransaction outputs;
+  RunStatistics run;
   try {
     if (isVdbPath(o.output)) {
 #ifdef STVD_WITH_VDB_OUTPUT
       vdb::DistanceGridOptions grid;
       grid.background = std::isfinite(o.unreachableValue) ? o.unreachableValue : -1.f;
-      vdb::writeDistanceGrid(o.output, g, result.distance, grid);
+      vdb::writeDistanceGrid(outputs, o.output, g, result.distance, grid);
 #endif
     } else {
-      imaging::writeScalarImage(o.output, g, values);
+      imaging::writeScalarImage(outputs, o.output, g, values);
     }
-  } catch (const std::runtime_error& e) {
+    t.write = secondsSince(phase);
+    t.total = secondsSince(start);
+    run = runStatistics(o, commandLineText(argc, argv), input, built.counts, seeds, labelSeedsLeftOut, result, memory,
+                        t);
+    if (!o.statsPath.empty()) {
+      const std::string json = statisticsJson(run);
+      outputs.write(o.statsPath, [&](const std::string& staging) { files::writeFileContents(staging, json); });
+    }
+    outputs.commit();
+  } catch (const files::OutputError& e) {
     throw ToolError(kExitOutput, e.what());
-  }
-  t.write = secondsSince(phase);
-  t.total = secondsSince(start);
-  const RunStatistics run =
-      runStatistics(o, commandLineText(argc, argv), input, built.counts, seeds, labelSeedsLeftOut, result, t);
-  if (!o.statsPath.empty()) {
-    try {
-      writeTextAtomically(o.statsPath, statisticsJson(run));
-    } catch (const imaging::ImageIoError& e) {
-      throw ToolError(kExitOutput, e.what());
-    }
   }
   if (!o.quiet)
     std::cout << summaryParagraph(o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, t) << std::endl;

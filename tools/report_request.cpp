@@ -15,8 +15,6 @@
 #include <iostream>
 
 #include "command_line.hpp"
-#include "stvd/itk/atomic_output.hpp"
-#include "stvd/itk/image_io_error.hpp"
 
 extern char** environ;
 
@@ -149,11 +147,6 @@ void ReportRequest::start(const std::string& path) {
   if (path.empty()) return;
   const std::string extension = std::filesystem::path(path).extension().string();
   if (extension != ".html" && extension != ".htm") usageError(path + ": --report writes an .html page");
-  try {
-    imaging::checkOutputPath(path);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
   check_ = spawnReport({"--check"}, checkErrors_);
 }
 

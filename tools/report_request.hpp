@@ -15,11 +15,13 @@ namespace stvd::tool {
 /// `stvd report ARGS`: runs stvd.report with ARGS; returns its exit code.
 int runReport(int argc, char** argv);
 
-/// A report asked for with --report FILE.html. start() checks the output's
-/// folder and starts checking, in the background while the run computes,
-/// that Python can draw; requireReady() waits for that check (call it
-/// before writing any output, so that a missing package stops the run with
-/// nothing written); write() draws the page from the run's files.
+/// A report asked for with --report FILE.html, an output of the run that the
+/// command declares in its RunFiles like every other (never an input, never
+/// another output). start() starts checking, in the background while the
+/// run computes, that Python can draw; requireReady() waits for that check
+/// (call it before writing any output, so that a missing package stops the
+/// run with nothing written); write() draws the page from the run's files,
+/// and stvd.report writes it atomically.
 class ReportRequest {
  public:
   ReportRequest() = default;
@@ -27,8 +29,8 @@ class ReportRequest {
   ReportRequest& operator=(const ReportRequest&) = delete;
   ~ReportRequest();
 
-  /// Nothing when `path` is empty. Throws ToolError (usage: not .html;
-  /// output: the folder).
+  /// Nothing when `path` is empty. Throws ToolError (usage) when it is not
+  /// .html.
   void start(const std::string& path);
   bool requested() const { return !path_.empty(); }
   const std::string& path() const { return path_; }

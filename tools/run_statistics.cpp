@@ -1,25 +1,14 @@
 // The statistics file of the geodesic subcommands (see run_statistics.hpp).
 #include "run_statistics.hpp"
 
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <fstream>
 #include <sstream>
 
-#include "stvd/itk/atomic_output.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/voxel_grid_domain.hpp"
 
 namespace stvd::tool {
 namespace {
-
-std::uint64_t peakMemoryBytes() {
-  rusage usage{};
-  ::getrusage(RUSAGE_SELF, &usage);
-  return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
-}
 
 std::string terminationName(Termination t) {
   switch (t) {
@@ -39,20 +28,20 @@ void writeParameters(std::ostringstream& j, const RunStatistics& run) {
   j << "    \"method\": " << jsonString(o.lanthier ? "lanthier" : o.method == Method::Dijkstra ? "dijkstra" : "stvd")
     << ",\n";
   if (o.lanthier) j << "    \"steiner_points\": " << o.steinerPoints << ",\n";
-  j << "    \"k\": " << (o.lanthier ? std::string("null") : std::to_string(o.method == Method::Dijkstra ? 1 : o.k))
+  j << "    \"k\": " << (o.lanthier ? std::string("null") : std::to_string(memoryDepthOf<VoxelGridDomain>(o)))
     << ",\n";
   if (!o.lanthier) {  // lanthier measures cells, not stencil edges or chains
-    j << "    \"chain_measure\": \""
-      << (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? "largest" : "projection") << "\",\n";
+    j << "    \"chain_measure\": \"" << chainMeasureName(o.chainMeasure) << "\",\n";
     j << "    \"stencil\": " << jsonString(o.stencil) << ",\n";
   }
+  j << "    \"domain_connectivity\": " << static_cast<int>(o.connectivity) << ",\n";
   j << "    \"max_distance_mm\": " << jsonNumber(run.maxDistance) << ",\n";
   j << "    \"tensor_kind\": " << jsonString(imaging::tensorKindName(tensor.metric.kind)) << ",\n";
   j << "    \"diffusion_metric\": " << jsonString(imaging::diffusionMetricName(tensor.metric.diffusionMetric))
     << ",\n";
   j << "    \"metric_formula\": "
     << jsonString(imaging::metricFormula(tensor.metric.kind, tensor.metric.diffusionMetric)) << ",\n";
-  j << "    \"max_anisotropy\": " << jsonNumber(tensor.metric.maxAnisotropy) << ",\n";
+  j << "    \"max_anisotropy\": " << jsonNumber(imaging::anisotropyCap(tensor.metric).value_or(NAN)) << ",\n";
   j << "    \"fa_threshold\": " << jsonNumber(tensor.metric.faThreshold.value_or(NAN)) << ",\n";
   j << "    \"tensor_layout\": " << jsonString(imaging::tensorFileLayoutName(info.layout)) << ",\n";
   j << "    \"tensor_order\": " << jsonString(imaging::tensorOrderName(info.order)) << ",\n";
@@ -66,31 +55,6 @@ void writeParameters(std::ostringstream& j, const RunStatistics& run) {
 }
 
 }  // namespace
-
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
-      out += buffer;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
-std::string jsonNumber(double x) {
-  if (!std::isfinite(x)) return "null";
-  std::ostringstream s;
-  s.precision(10);
-  s << x;
-  return s.str();
-}
 
 std::string commandLineText(int argc, char** argv) {
   std::string line = "stvd";
@@ -176,30 +140,25 @@ std::string statisticsJson(const RunStatistics& run) {
     const DistanceStatistics stats = summariseDistances(result.distance);
     j << "  \"propagation\": {\"vertices\": " << g.voxelCount() << ", \"domain_vertices\": " << counts.domain
       << ", \"finalized_vertices\": " << result.finalizedVertices << ", \"relaxed_edges\": " << result.relaxedEdges
-      << ", \"termination\": " << jsonString(terminationName(result.termination))
+      << ", \"measured_candidates\": " << result.measuredCandidates
+      << ", \"refused_candidates\": " << result.refusedCandidates << ", \"termination\": " << jsonString(terminationName(result.termination))
       << ", \"peak_state_bytes\": " << result.peakStateBytes << "},\n";
     j << "  \"distance_mm\": {\"reached\": " << stats.reached << ", \"min\": " << (stats.reached ? "0" : "null")
       << ", \"median\": " << (stats.reached ? jsonNumber(stats.median) : "null")
       << ", \"max\": " << (stats.reached ? jsonNumber(stats.maximum) : "null") << "},\n";
   }
   for (const std::string& member : run.extraMembers) j << "  " << member << ",\n";
+  j << "  \"warnings\": [";
+  for (std::size_t w = 0; w < inputWarnings().size(); ++w) j << (w ? ", " : "") << jsonString(inputWarnings()[w]);
+  j << "],\n";
   j << "  \"seconds\": {";
   for (std::size_t n = 0; n < run.seconds.size(); ++n)
     j << (n ? ", " : "") << jsonString(run.seconds[n].first) << ": " << jsonNumber(run.seconds[n].second);
   j << "},\n";
+  if (run.memory) j << "  \"memory\": " << memoryCheckJson(*run.memory) << ",\n";
   j << "  \"peak_memory_bytes\": " << peakMemoryBytes() << "\n";
   j << "}\n";
   return j.str();
-}
-
-void writeTextAtomically(const std::string& path, const std::string& text) {
-  imaging::AtomicOutput output(path);
-  {
-    std::ofstream file(output.stagingPath());
-    file << text;
-    if (!file.flush()) throw imaging::ImageIoError(path, "cannot write the file");
-  }
-  output.commit();
 }
 
 }  // namespace stvd::tool

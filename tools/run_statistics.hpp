@@ -12,6 +12,7 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
+#include "memory_check.hpp"
 #include "stvd/propagation.hpp"
 #include "stvd/propagation_choice.hpp"
 
@@ -38,26 +39,19 @@ struct RunStatistics {
   const std::vector<Seed>* seeds = nullptr;
   std::size_t labelSeedsLeftOut = 0;
   const PropagationResult* result = nullptr;  ///< also gives "distance_mm"
+  const MemoryCheck* memory = nullptr;        ///< the check before the propagation
   /// Sections of the command's own, as `"name": value` JSON members.
   std::vector<std::string> extraMembers;
   /// Seconds per phase, in order ("total" last).
   std::vector<std::pair<std::string, double>> seconds;
 };
 
-/// The JSON text of the statistics file.
+/// The JSON text of the statistics file, its "warnings" inputWarnings().
 std::string statisticsJson(const RunStatistics& run);
-
-/// A string and a number as JSON (non-finite numbers are null).
-std::string jsonString(const std::string& s);
-std::string jsonNumber(double x);
 
 /// The command line as one line a shell reads back (arguments quoted where
 /// needed).
 std::string commandLineText(int argc, char** argv);
-
-/// Writes text under a staging name and renames it into place (ImageIoError
-/// naming `path` when writing fails).
-void writeTextAtomically(const std::string& path, const std::string& text);
 
 /// Reached voxels, largest and median finite distance.
 struct DistanceStatistics {
