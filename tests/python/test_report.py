@@ -189,7 +189,7 @@ def test_an_output_is_never_an_input(tmp_path):
     distance_report(tmp_path, DIPY_5D, CC_BODY)
     before = page.read_bytes()
     os.symlink(page, tmp_path / "link.html")
-    with pytest.raises(stvd.report.ReportError, match=r"link.html: the output is the report of sub input"):
+    with pytest.raises(stvd.report.ReportError, match=r"link.html: the QC report is the report of sub "):
         stvd.report.write_cohort_index(tmp_path / "link.html", [{"subject": "sub", "status": "ok", "report": page}])
     assert page.read_bytes() == before
     message = run_tool("report", "--stats", tmp_path / "d.nii.gz", "-o", tmp_path / "d.nii.gz", check=False)
