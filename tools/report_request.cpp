@@ -15,6 +15,7 @@
 #include <iostream>
 
 #include "command_line.hpp"
+#include "stvd/files/file_contents.hpp"
 
 extern char** environ;
 
@@ -171,6 +172,16 @@ ScratchFolder::ScratchFolder() {
   if (!::mkdtemp(pattern.data()))
     throw ToolError(kExitOutput, "report: cannot make a temporary folder: " + std::string(std::strerror(errno)));
   path_ = pattern;
+}
+
+std::string ScratchFolder::statisticsFile(const std::string& statsPath, const std::string& json) const {
+  if (!statsPath.empty()) return statsPath;
+  try {
+    files::writeFileContents(file("run.json"), json);
+  } catch (const std::runtime_error& e) {
+    throw ToolError(kExitOutput, e.what());
+  }
+  return file("run.json");
 }
 
 ScratchFolder::~ScratchFolder() {

@@ -55,6 +55,9 @@ class ScratchFolder {
   ScratchFolder& operator=(const ScratchFolder&) = delete;
   ~ScratchFolder();
   std::string file(const std::string& name) const { return path_ + "/" + name; }
+  /// The statistics file a report reads: `statsPath` when the run wrote
+  /// one, otherwise `json` written here as run.json.
+  std::string statisticsFile(const std::string& statsPath, const std::string& json) const;
 
  private:
   std::string path_;
