@@ -855,7 +855,8 @@ def _parser():
     parser.add_argument("--convention", choices=list(CONVENTIONS), default="neurological",
                         help="how slices are shown (default neurological)")
     parser.add_argument("--index", metavar="FOLDER", help="make the cohort index of a folder of reports instead")
-    parser.add_argument("--check", action="store_true", help=argparse.SUPPRESS)  # what stvd --report checks first
+    # stvd --report starts this while the run computes (see _prepare).
+    parser.add_argument("--prepare", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("-o", "--output", metavar="REPORT.html", help="the page to write")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     return parser
@@ -877,14 +878,35 @@ def _check_dependencies():
     matplotlib.use("Agg")
 
 
+def _prepare():
+    """For ``stvd ... --report``, started while the run computes: checks that
+    drawing works and does what every page costs first (the imports, one
+    small picture), says ``ready`` on stderr, then reads the page's
+    arguments, separated by NUL bytes, from stdin. None: the run stopped, and
+    there is nothing to draw."""
+    from ._report_slices import new_figure, png_bytes
+
+    figure, axes = new_figure(10, 10)
+    axes.imshow(np.zeros((2, 2)), cmap="gray")
+    axes.contour(np.arange(9.0).reshape(3, 3), levels=[4.0])
+    png_bytes(figure)
+    print("ready", file=sys.stderr, flush=True)
+    text = sys.stdin.buffer.read().decode("utf-8", "surrogateescape")
+    return [a for a in text.split("\0") if a] if text else None
+
+
 def main(argv=None):
     """``stvd report``: returns the exit code; failures print one line."""
     start = time.perf_counter()
     try:
         arguments = _parser().parse_args(argv)
         _check_dependencies()
-        if arguments.check:
-            return 0
+        if arguments.prepare:
+            page_arguments = _prepare()
+            if page_arguments is None:
+                return 0
+            start = time.perf_counter()
+            arguments = _parser().parse_args(page_arguments)
         if not arguments.output:
             raise ReportError("report: no output: add -o REPORT.html", EXIT_USAGE)
         if arguments.index:
