@@ -103,9 +103,9 @@ pid_t spawnReport(const std::vector<std::string>& arguments, int& errors, int* i
   return child;
 }
 
-/// Reads the child's stderr up to the end of its first line (byte by byte,
-/// so that nothing after it is taken from the pipe); appends it to `text`.
-void readFirstLine(int errors, std::string& text) {
+/// Reads one line of the child's stderr (byte by byte, so that nothing
+/// after it is taken from the pipe) into `text`; nothing at its end.
+void readLine(int errors, std::string& text) {
   char c = 0;
   for (;;) {
     const ssize_t n = ::read(errors, &c, 1);
@@ -173,17 +173,24 @@ void ReportRequest::start(const std::string& path) {
 
 void ReportRequest::requireReady() {
   if (child_ <= 0 || ready_) return;
-  std::string line;
-  readFirstLine(errors_, line);
-  if (line == "ready\n") {
-    ready_ = true;
-    return;
+  // Lines before "ready" are what the imports said (matplotlib's first run
+  // builds its font cache and says so): shown only when the child fails.
+  std::string text;
+  for (;;) {
+    std::string line;
+    readLine(errors_, line);
+    if (line == "ready\n") {
+      ready_ = true;
+      return;
+    }
+    if (line.empty()) break;  // the child ended
+    text += line;
   }
   // It could not draw: its message, and its exit code.
   const pid_t child = child_;
   child_ = -1;
   ::close(arguments_);
-  finish(child, errors_, line);
+  finish(child, errors_, text);
   throw ToolError(kExitInternal, "report: the Python report stopped before it was ready");
 }
 

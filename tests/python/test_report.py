@@ -197,6 +197,21 @@ def test_an_output_is_never_an_input(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["d.nii.gz", "link.html", "report.html"]
 
 
+def test_what_python_says_while_importing_does_not_stop_the_report(tmp_path):
+    # matplotlib's first run on a machine says on stderr that it builds its
+    # font cache; the tool waits for the child's "ready" past such lines.
+    site = tmp_path / "site"
+    site.mkdir()
+    (site / "sitecustomize.py").write_text(
+        "import sys\nprint('Matplotlib is building the font cache; this may take a moment.', file=sys.stderr)\n")
+    environment = dict(os.environ, PYTHONPATH=str(site))
+    process = subprocess.run([str(TOOL), "distance", str(DIPY_5D), "--seed-voxel", "55,54,15", "-o",
+                              str(tmp_path / "d.nii.gz"), "-q", "--report", str(tmp_path / "r.html")],
+                             capture_output=True, text=True, env=environment)
+    assert process.returncode == 0, process.stderr
+    assert "stvd-report-summary" in (tmp_path / "r.html").read_text()
+
+
 def test_without_matplotlib_nothing_is_written(tmp_path):
     # A matplotlib that cannot be imported comes first on the path.
     fake = tmp_path / "fake" / "matplotlib"
