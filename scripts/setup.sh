@@ -9,7 +9,8 @@ set -euo pipefail
 # Python with NiBabel and NumPy for the tests that check written NIfTI files
 # independently of ITK; for the Python package stvd, its headers and
 # pybind11, and what its tests and example use (DIPY, pytest, tqdm,
-# matplotlib; pip, setuptools and wheel for the test of `pip install
+# matplotlib, which also draws the QC reports that the tests open in
+# headless Chromium; pip, setuptools and wheel for the test of `pip install
 # --no-build-isolation .`); clang with its sanitizer and libFuzzer runtimes
 # for the sanitizer and fuzzing builds (scripts/sanitize.sh,
 # scripts/fuzz.sh); CGAL (header-only, GPL) for the exact-geodesic oracle of
@@ -22,6 +23,7 @@ packages=(
   python3-dev pybind11-dev python3-pybind11 python3-dipy python3-pytest python3-tqdm python3-matplotlib
   python3-pip python3-setuptools python3-wheel
   libcgal-dev libcgal-demo
+  chromium
 )
 # Scripts with needs of their own name extra packages as arguments
 # (scripts/evaluate.sh: gnuplot for its plots).

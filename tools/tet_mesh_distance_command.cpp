@@ -441,8 +441,10 @@ int runTetMeshDistance(int argc, char** argv) {
 
   const double setupSeconds = secondsSince(start);
   const Clock::time_point propagationStart = Clock::now();
+  // Messages about the tetrahedra (a face of more than two) name the file
+  // that holds them.
   const tetmesh::TetMeshPropagation propagation = tetmesh::propagateOverTetrahedra(
-      points, tets, metricTensors, inGraph, sources, o, o.maxDistance, o.input);
+      points, tets, metricTensors, inGraph, sources, o, o.maxDistance, eleFile);
   const double propagationSeconds = secondsSince(propagationStart);
   PropagationResult result = propagation.result;
   result.distance.resize(mesh.vertexCount());  // without points inserted for --seed-at point
