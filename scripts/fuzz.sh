@@ -32,7 +32,7 @@ CC=clang-14 CXX=clang++-14 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWith
 # shellcheck disable=SC2086
 nice -n 19 cmake --build "$build_dir" -j"$(nproc)" --target $(printf 'fuzz_%s ' $targets)
 
-export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/fuzz/itk_leaks.supp}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/fuzz/itk_leaks.supp:print_suppressions=0}
 
 run_target() {
   local target=$1 binary="$build_dir/fuzz/fuzz_$1"
