@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The demo: installs what is missing, builds stvd (Release) and computes the
-# anisotropic geodesic distance from a seed voxel in the body of the corpus
-# callosum over the shipped DTI sample, written to out/cc_body_distance.nii.gz.
+# The demo: installs what is missing, builds stvd (Release): the tool and the
+# Python package, and computes the anisotropic geodesic distance from a seed
+# voxel in the body of the corpus callosum over the shipped DTI sample,
+# written to out/cc_body_distance.nii.gz.
 #
 # STVD_BUILD_DIR overrides the build directory (default: build).
 set -euo pipefail
@@ -11,10 +12,12 @@ build_dir=${STVD_BUILD_DIR:-build}
 
 bash scripts/setup.sh
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release
-# Only the command-line tool and what it links (stvd_tool is the target of
-# <build>/tools/stvd); scripts/test.sh builds the rest.
-cmake --build "$build_dir" -j"$(nproc)" --target stvd_tool
+# Only the command-line tool (stvd_tool is the target of <build>/tools/stvd),
+# the Python package (stvd_python: <build>/python/stvd) and what they link;
+# scripts/test.sh builds the rest.
+cmake --build "$build_dir" -j"$(nproc)" --target stvd_tool stvd_python
 
 mkdir -p out
 "$build_dir/tools/stvd" distance sample_data/dti_philips_biobank/dti_tensor_dipy5d.nii.gz \
   --seed-voxel 55,54,15 -o out/cc_body_distance.nii.gz
+echo "The Python package is in $build_dir/python: PYTHONPATH=$build_dir/python python3 -c \"import stvd\" (docs/python.md)"

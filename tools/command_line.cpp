@@ -11,10 +11,9 @@
 #include <limits>
 #include <sstream>
 
-#include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/mrtrix_image.hpp"
 #include "stvd/itk/scalar_image.hpp"
-#include "stvd/itk/tensor_plausibility.hpp"
+#include "stvd/propagation_choice.hpp"
 
 namespace stvd::tool {
 
@@ -104,31 +103,17 @@ std::array<int, 3> parseIntegerTriple(const std::string& option, const std::stri
 bool parseTensorInputOption(const std::string& option, ArgumentReader& args, TensorInputOptions& options) {
   using namespace imaging;
   if (option == "--tensor-order") {
-    const std::string v = args.value(option);
-    options.order = parseTensorOrder(v);
-    if (!options.order) usageError("--tensor-order: '" + v + "' is not one of lower, fsl, mrtrix");
+    setTensorOrder(options, args.value(option));
   } else if (option == "--tensor-frame") {
-    const std::string v = args.value(option);
-    options.frame = parseTensorFrame(v);
-    if (!options.frame) usageError("--tensor-frame: '" + v + "' is not one of voxel, world");
+    setTensorFrame(options, args.value(option));
   } else if (option == "--tensor-kind") {
-    const std::string v = args.value(option);
-    const auto kind = parseTensorKind(v);
-    if (!kind) usageError("--tensor-kind: '" + v + "' is not one of diffusion, metric");
-    options.metric.kind = *kind;
+    setTensorKind(options, args.value(option));
   } else if (option == "--diffusion-metric") {
-    const std::string v = args.value(option);
-    const auto metric = parseDiffusionMetric(v);
-    if (!metric) usageError("--diffusion-metric: '" + v + "' is not one of inverse, adjugate");
-    options.metric.diffusionMetric = *metric;
+    setDiffusionMetric(options, args.value(option));
   } else if (option == "--max-anisotropy") {
-    const double a = parseNumber(option, args.value(option));
-    if (!(a >= 1.0)) usageError("--max-anisotropy must be at least 1");
-    options.metric.maxAnisotropy = a;
+    setMaxAnisotropy(options, parseNumber(option, args.value(option)));
   } else if (option == "--fa-threshold") {
-    const double t = parseNumber(option, args.value(option));
-    if (!(t >= 0.0 && t < 1.0)) usageError("--fa-threshold must be in [0, 1)");
-    options.metric.faThreshold = t;
+    setFaThreshold(options, parseNumber(option, args.value(option)));
   } else if (option == "--mask") {
     options.maskPath = args.value(option);
   } else if (option == "--accept-implausible-tensors") {
@@ -143,8 +128,7 @@ bool parseTensorInputOption(const std::string& option, ArgumentReader& args, Ten
 double parseUnreachableValue(const std::string& option, const std::string& text) {
   if (text == "nan" || text == "NaN") return std::numeric_limits<double>::quiet_NaN();
   const double value = parseNumber(option, text);
-  if (!(std::abs(value) <= std::numeric_limits<float>::max()))
-    usageError(option + ": '" + text + "' does not fit in a float32 map (magnitude at most 3.4e38)");
+  checkUnreachableValue(value, text);
   return value;
 }
 
@@ -165,64 +149,26 @@ std::vector<std::string>& noted() {
 }
 }  // namespace
 
-void noteInputWarnings(const std::string& path, const std::vector<std::string>& warnings) {
-  for (const std::string& w : warnings) {
-    const std::string line = path + ": " + w;
+void noteInputWarnings(const std::vector<std::string>& lines) {
+  for (const std::string& line : lines) {
     if (std::find(noted().begin(), noted().end(), line) != noted().end()) continue;
     noted().push_back(line);
     std::cerr << "stvd: warning: " << line << std::endl;
   }
 }
 
-const std::vector<std::string>& inputWarnings() { return noted(); }
-
-TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options) {
-  TensorInput input;
-  try {
-    input.read = imaging::readTensorVolume(path, {options.order, options.frame});
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitInput, e.what());
-  }
-  noteInputWarnings(path, input.read.info.warnings);
-  input.mask = input.read.volume.mask;
-  if (!input.mask.empty()) input.maskDescription = "the file's confidence channel";
-  if (!options.maskPath.empty()) {
-    imaging::ScalarImage mask;
-    try {
-      mask = imaging::readScalarImage(options.maskPath);
-    } catch (const imaging::ImageIoError& e) {
-      throw ToolError(kExitInput, e.what());
-    }
-    noteInputWarnings(options.maskPath, mask.warnings);
-    const std::string mismatch = imaging::geometryMismatch(mask.geometry, input.read.volume.geometry);
-    if (!mismatch.empty())
-      throw ToolError(kExitInput, options.maskPath + ": the mask is on another grid than " + path + " (" +
-                                      mismatch + ")");
-    if (input.mask.empty()) input.mask.assign(mask.values.size(), 1);
-    for (std::size_t v = 0; v < mask.values.size(); ++v)
-      if (mask.values[v] == 0.f || std::isnan(mask.values[v])) input.mask[v] = 0;
-    input.maskDescription = input.maskDescription.empty()
-                                ? options.maskPath
-                                : options.maskPath + " and " + input.maskDescription;
-  }
-  return input;
+void noteInputWarnings(const std::string& path, const std::vector<std::string>& warnings) {
+  std::vector<std::string> lines;
+  for (const std::string& w : warnings) lines.push_back(path + ": " + w);
+  noteInputWarnings(lines);
 }
 
-imaging::MetricFromTensors buildCheckedMetric(const std::string& path, const TensorInput& input,
-                                             const TensorInputOptions& options) {
-  imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, options.metric);
-  const std::string reason = imaging::implausibleTensorsReason(built.counts);
-  if (!reason.empty() && !options.acceptImplausible) {
-    const imaging::TensorFileInfo& info = input.read.info;
-    throw ToolError(kExitInput, path + ": " + reason + " as read (" + imaging::tensorFileLayoutName(info.layout) +
-                                    ", order " + imaging::tensorOrderName(info.order) + " = " +
-                                    imaging::tensorOrderComponents(info.order) + ", " +
-                                    imaging::tensorFrameName(info.frame) +
-                                    " frame): most likely a wrong --tensor-order; check it, --tensor-frame and "
-                                    "--tensor-kind (stvd info " + path +
-                                    " tries each order), or go on with --accept-implausible-tensors");
-  }
-  return built;
+const std::vector<std::string>& inputWarnings() { return noted(); }
+
+TensorInput readTensorInputNotingWarnings(const std::string& path, const TensorInputOptions& options) {
+  TensorInput input = imaging::readTensorInput(path, options);
+  noteInputWarnings(input.warnings);
+  return input;
 }
 
 std::string orientationCode(const GridGeometry& geometry) {
@@ -283,17 +229,6 @@ std::string tensorInputHelp(bool withMetricOptions) {
   return text;
 }
 
-std::string withThousands(unsigned long long n) {
-  std::string digits = std::to_string(n);
-  std::string out;
-  const int first = static_cast<int>(digits.size() % 3);
-  for (std::size_t i = 0; i < digits.size(); ++i) {
-    if (i != 0 && (static_cast<int>(i) - first) % 3 == 0) out += ',';
-    out += digits[i];
-  }
-  return out;
-}
-
 std::string jsonString(const std::string& s) {
   std::string out = "\"";
   for (char c : s) {
@@ -323,14 +258,6 @@ std::uint64_t peakMemoryBytes() {
   rusage usage{};
   ::getrusage(RUSAGE_SELF, &usage);
   return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
-}
-
-std::string fixed(double x, int decimals) {
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(decimals);
-  s << x;
-  return s.str();
 }
 
 bool takeInputOrHelp(const std::string& argument, const ArgumentReader& args, std::string& input,

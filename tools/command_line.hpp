@@ -10,9 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "stvd/itk/tensor_input.hpp"
 #include "stvd/itk/tensor_layout.hpp"
 #include "stvd/itk/tensor_metric.hpp"
 #include "stvd/itk/tensor_volume.hpp"
+#include "stvd/number_text.hpp"
 
 namespace stvd::tool {
 
@@ -67,43 +69,18 @@ int parseInteger(const std::string& option, const std::string& text);
 std::array<double, 3> parseTriple(const std::string& option, const std::string& text);
 std::array<int, 3> parseIntegerTriple(const std::string& option, const std::string& text);
 
-/// How to read a tensor file and turn it into a metric: the options
-/// `distance` and `info` share.
-struct TensorInputOptions {
-  std::optional<imaging::TensorOrder> order;
-  std::optional<imaging::TensorFrame> frame;
-  imaging::MetricOptions metric;
-  std::string maskPath;
-  /// --accept-implausible-tensors: go on when the tensors look like a wrong
-  /// layout (imaging::implausibleTensorsReason).
-  bool acceptImplausible = false;
-};
+// How to read a tensor file and turn it into a metric, and the tensors with
+// their mask (stvd/itk/tensor_input.hpp). The library's readers throw
+// ImageIoError and InputError, which main() reports with kExitInput.
+using imaging::TensorInput;
+using imaging::TensorInputOptions;
 
 /// When `option` is one of the tensor input options, reads its value from
 /// `args` into `options` and returns true.
 bool parseTensorInputOption(const std::string& option, ArgumentReader& args, TensorInputOptions& options);
 
-/// A tensor file read as the options say, with its mask: the file's own
-/// (NRRD confidence) and the --mask file's, combined; empty when neither.
-struct TensorInput {
-  imaging::TensorReadResult read;
-  std::vector<std::uint8_t> mask;
-  /// How the mask came about, for reports: "" or e.g. "mask.nii.gz".
-  std::string maskDescription;
-};
-
-/// Reads the tensor file and the mask (noting their warnings). Throws
-/// ToolError(kExitInput) naming the file: unreadable, wrong layout, or a
-/// mask on another grid.
-TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options);
-
-/// imaging::buildMetric on the input's tensors and mask, then the check of
-/// the layout: when the tensors are implausible (most of them not positive
-/// definite, see tensor_plausibility.hpp), ToolError(kExitInput) naming the
-/// file, the order and frame as read and the options to check, unless
-/// options.acceptImplausible.
-imaging::MetricFromTensors buildCheckedMetric(const std::string& path, const TensorInput& input,
-                                             const TensorInputOptions& options);
+/// imaging::readTensorInput, noting the warnings about the files it read.
+TensorInput readTensorInputNotingWarnings(const std::string& path, const TensorInputOptions& options);
 
 /// --unreachable-value: "nan" or a number that a float32 map can hold
 /// (1e300 would become infinity, which is refused as such). Usage error
@@ -120,6 +97,8 @@ void checkImageOutputSpelling(const std::string& path);
 /// line "stvd: warning: FILE: text" on stderr (also with --quiet: it is
 /// about the data, not progress), and keeps it for inputWarnings().
 void noteInputWarnings(const std::string& path, const std::vector<std::string>& warnings);
+/// The same for warnings that name their file already ("FILE: text").
+void noteInputWarnings(const std::vector<std::string>& lines);
 /// Every warning noted so far, each "FILE: text", for --stats.
 const std::vector<std::string>& inputWarnings();
 
@@ -137,10 +116,9 @@ std::string tensorInputHelp(bool withMetricOptions);
 bool takeInputOrHelp(const std::string& argument, const ArgumentReader& args, std::string& input,
                      const char* helpText, bool withMetricOptions);
 
-/// 1234567 -> "1,234,567".
-std::string withThousands(unsigned long long n);
-/// Fixed-point with `decimals` digits.
-std::string fixed(double x, int decimals);
+// Numbers in messages and reports, as the library writes them.
+using text::fixed;
+using text::withThousands;
 /// A JSON string literal (quotes and control characters escaped).
 std::string jsonString(const std::string& s);
 /// A JSON number with 10 significant digits; null for NaN and infinities.

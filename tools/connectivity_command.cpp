@@ -4,11 +4,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <iostream>
-#include <limits>
-#include <map>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
@@ -16,10 +16,10 @@
 #include "run_files.hpp"
 #include "stvd/files/file_contents.hpp"
 #include "stvd/files/output_transaction.hpp"
-#include "stvd/geodesic_path.hpp"
-#include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
+#include "stvd/label_regions.hpp"
 #include "stvd/parallel_tasks.hpp"
+#include "stvd/region_connectivity.hpp"
 #include "stvd/stencil.hpp"
 #include "subcommands.hpp"
 
@@ -56,8 +56,8 @@ const char* kConnectivityHelp =
     "                          where B is not reachable.\n"
     "  --threads N             regions propagated in parallel (default: the number of cores);\n"
     "                          the table does not depend on N.\n"
-    "  --method, --k, --chain-measure, --stencil   as in stvd distance (defaults stvd, 6,\n"
-    "                          segment, 26).\n"
+    "  --method, --k, --chain-measure, --stencil, --domain-connectivity   as in stvd distance\n"
+    "                          (defaults stvd, 6, segment, 26, 6).\n"
     "  --no-memory-check       run even when the memory the propagations need (one per thread)\n"
     "                          exceeds the memory available.\n"
     "  -q, --quiet             no summary on stdout.\n"
@@ -112,29 +112,11 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
   return o;
 }
 
-struct Region {
-  std::int64_t label = 0;
-  std::vector<VertexId> voxels;  // in the domain
-};
-
-/// d(A, B) and the path measurements for one ordered pair.
-struct PairResult {
-  double geodesic = kUnreachable;
-  double pathLength = std::numeric_limits<double>::quiet_NaN();
-  double straight = std::numeric_limits<double>::quiet_NaN();
-};
-
 std::string number(double x) { return std::isfinite(x) ? fixed(x, 4) : "n/a"; }
 
-/// The connectivity index of a pair: path length over geodesic length.
-double connectivityIndex(const PairResult& r) {
-  return std::isfinite(r.geodesic) && r.geodesic > 0.0 ? r.pathLength / r.geodesic
-                                                         : std::numeric_limits<double>::quiet_NaN();
-}
-
 /// One square matrix as CSV: '#' header lines, then row a, column b.
-std::string matrixCsv(const std::string& what, const std::vector<Region>& regions,
-                      const std::vector<PairResult>& table, bool index) {
+std::string matrixCsv(const std::string& what, const std::vector<LabelRegion>& regions,
+                      const RegionConnectivity& table, bool index) {
   const std::size_t n = regions.size();
   std::ostringstream csv;
   csv << "# stvd connectivity: " << what << " from the region of the row to the region of the column\n# labels: ";
@@ -142,10 +124,10 @@ std::string matrixCsv(const std::string& what, const std::vector<Region>& region
   csv << "\n";
   for (std::size_t a = 0; a < n; ++a) {
     for (std::size_t b = 0; b < n; ++b) {
-      const PairResult& r = table[a * n + b];
+      const RegionPair& r = table(a, b);
       csv << (b ? "," : "");
       if (a == b) csv << "0";
-      else if (index) csv << (std::isfinite(connectivityIndex(r)) ? fixed(connectivityIndex(r), 6) : "0");
+      else if (index) csv << (std::isfinite(r.connectivity()) ? fixed(r.connectivity(), 6) : "0");
       else csv << (std::isfinite(r.geodesic) ? fixed(r.geodesic, 4) : "inf");
     }
     csv << "\n";
@@ -167,37 +149,16 @@ int runConnectivity(int argc, char** argv) {
   files.outputFile("distance matrix", o.matrix);
   files.outputFile("connectivity-index matrix", o.matrixIndex);
   files.check();
-  const TensorInput input = readTensorInput(o.input, o.tensor);
+  const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
-  imaging::MetricFromTensors built = buildCheckedMetric(o.input, input, o.tensor);
+  imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.input, input, o.tensor);
 
-  imaging::LabelImage labels;
-  try {
-    labels = imaging::readLabelImage(o.labels);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitInput, e.what());
-  }
+  const imaging::LabelImage labels = imaging::readLabelImage(o.labels);
   noteInputWarnings(o.labels, labels.warnings);
-  const std::string mismatch = imaging::geometryMismatch(labels.geometry, g);
-  if (!mismatch.empty())
-    throw ToolError(kExitInput, o.labels + ": the labels are on another grid than " + o.input + " (" + mismatch + ")");
-  std::map<std::int64_t, Region> byLabel;
-  for (std::size_t v = 0; v < labels.labels.size(); ++v) {
-    if (labels.labels[v] == 0) continue;
-    Region& r = byLabel[labels.labels[v]];
-    r.label = labels.labels[v];
-    if (built.inDomain[v]) r.voxels.push_back(static_cast<VertexId>(v));
-  }
-  std::vector<Region> regions;
+  imaging::requireSameGrid(labels.geometry, g, o.labels, "the labels are", o.input);
   std::size_t empty = 0;
-  for (auto& [label, region] : byLabel) {
-    if (region.voxels.empty())
-      ++empty;
-    else
-      regions.push_back(std::move(region));
-  }
-  if (regions.size() < 2)
-    throw ToolError(kExitDomain, o.labels + ": fewer than two regions have voxels inside the domain of " + o.input);
+  const std::vector<LabelRegion> regions =
+      regionsInDomain(labelRegions(labels.labels, built.inDomain), o.labels, o.input, empty);
 
   // One propagation at a time on each thread, each with its own state and result.
   const unsigned threadCount = threadCountFor(o.threads, regions.size());
@@ -205,39 +166,23 @@ int runConnectivity(int argc, char** argv) {
               std::to_string(threadCount) + (threadCount == 1 ? " propagation" : " propagations at once") + " on " +
                   withThousands(built.counts.domain) + " domain voxels",
               !o.memoryCheck);
-  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
+  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain, o.connectivity);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
-  const PropagationOptions propagation = propagationOptions(o);
   const std::size_t n = regions.size();
-  std::vector<PairResult> table(n * n);
-
+  std::vector<std::vector<VertexId>> regionVoxels;
+  for (const LabelRegion& r : regions) regionVoxels.push_back(r.voxels);
   // Region a's row is written only by the thread that propagates from a,
   // so the table is the same for any number of threads.
-  auto work = [&](std::size_t a) {
-    const PropagationResult result = propagate(domain, metric, regions[a].voxels, propagation);
-    for (std::size_t b = 0; b < n; ++b) {
-      if (b == a) continue;
-      VertexId nearest = kNoVertex;
-      for (VertexId v : regions[b].voxels)
-        if (std::isfinite(result.distance[v]) && (nearest == kNoVertex || result.distance[v] < result.distance[nearest]))
-          nearest = v;
-      if (nearest == kNoVertex) continue;
-      const TracedPath path = traceGeodesicPath(domain, metric, result, nearest);
-      PairResult& r = table[a * n + b];
-      r.geodesic = path.geodesicLength;
-      r.pathLength = path.euclideanLength;
-      r.straight = norm(path.points.back() - path.points.front());
-    }
-  };
-  forEachTaskInParallel(n, threadCount, work);
+  const RegionConnectivity table =
+      regionConnectivity(domain, metric, regionVoxels, propagationOptions(o), threadCount);
 
   std::ostringstream tsv;
   tsv << "region_a\tregion_b\tgeodesic_mm\tpath_mm\tstraight_mm\tconnectivity\tvoxels_a\tvoxels_b\n";
   for (std::size_t a = 0; a < n; ++a)
     for (std::size_t b = 0; b < n; ++b) {
       if (a == b) continue;
-      const PairResult& r = table[a * n + b];
-      const double index = connectivityIndex(r);
+      const RegionPair& r = table(a, b);
+      const double index = r.connectivity();
       tsv << regions[a].label << "\t" << regions[b].label << "\t" << number(r.geodesic) << "\t" << number(r.pathLength)
           << "\t" << number(r.straight) << "\t" << number(index) << "\t" << regions[a].voxels.size() << "\t"
           << regions[b].voxels.size() << "\n";
@@ -260,8 +205,9 @@ int runConnectivity(int argc, char** argv) {
   if (!o.quiet)
     std::cout << "Connectivity of " << n << " regions of " << o.labels
               << (empty ? " (" + std::to_string(empty) + " more without voxels in the domain left out)" : std::string())
-              << ": " << n * (n - 1) << " ordered pairs, " << methodText(o) << " on the " << o.stencil
-              << "-neighbour stencil, " << threadCount << (threadCount == 1 ? " thread" : " threads") << ". Took "
+              << ": " << n * (n - 1) << " ordered pairs, " << methodText(o, memoryDepthOf<VoxelGridDomain>(o))
+              << " on the " << o.stencil << "-neighbour stencil, " << connectivityText(o.connectivity) << ", "
+              << threadCount << (threadCount == 1 ? " thread" : " threads") << ". Took "
               << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s. Wrote " << o.output
               << (o.matrix.empty() ? "" : ", " + o.matrix) << (o.matrixIndex.empty() ? "" : ", " + o.matrixIndex)
               << "." << std::endl;

@@ -66,7 +66,7 @@ const char* kDistanceHelp =
     "Propagation:\n"
     "  --method M              stvd (default): Short-Term Vector Dijkstra (Campen et al. 2013);\n"
     "                          dijkstra: shortest paths along stencil edges;\n"
-    "                          lanthier: Steiner points on the cubes between voxel centres, the\n"
+    "                          lanthier: Steiner points on the cells between voxel centres, the\n"
     "                          slow accurate reference (needs --steiner; docs/steiner.md).\n"
     "  --steiner M             lanthier: Steiner points per cube edge, 1..16; time and memory grow\n"
     "                          like M^4 and M^2 (shipped brain: M = 2 3 s, M = 8 4 min, 1.1 GB).\n"
@@ -76,6 +76,11 @@ const char* kDistanceHelp =
     "                          fields) or projection (the paper's rule, which underestimates on\n"
     "                          DTI data for k > 3; see docs/cli.md).\n"
     "  --stencil S             neighbourhood: 6, 18, 26 (default), 98 (5x5x5) or 290 (7x7x7).\n"
+    "  --domain-connectivity C which domain voxels touch, with a mask or --fa-threshold: 6\n"
+    "                          (default): only through the cells between voxel centres whose\n"
+    "                          corners are all in the domain, so no path passes a gap of zero\n"
+    "                          width; 18: also two voxels that share only an edge; 26: also two\n"
+    "                          that share only a corner. Every method keeps to it (docs/cli.md).\n"
     "  --max-distance D        stop at D mm; farther voxels are unreachable.\n"
     "  --no-memory-check       run even when the estimate of the memory the propagation needs\n"
     "                          exceeds the memory available (exit code 6 otherwise).\n"
@@ -120,7 +125,7 @@ struct DistanceOptions : SeedOptions, PropagationChoice {
   std::string output;
   double maxDistance = std::numeric_limits<double>::infinity();
   TensorInputOptions tensor;
-  float unreachableValue = -1.f;
+  float unreachableValue = static_cast<float>(kDefaultUnreachableValue);
   std::string statsPath;
   bool quiet = false;
 };
@@ -166,8 +171,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
     usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
   checkPropagationChoice(o, /*lanthierAllowed=*/true);
-  if (o.tensor.metric.faThreshold && o.tensor.metric.kind != imaging::TensorKind::Diffusion)
-    usageError("--fa-threshold applies to --tensor-kind diffusion only");
+  imaging::checkTensorInputOptions(o.tensor);
   return o;
 }
 
@@ -254,12 +258,13 @@ std::string statsJson(const DistanceOptions& o, const TensorInput& input, const 
   j << "    \"method\": " << jsonString(o.lanthier ? "lanthier" : o.method == Method::Dijkstra ? "dijkstra" : "stvd")
     << ",\n";
   if (o.lanthier) j << "    \"steiner_points\": " << o.steinerPoints << ",\n";
-  j << "    \"k\": " << (o.lanthier ? std::string("null") : std::to_string(o.method == Method::Dijkstra ? 1 : o.k))
+  j << "    \"k\": " << (o.lanthier ? std::string("null") : std::to_string(memoryDepthOf<VoxelGridDomain>(o)))
     << ",\n";
   if (!o.lanthier) {  // lanthier measures cells, not stencil edges or chains
     j << "    \"chain_measure\": \"" << chainMeasureName(o.chainMeasure) << "\",\n";
     j << "    \"stencil\": " << jsonString(o.stencil) << ",\n";
   }
+  j << "    \"domain_connectivity\": " << static_cast<int>(o.connectivity) << ",\n";
   j << "    \"max_distance_mm\": " << jsonNumber(o.maxDistance) << ",\n";
   j << "    \"tensor_kind\": " << jsonString(imaging::tensorKindName(o.tensor.metric.kind)) << ",\n";
   j << "    \"diffusion_metric\": " << jsonString(imaging::diffusionMetricName(o.tensor.metric.diffusionMetric))
@@ -361,8 +366,9 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
     s << withThousands(seeds.size()) << " seed voxels";
   }
   if (labelSeedsLeftOut) s << " (" << withThousands(labelSeedsLeftOut) << " label voxels outside the domain left out)";
-  s << ". Method: " << methodText(o);
+  s << ". Method: " << methodText(o, memoryDepthOf<VoxelGridDomain>(o));
   if (!o.lanthier) s << " on the " << o.stencil << "-neighbour stencil";
+  if (counts.domain < counts.total) s << ", " << connectivityText(o.connectivity);
   if (std::isfinite(o.maxDistance)) s << ", stopping at " << fixed(o.maxDistance, 1) << " mm";
   s << ". Reached " << withThousands(stats.reached) << " of " << withThousands(counts.domain) << " domain voxels";
   if (result.termination == Termination::MaxDistanceReached) s << " before the distance limit";
@@ -405,16 +411,13 @@ int runDistance(int argc, char** argv) {
   files.check();
 
   Clock::time_point phase = Clock::now();
-  const TensorInput input = readTensorInput(o.input, o.tensor);
+  const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
   t.read = secondsSince(phase);
 
   phase = Clock::now();
-  imaging::MetricFromTensors built = buildCheckedMetric(o.input, input, o.tensor);
-  if (built.counts.domain == 0)
-    throw ToolError(kExitDomain, o.input + ": the domain is empty: no voxel has a usable tensor" +
-                                     (input.mask.empty() ? std::string() : " inside the mask") +
-                                     (o.tensor.metric.faThreshold ? " above the FA threshold" : ""));
+  imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.input, input, o.tensor);
+  imaging::requireNonEmptyDomain(o.input, built.counts, !input.mask.empty(), o.tensor.metric);
   t.metric = secondsSince(phase);
 
   phase = Clock::now();  // reading a seed label image counts as reading
@@ -428,19 +431,17 @@ int runDistance(int argc, char** argv) {
                         2 * sizeof(VertexId) * voxels  // the grid cells' numbering of domain voxels
                   : propagationMemoryEstimate(voxels, domainVoxels)) +
       kOutputBytesPerVoxel * voxels;
-  const MemoryCheck memory =
-      checkMemory(o.input, needed, methodText(o) + " on " + withThousands(domainVoxels) + " domain voxels",
-                  !o.memoryCheck);
+  const MemoryCheck memory = checkMemory(
+      o.input, needed,
+      methodText(o, memoryDepthOf<VoxelGridDomain>(o)) + " on " + withThousands(domainVoxels) + " domain voxels",
+      !o.memoryCheck);
 
   phase = Clock::now();
-  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
+  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain, o.connectivity);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   t.metric += secondsSince(phase);
 
-  std::vector<VertexId> sources;
-  for (const Seed& s : seeds) sources.push_back(domain.vertexAt(s.index.i, s.index.j, s.index.k));
-  std::sort(sources.begin(), sources.end());
-  sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
+  const std::vector<VertexId> sources = imaging::sourceVertices(domain, seeds);
 
   phase = Clock::now();
   PropagationOptions options = propagationOptions(o);
@@ -458,7 +459,7 @@ int runDistance(int argc, char** argv) {
     steiner.progress = options.progress;
     try {
       result = steinerPropagate(domain, metric, sources, steiner);
-    } catch (const std::invalid_argument& e) {  // a grid too thin for cubes, or too large a graph
+    } catch (const std::invalid_argument& e) {  // too large a graph
       throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
     }
   } else {

@@ -154,7 +154,7 @@ std::string componentOrderReport(const TensorInput& input, std::size_t considere
 
 int runInfo(int argc, char** argv) {
   const InfoOptions o = parseInfoOptions(argc, argv);
-  const TensorInput input = readTensorInput(o.input, o.tensor);
+  const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
   const imaging::TensorVolume& volume = input.read.volume;
   const imaging::TensorFileInfo& info = input.read.info;
   const GridGeometry& g = volume.geometry;

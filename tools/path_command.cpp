@@ -5,7 +5,6 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
-#include <map>
 #include <sstream>
 
 #include "command_line.hpp"
@@ -18,7 +17,7 @@
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/streamline_io.hpp"
-#include "stvd/itk/symmetric_eigen.hpp"
+#include "stvd/itk/tensor_metric.hpp"
 #include "stvd/stencil.hpp"
 #include "subcommands.hpp"
 
@@ -57,6 +56,8 @@ const char* kPathHelp =
     "  --k N                   STVD memory depth, 1..16 (default 6).\n"
     "  --chain-measure R       largest (default) or projection.\n"
     "  --stencil S             6, 18, 26 (default), 98 or 290.\n"
+    "  --domain-connectivity C 6 (default), 18 or 26: which domain voxels touch; paths keep to\n"
+    "                          the same region as the distances.\n"
     "  --no-memory-check       run even when the estimate of the memory needed exceeds the\n"
     "                          memory available.\n"
     "\n"
@@ -155,61 +156,11 @@ PathOptions parsePathOptions(int argc, char** argv) {
   if (o.targetVoxels.empty() && o.targetPoints.empty() && o.targetLabels.empty())
     usageError("no target: add --target-voxel I,J,K, --target-point X,Y,Z or --targets LABELS");
   checkPropagationChoice(o, /*lanthierAllowed=*/false);
-  if (o.tensor.metric.faThreshold && o.tensor.metric.kind != imaging::TensorKind::Diffusion)
-    usageError("--fa-threshold applies to --tensor-kind diffusion only");
+  imaging::checkTensorInputOptions(o.tensor);
   return o;
 }
 
-struct Target {
-  VertexId vertex = kNoVertex;
-  std::string name;  // how the user gave it
-};
-
-/// One target per distinct non-zero label: the region's voxel in the domain
-/// with the smallest distance from the seeds.
-std::vector<Target> labelTargets(const PathOptions& o, const GridGeometry& g, const std::vector<std::uint8_t>& inDomain,
-                                 const std::vector<double>& distance) {
-  imaging::LabelImage labels;
-  try {
-    labels = imaging::readLabelImage(o.targetLabels);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitInput, e.what());
-  }
-  noteInputWarnings(o.targetLabels, labels.warnings);
-  const std::string mismatch = imaging::geometryMismatch(labels.geometry, g);
-  if (!mismatch.empty())
-    throw ToolError(kExitInput, o.targetLabels + ": the target labels are on another grid than " + o.input + " (" +
-                                    mismatch + ")");
-  std::map<std::int64_t, VertexId> nearest;  // label -> voxel (kNoVertex: none reachable)
-  for (std::size_t v = 0; v < labels.labels.size(); ++v) {
-    if (labels.labels[v] == 0) continue;
-    auto [it, inserted] = nearest.emplace(labels.labels[v], kNoVertex);
-    if (!inDomain[v] || !std::isfinite(distance[v])) continue;
-    if (it->second == kNoVertex || distance[v] < distance[it->second]) it->second = static_cast<VertexId>(v);
-  }
-  if (nearest.empty()) throw ToolError(kExitDomain, o.targetLabels + ": the target label image has no non-zero voxel");
-  std::vector<Target> targets;
-  for (const auto& [label, vertex] : nearest) {
-    if (vertex == kNoVertex)
-      throw ToolError(kExitDomain, o.targetLabels + ": no voxel of label " + std::to_string(label) +
-                                       " lies in the domain of " + o.input + " and is reachable from the seeds");
-    targets.push_back({vertex, "label " + std::to_string(label)});
-  }
-  return targets;
-}
-
-/// Length-weighted mean of per-point values (trapezoid rule); NaN when a
-/// value is missing or the path has no length.
-double lengthWeightedMean(const std::vector<Vec3d>& points, const std::vector<float>& values) {
-  double sum = 0.0, length = 0.0;
-  for (std::size_t n = 1; n < points.size(); ++n) {
-    const double l = norm(points[n] - points[n - 1]);
-    sum += 0.5 * l * (static_cast<double>(values[n - 1]) + values[n]);
-    length += l;
-  }
-  if (points.size() == 1) return values[0];
-  return length > 0.0 ? sum / length : std::numeric_limits<double>::quiet_NaN();
-}
+using Target = imaging::PathTarget;
 
 std::string tsvNumber(double x, int decimals) { return std::isfinite(x) ? fixed(x, decimals) : "n/a"; }
 
@@ -227,9 +178,9 @@ int runPath(int argc, char** argv) {
   files.outputFile("path table", o.tsvPath);
   files.check();
 
-  const TensorInput input = readTensorInput(o.input, o.tensor);
+  const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
-  imaging::MetricFromTensors built = buildCheckedMetric(o.input, input, o.tensor);
+  imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.input, input, o.tensor);
   if (built.counts.domain == 0)
     throw ToolError(kExitDomain, o.input + ": the domain is empty: no voxel has a usable tensor");
   std::size_t leftOut = 0;
@@ -245,13 +196,12 @@ int runPath(int argc, char** argv) {
   // The propagation, FA per voxel and the paths.
   checkMemory(o.input,
               propagationMemoryEstimate(g.voxelCount(), built.counts.domain) + 2 * sizeof(float) * g.voxelCount(),
-              methodText(o) + " on " + withThousands(built.counts.domain) + " domain voxels", !o.memoryCheck);
-  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
+              methodText(o, memoryDepthOf<VoxelGridDomain>(o)) + " on " + withThousands(built.counts.domain) +
+                  " domain voxels",
+              !o.memoryCheck);
+  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain, o.connectivity);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
-  std::vector<VertexId> sources;
-  for (const Seed& s : seeds) sources.push_back(domain.vertexAt(s.index.i, s.index.j, s.index.k));
-  std::sort(sources.begin(), sources.end());
-  sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
+  const std::vector<VertexId> sources = imaging::sourceVertices(domain, seeds);
   const Clock::time_point propagationStart = Clock::now();
   const PropagationResult result = propagate(domain, metric, sources, propagationOptions(o));
   const double propagationSeconds = std::chrono::duration<double>(Clock::now() - propagationStart).count();
@@ -259,24 +209,18 @@ int runPath(int argc, char** argv) {
   std::vector<Target> targets;
   for (const Seed& t : targetSeeds) targets.push_back({domain.vertexAt(t.index.i, t.index.j, t.index.k), t.givenAs});
   if (!o.targetLabels.empty()) {
-    const std::vector<Target> fromLabels = labelTargets(o, g, built.inDomain, result.distance);
+    const imaging::LabelImage labels = imaging::readLabelImage(o.targetLabels);
+    noteInputWarnings(o.targetLabels, labels.warnings);
+    const std::vector<Target> fromLabels =
+        imaging::labelTargets(o.targetLabels, labels, o.input, g, built.inDomain, result.distance);
     targets.insert(targets.end(), fromLabels.begin(), fromLabels.end());
   }
-  for (const Target& t : targets)
-    if (!std::isfinite(result.distance[t.vertex]))
-      throw ToolError(kExitDomain, o.input + ": target " + t.name + " is not reachable from the seeds (no path "
-                                                                   "inside the domain connects them)");
+  imaging::requireReachable(o.input, targets, result.distance);
 
   // FA of the diffusion tensors, for the values along the paths.
   const bool withFa = o.tensor.metric.kind == imaging::TensorKind::Diffusion;
   std::vector<float> fa;
-  if (withFa) {
-    fa.assign(g.voxelCount(), 0.f);
-    for (std::size_t v = 0; v < fa.size(); ++v)
-      if (built.inDomain[v])
-        fa[v] = static_cast<float>(
-            imaging::fractionalAnisotropy(imaging::eigenDecompose(input.read.volume.tensors[v]).values));
-  }
+  if (withFa) fa = imaging::fractionalAnisotropyMap(input.read.volume.tensors, built.inDomain);
 
   const Clock::time_point tracingStart = Clock::now();
   imaging::StreamlineSet set;
@@ -296,25 +240,13 @@ int runPath(int argc, char** argv) {
   std::ostringstream summary;
   for (std::size_t n = 0; n < targets.size(); ++n) {
     const Target& t = targets[n];
-    PathTracingOptions tracing = o.tracing;
-    if (o.discrete) tracing.refine = false;  // only the predecessor chain is written
-    TracedPath path = traceGeodesicPath(domain, metric, result, t.vertex, tracing);
-    if (o.discrete) {
-      TracedPath d;
-      d.discrete = path.discrete;
-      d.geodesicLength = path.geodesicLength;
-      for (VertexId v : path.discrete) d.points.push_back(domain.physicalPoint(v));
-      d.discretePoints = d.points.size();
-      for (std::size_t p = 1; p < d.points.size(); ++p) d.euclideanLength += norm(d.points[p] - d.points[p - 1]);
-      d.metricLength = std::numeric_limits<double>::quiet_NaN();
-      path = d;
-    }
-    std::vector<float> faAlong;
+    const TracedPath path = o.discrete ? discreteGeodesicPath(domain, result, t.vertex)
+                                       : traceGeodesicPath(domain, metric, result, t.vertex, o.tracing);
     double meanFa = std::numeric_limits<double>::quiet_NaN();
     if (withFa) {
-      for (const Vec3d& p : path.points) faAlong.push_back(static_cast<float>(interpolateAtPoint(domain, fa, p)));
-      meanFa = lengthWeightedMean(path.points, faAlong);
-      set.pointValues[0].push_back(faAlong);
+      const PathSamples faAlong = sampleAlongPath(domain, fa, path.points);
+      meanFa = faAlong.lengthWeightedMean;
+      set.pointValues[0].push_back(faAlong.values);
       set.lineValues[2].push_back(static_cast<float>(meanFa));
     }
     set.lines.push_back(path.points);
@@ -357,7 +289,8 @@ int runPath(int argc, char** argv) {
   }
   if (!o.quiet) {
     std::cout << summary.str();
-    std::cout << "Method: " << methodText(o) << " on the " << o.stencil << "-neighbour stencil; " << seeds.size()
+    std::cout << "Method: " << methodText(o, memoryDepthOf<VoxelGridDomain>(o)) << " on the " << o.stencil
+              << "-neighbour stencil, " << connectivityText(o.connectivity) << "; " << seeds.size()
               << (seeds.size() == 1 ? " seed voxel" : " seed voxels") << ". Took "
               << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s (propagation "
               << fixed(propagationSeconds, 2) << ", paths " << fixed(tracingSeconds, 3) << "). Wrote " << o.output

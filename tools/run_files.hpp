@@ -1,43 +1,24 @@
-// The files one run of a subcommand reads and writes, declared before
-// anything is read or computed: no output may be an input (or one of the
-// files an input brings with it), no two outputs may be one file, and every
-// output must be writable. The checks every subcommand makes, in one place.
+// The files one run of a subcommand reads and writes (imaging::RunFiles,
+// which the Python package uses as well), with the tool's exit codes and
+// TetGen meshes, whose files the imaging adapter does not know.
 #pragma once
 
 #include <string>
-#include <vector>
 
-#include "stvd/files/file_identity.hpp"
+#include "stvd/itk/run_files.hpp"
 
 namespace stvd::tool {
 
-class RunFiles {
+class RunFiles : public imaging::RunFiles {
  public:
-  /// An image input: the file and the files it brings (a NRRD or MRtrix
-  /// .mih header's data files, the other half of a NIfTI pair). Nothing for
-  /// an empty path.
-  void inputImage(const std::string& role, const std::string& path);
   /// A TetGen mesh given as its base name or any of its files: .node, .ele
   /// and .face.
   void inputTetMesh(const std::string& role, const std::string& path);
-  /// Any other input file. Nothing for an empty path.
-  void inputFile(const std::string& role, const std::string& path);
 
-  /// An image output and the files writing it creates (a .nhdr header's
-  /// data file). Nothing for an empty path.
-  void outputImage(const std::string& role, const std::string& path);
-  /// Any other output file. Nothing for an empty path.
-  void outputFile(const std::string& role, const std::string& path);
-
-  /// Throws ToolError: kExitUsage when an output is an input or another
-  /// output ("<path>: the distance map is the tensor input ..."); kExitOutput
-  /// when an output's folder is missing or not writable, or when writing an
-  /// image would replace an unrelated file next to it.
+  /// imaging::RunFiles::check, throwing ToolError: kExitUsage when an output
+  /// is an input or another output; kExitOutput when an output cannot be
+  /// written there.
   void check() const;
-
- private:
-  std::vector<files::RunFile> inputs_, outputs_;
-  std::vector<std::string> imageOutputs_;
 };
 
 }  // namespace stvd::tool

@@ -6,6 +6,8 @@
 
 #include "command_line.hpp"
 #include "stvd/files/termination_signals.hpp"
+#include "stvd/front_end_errors.hpp"
+#include "stvd/itk/image_io_error.hpp"
 #include "subcommands.hpp"
 #include "tet_mesh_commands.hpp"
 
@@ -65,6 +67,12 @@ int dispatch(int argc, char** argv) {
              "' (commands: distance, path, connectivity, info, tetrahedralize; see stvd --help)");
 }
 
+/// One line on stderr, and the exit code.
+int reportFailure(int exitCode, const std::exception& e) {
+  std::cerr << "stvd: " << e.what() << std::endl;
+  return exitCode;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -77,6 +85,16 @@ int main(int argc, char** argv) {
   } catch (const ToolError& e) {
     if (e.exitCode() != kExitOk) std::cerr << "stvd: " << e.what() << std::endl;
     return e.exitCode();
+  } catch (const stvd::OptionError& e) {  // the library's checks of the front ends' options
+    return reportFailure(kExitUsage, e);
+  } catch (const stvd::InputError& e) {
+    return reportFailure(kExitInput, e);
+  } catch (const stvd::NothingToCompute& e) {
+    return reportFailure(kExitDomain, e);
+  } catch (const stvd::imaging::ImageIoError& e) {
+    // Reading an input; every output is written where its failure is turned
+    // into kExitOutput.
+    return reportFailure(kExitInput, e);
   } catch (const std::bad_alloc&) {
     std::cerr << "stvd: out of memory (the machine, its control group or ulimit -v allows less than the run "
                  "needs)"

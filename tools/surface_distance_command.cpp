@@ -174,7 +174,6 @@ SurfaceOptions parse(int argc, char** argv) {
   if (!needsGamma && o.anisotropyGiven)
     usageError("--anisotropy applies to the curvature and field metrics only");
   checkMeshPropagationChoice(o, "face edge", 4);
-  if (!o.kGiven) o.k = defaultMemoryDepth<SurfaceDomain>();
   return o;
 }
 
@@ -279,7 +278,7 @@ RiemannianMetric buildMetric(const SurfaceOptions& o, const SurfaceDomain& surfa
 std::string methodName(const SurfaceOptions& o) {
   return o.lanthier ? "Lanthier M=" + std::to_string(o.steinerPoints)
          : o.method == Method::Dijkstra ? std::string("Dijkstra")
-                                        : "STVD k=" + std::to_string(o.k);
+                                        : "STVD k=" + std::to_string(memoryDepthOf<SurfaceDomain>(o));
 }
 
 /// What --stats reports besides the options and the file's mesh.
@@ -301,7 +300,7 @@ std::string surfaceStatsJson(const SurfaceOptions& o, const surface_io::SurfaceM
   j << "{\n  \"input\": " << jsonString(o.input) << ",\n  \"output\": " << jsonString(o.output) << ",\n";
   j << "  \"parameters\": {\"method\": "
     << jsonString(o.lanthier ? "lanthier" : o.method == Method::Dijkstra ? "dijkstra" : "stvd")
-    << ", \"k\": " << (o.lanthier ? std::string("null") : std::to_string(o.method == Method::Dijkstra ? 1 : o.k))
+    << ", \"k\": " << (o.lanthier ? std::string("null") : std::to_string(memoryDepthOf<SurfaceDomain>(o)))
     << ", \"chain_measure\": "
     << (o.lanthier ? std::string("null")
                    : jsonString(chainMeasureName(o.chainMeasure)))

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
-#include <optional>
 #include <sstream>
 
 #include "command_line.hpp"
@@ -22,8 +21,8 @@
 #include "stvd/steiner_propagation.hpp"
 #include "stvd/tetmesh/grid_resampling.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
+#include "stvd/tetmesh/tet_mesh_propagation.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
-#include "stvd/tetmesh/vertex_order.hpp"
 #include "tet_mesh_commands.hpp"
 
 namespace stvd::tool {
@@ -110,7 +109,7 @@ struct TetDistanceOptions : PropagationChoice {
   std::string outsideImage = "error";
   double maxDistance = std::numeric_limits<double>::infinity();
   TensorInputOptions tensor;
-  double unreachableValue = -1.0;
+  double unreachableValue = kDefaultUnreachableValue;
   std::string reference;
   bool quiet = false;
 };
@@ -262,8 +261,8 @@ VertexTensors tensorsFromAttributes(const TetDistanceOptions& o, const tetmesh::
 
 VertexTensors tensorsFromImage(const TetDistanceOptions& o, const tetmesh::TetMesh& mesh) {
   VertexTensors out;
-  const TensorInput input = readTensorInput(o.tensors, o.tensor);
-  const imaging::MetricFromTensors built = buildCheckedMetric(o.tensors, input, o.tensor);
+  const TensorInput input = readTensorInputNotingWarnings(o.tensors, o.tensor);
+  const imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.tensors, input, o.tensor);
   std::vector<Vec3d> lps(mesh.points);
   if (!o.lps)
     for (Vec3d& p : lps) p = {-p.x, -p.y, p.z};
@@ -358,15 +357,9 @@ int runTetMeshDistance(int argc, char** argv) {
 
   // Tetrahedra with a corner outside the domain are left out; so are the
   // edges they alone contribute.
-  std::vector<CellMeshDomain::Tetrahedron> tets;
-  tets.reserve(mesh.tets.size());
-  for (const auto& t : mesh.tets)
-    if (inDomain[t[0]] && inDomain[t[1]] && inDomain[t[2]] && inDomain[t[3]]) tets.push_back(t);
-  if (tets.empty())
-    throw ToolError(kExitDomain, o.input + ": the domain is empty: no tetrahedron has four usable vertices");
-  std::vector<std::uint8_t> inKeptTet(mesh.vertexCount(), 0);
-  for (const auto& t : tets)
-    for (VertexId v : t) inKeptTet[v] = 1;
+  tetmesh::TetrahedraInDomain kept = tetmesh::tetrahedraInDomain(mesh.tets, inDomain, o.input);
+  std::vector<CellMeshDomain::Tetrahedron> tets = std::move(kept.tets);
+  std::vector<std::uint8_t> inKeptTet = std::move(kept.covered);
 
   std::vector<VertexId> sources;
   for (long long n : o.seedVertices) {
@@ -442,54 +435,13 @@ int runTetMeshDistance(int argc, char** argv) {
                 !o.memoryCheck);
   }
 
-  // Propagation runs on the vertices renumbered along a Morton curve, so
-  // that neighbours are close in memory (1.7 to 2.5 times less time per
-  // edge than TetGen's numbering on a 490k-vertex mesh, docs/benchmarks.md);
-  // results are mapped back to the file's numbering.
-  const tetmesh::VertexPermutation order = tetmesh::mortonOrder(points);
-  std::vector<SymTensor3> orderedTensors(points.size());
-  std::vector<std::uint8_t> orderedInDomain(points.size());
-  for (std::size_t n = 0; n < points.size(); ++n) {
-    orderedTensors[n] = metricTensors[order.newToOld[n]];
-    orderedInDomain[n] = inGraph[order.newToOld[n]];
-  }
-  std::vector<VertexId> orderedSources;
-  for (VertexId v : sources) orderedSources.push_back(order.oldToNew[v]);
-
   const double setupSeconds = secondsSince(start);
   const Clock::time_point propagationStart = Clock::now();
-  const CellMeshDomain domain =
-      CellMeshDomain::fromTetrahedra(tetmesh::permutedPoints(points, order), tetmesh::permutedTets(tets, order));
-  const RiemannianMetric metric(std::move(orderedTensors), &orderedInDomain);
-  PropagationResult result;
-  if (o.lanthier) {
-    // The cells are the domain's tetrahedra (those with four usable
-    // corners), so vertices outside the domain are never reached.
-    std::optional<TetrahedralCells> cells;
-    try {
-      cells.emplace(tetmesh::permutedPoints(points, order), tetmesh::permutedTets(tets, order));
-    } catch (const std::invalid_argument& e) {  // e.g. a face shared by more than two tetrahedra
-      throw ToolError(kExitInput, o.input + ": " + e.what());
-    }
-    SteinerOptions steiner;
-    steiner.steinerPoints = o.steinerPoints;
-    steiner.maxDistance = o.maxDistance;
-    try {
-      result = steinerPropagate(*cells, metric, orderedSources, steiner);
-    } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
-      throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
-    }
-  } else {
-    PropagationOptions options = propagationOptions(o);
-    options.maxDistance = o.maxDistance;
-    result = propagate(domain, metric, orderedSources, options);
-  }
+  const tetmesh::TetMeshPropagation propagation = tetmesh::propagateOverTetrahedra(
+      points, tets, metricTensors, inGraph, sources, o, o.maxDistance, o.input);
   const double propagationSeconds = secondsSince(propagationStart);
-  {
-    std::vector<double> inFileOrder(mesh.vertexCount());
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v) inFileOrder[v] = result.distance[order.oldToNew[v]];
-    result.distance = std::move(inFileOrder);
-  }
+  PropagationResult result = propagation.result;
+  result.distance.resize(mesh.vertexCount());  // without points inserted for --seed-at point
 
   std::vector<double> values(result.distance.size());
   std::size_t reached = 0;
@@ -523,13 +475,15 @@ int runTetMeshDistance(int argc, char** argv) {
     std::ostringstream s;
     s << "Read " << nodeFile << ": " << withThousands(mesh.vertexCount()) << " vertices, "
       << withThousands(mesh.tets.size()) << " tetrahedra (" << withThousands(tets.size()) << " in the domain), "
-      << withThousands(domain.edgeCount()) << " edges, numbered from " << mesh.firstIndex << ".\n"
+      << withThousands(propagation.edgeCount) << " edges, numbered from " << mesh.firstIndex << ".\n"
       << "Metric: " << vt.description << ".\n"
       << (o.lanthier ? "Lanthier Steiner points, M = " + std::to_string(o.steinerPoints) + " per edge"
           : o.method == Method::Dijkstra ? std::string("Dijkstra")
-                                       : "STVD k = " + std::to_string(o.k) + " (" +
-                                             (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? "largest edge norm"
-                                                                                              : "projection-weighted") +
+                                       : "STVD k = " + std::to_string(memoryDepthOf<CellMeshDomain>(o)) + " (" +
+                                             // the segment measure needs a domain that measures along
+                                             // paths; a cell mesh takes the largest edge norm for it
+                                             (o.chainMeasure == ChainMeasure::ProjectionWeighted ? "projection-weighted"
+                                                                                                 : "largest edge norm") +
                                              ")")
       << " from " << sources.size() << " seed vertex" << (sources.size() == 1 ? "" : "es") << ": reached "
       << withThousands(reached) << " of " << withThousands(mesh.vertexCount()) << " vertices, farthest "

@@ -111,11 +111,29 @@ TracedPath traceGeodesicPath(const VoxelGridDomain& domain, const RiemannianMetr
                              const PathTracingOptions& options = {});
 
 /// Trilinear interpolation of a per-voxel scalar (e.g. FA) at a physical
-/// point, with the weights renormalised over the corners of its cell that
-/// are in the domain (values outside the domain are never used). NaN only
-/// outside the box of voxel centres or where no corner with a non-zero
-/// weight is in the domain, i.e. never for a point of a path.
+/// point of the domain's region; on a contact that the domain's
+/// connectivity joins, linear between its two voxels. NaN outside the box of
+/// voxel centres or outside the region (a corner with a non-zero weight
+/// outside the domain; within 1e-4 voxel of a cell face a point counts as
+/// on it, for the rounding of single-precision direction cosines).
 double interpolateAtPoint(const VoxelGridDomain& domain, const std::vector<float>& values, Vec3d point);
+
+/// The discrete path of `target` in the form of a traced one: the voxel
+/// centres of its predecessor chain (predecessorPath) as points, its
+/// geodesic and Euclidean lengths; no metric length (NaN), gradient steps,
+/// fallbacks or refinement. Empty when the target was not reached.
+TracedPath discreteGeodesicPath(const VoxelGridDomain& domain, const PropagationResult& result, VertexId target);
+
+/// A per-voxel scalar (e.g. FA) along a path: its value at each point
+/// (interpolateAtPoint) and their mean weighted by the path's length
+/// (trapezoid rule; the value itself for a single point; NaN when a value
+/// is missing or the path has no length).
+struct PathSamples {
+  std::vector<float> values;
+  double lengthWeightedMean = 0.0;
+};
+PathSamples sampleAlongPath(const VoxelGridDomain& domain, const std::vector<float>& values,
+                            const std::vector<Vec3d>& points);
 
 /// Text name of a fallback kind: "gradient_vanishes", "leaves_image", ...
 const char* pathFallbackName(PathFallback f);

@@ -17,10 +17,10 @@
 #include <sstream>
 
 #include "image_header_screening.hpp"
-#include "label_values.hpp"
 #include "stvd/files/file_contents.hpp"
 #include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/label_values.hpp"
 
 namespace stvd::imaging {
 namespace {
@@ -208,7 +208,7 @@ std::vector<float> decodeValues(const MrtrixHeader& header, std::string_view dat
 }
 
 /// Labels: integer datatypes without scaling exactly (64-bit), every other
-/// value through the rules for floating-point labels (label_values.hpp).
+/// value through the rules for floating-point labels (stvd/itk/label_values.hpp).
 std::vector<std::int64_t> decodeLabels(const MrtrixHeader& header, std::string_view data, const GridGeometry& g,
                                        const std::string& name) {
   DataType type;
@@ -220,7 +220,7 @@ std::vector<std::int64_t> decodeLabels(const MrtrixHeader& header, std::string_v
   forEachElement(header, [&](std::size_t e, std::size_t at) {
     if (!exact) {
       const double raw = element(bytes, at, type, swap);
-      labels[e] = detail::labelOfReal(isScaled(header) ? header.scalingOffset + header.scalingMultiplier * raw : raw,
+      labels[e] = labelOfReal(isScaled(header) ? header.scalingOffset + header.scalingMultiplier * raw : raw,
                                       name, g, e);
       return;
     }
@@ -238,7 +238,7 @@ std::vector<std::int64_t> decodeLabels(const MrtrixHeader& header, std::string_v
       labels[e] = unused == 0 ? static_cast<std::int64_t>(u)
                               : static_cast<std::int64_t>(u << unused) >> unused;
     } else {
-      labels[e] = detail::labelOfUnsigned64(u, name, g, e);
+      labels[e] = labelOfUnsigned64(u, name, g, e);
     }
   });
   return labels;

@@ -7,11 +7,11 @@
 #include <sstream>
 
 #include "itk_io_support.hpp"
-#include "label_values.hpp"
 #include "written_files.hpp"
 #include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/image_files.hpp"
 #include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/label_values.hpp"
 #include "stvd/itk/mrtrix_image.hpp"
 #include "stvd/itk/scalar_image.hpp"
 
@@ -40,7 +40,7 @@ void integerLabels(const detail::RawComponents& raw, std::vector<std::int64_t>& 
     T value;
     std::memcpy(&value, raw.bytes.data() + v * sizeof(T), sizeof(T));
     if constexpr (std::is_unsigned_v<T> && sizeof(T) == 8)
-      labels[v] = detail::labelOfUnsigned64(value, path, g, v);
+      labels[v] = labelOfUnsigned64(value, path, g, v);
     else
       labels[v] = static_cast<std::int64_t>(value);
   }
@@ -53,7 +53,7 @@ void floatLabels(const detail::RawComponents& raw, std::vector<std::int64_t>& la
   for (std::size_t v = 0; v < raw.count; ++v) {
     T value;
     std::memcpy(&value, raw.bytes.data() + v * sizeof(T), sizeof(T));
-    labels[v] = detail::labelOfReal(static_cast<double>(value), path, g, v);
+    labels[v] = labelOfReal(static_cast<double>(value), path, g, v);
   }
 }
 
@@ -177,6 +177,13 @@ std::string geometryMismatch(const GridGeometry& a, const GridGeometry& b) {
   for (int i = 0; i < 9; ++i)
     if (std::abs(a.direction[i] - b.direction[i]) > 1e-4) return "direction cosines differ";
   return {};
+}
+
+void requireSameGrid(const GridGeometry& image, const GridGeometry& reference, const std::string& imageName,
+                     const std::string& subject, const std::string& referenceName) {
+  const std::string mismatch = geometryMismatch(image, reference);
+  if (!mismatch.empty())
+    throw ImageIoError(imageName, subject + " on another grid than " + referenceName + " (" + mismatch + ")");
 }
 
 }  // namespace stvd::imaging

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "stvd/front_end_errors.hpp"
 #include "stvd/itk/symmetric_eigen.hpp"
 #include "stvd/large_array.hpp"
 
@@ -104,6 +105,22 @@ MetricFromTensors buildMetric(const std::vector<SymTensor3>& tensors, const std:
     ++c.domain;
   }
   return out;
+}
+
+void requireNonEmptyDomain(const std::string& inputName, const MetricVoxelCounts& counts, bool masked,
+                           const MetricOptions& options) {
+  if (counts.domain == 0)
+    throw NothingToCompute(inputName + ": the domain is empty: no voxel has a usable tensor" +
+                           (masked ? std::string(" inside the mask") : std::string()) +
+                           (options.faThreshold ? " above the FA threshold" : ""));
+}
+
+std::vector<float> fractionalAnisotropyMap(const std::vector<SymTensor3>& tensors,
+                                           const std::vector<std::uint8_t>& inDomain) {
+  std::vector<float> fa(tensors.size(), 0.f);
+  for (std::size_t v = 0; v < fa.size(); ++v)
+    if (inDomain[v]) fa[v] = static_cast<float>(fractionalAnisotropy(eigenDecompose(tensors[v]).values));
+  return fa;
 }
 
 }  // namespace stvd::imaging

@@ -14,12 +14,11 @@
 #include "stvd/itk/image_files.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/mrtrix_image.hpp"
+#include "stvd/itk/tensor_arrays.hpp"
 #include "stvd/itk/tensor_volume.hpp"
 
 namespace stvd::imaging {
 namespace {
-
-constexpr const char* kOrderHint = "state it with --tensor-order fsl|mrtrix|lower";
 
 std::string describeLayout(itk::ImageIOBase& io) {
   std::ostringstream s;
@@ -32,47 +31,6 @@ std::string describeLayout(itk::ImageIOBase& io) {
 
 Matrix3 transpose(const Matrix3& m) {
   return {m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]};
-}
-
-/// The matrix that takes the file's components to LPS components.
-Matrix3 fileToLps(const TensorFileInfo& info, const GridGeometry& geometry) {
-  if (info.frame == TensorFrame::Voxel) return voxelAxes(geometry);
-  const bool nrrd = info.layout == TensorFileLayout::NrrdSymMatrix ||
-                    info.layout == TensorFileLayout::NrrdMaskedSymMatrix;
-  return nrrd ? info.measurementFrameLps : rasToLps();
-}
-
-void checkStatedOrder(const std::string& path, const TensorReadOptions& options, TensorFileLayout layout,
-                      TensorOrder fixed) {
-  if (options.order && *options.order != fixed)
-    throw ImageIoError(path, "a " + tensorFileLayoutName(layout) + " file has the fixed component order " +
-                                 tensorOrderComponents(fixed) + "; the stated order " +
-                                 tensorOrderName(*options.order) + " contradicts it");
-}
-
-/// The tensor of six stored components, brought into LPS. A NaN or
-/// infinite component makes every component NaN, in every format: the
-/// file has no tensor there, and the voxel lies outside the domain.
-SymTensor3 tensorInLps(const float* c, TensorOrder order, const Matrix3& toLps) {
-  for (int q = 0; q < 6; ++q)
-    if (!std::isfinite(c[q])) {
-      const float nan = std::numeric_limits<float>::quiet_NaN();
-      return {nan, nan, nan, nan, nan, nan};
-    }
-  return changeTensorFrame(tensorFromComponents(c, order), toLps);
-}
-
-/// Components of voxel v, q = 0..5, in `values` one volume after the other,
-/// brought into LPS.
-void tensorsFromVolumes(const std::vector<float>& values, TensorOrder order, const Matrix3& toLps,
-                        std::vector<SymTensor3>& tensors) {
-  const std::size_t n = values.size() / 6;
-  tensors.resize(n);
-  float c[6];
-  for (std::size_t v = 0; v < n; ++v) {
-    for (int q = 0; q < 6; ++q) c[q] = values[v + n * q];
-    tensors[v] = tensorInLps(c, order, toLps);
-  }
 }
 
 /// An MRtrix tensor image: X Y Z 6, as dwi2tensor writes it (components
@@ -89,13 +47,15 @@ TensorReadResult readMrtrixTensorVolume(const std::string& path, const TensorRea
   TensorReadResult result;
   TensorFileInfo& info = result.info;
   info.layout = TensorFileLayout::MrtrixSixVolumes;
-  info.order = options.order.value_or(TensorOrder::Mrtrix);
+  info.order = resolveTensorOrder(path, info.layout, options.order);
   info.frameWasStated = options.frame.has_value();
   info.frame = options.frame.value_or(defaultTensorFrame(info.layout, info.order));
   info.componentType = image.header.datatype;
   result.volume.geometry = image.geometry;
-  info.componentsToLps = info.frame == TensorFrame::Voxel ? voxelAxes(image.geometry) : rasToLps();
-  tensorsFromVolumes(image.values, info.order, info.componentsToLps, result.volume.tensors);
+  info.componentsToLps = componentFrameToLps(info, image.geometry);
+  result.volume.tensors =
+      tensorsFromArray(image.values.data(), image.geometry.size, oneVolumePerComponent(image.geometry.size, info.order),
+                       info.componentsToLps);
   return result;
 }
 
@@ -125,11 +85,10 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
                                "expected), found " + describeLayout(*io));
     const detail::NrrdTensorHeader header = detail::readNrrdTensorHeader(path);
     info.layout = header.masked ? TensorFileLayout::NrrdMaskedSymMatrix : TensorFileLayout::NrrdSymMatrix;
-    info.order = TensorOrder::Fsl;
+    info.order = resolveTensorOrder(path, info.layout, options.order);
     info.nrrdSpace = header.space;
     info.hasMeasurementFrame = header.hasMeasurementFrame;
     info.measurementFrameLps = multiply(header.spaceToLps, header.measurementFrame);
-    checkStatedOrder(path, options, info.layout, info.order);
     // ITK hands the six tensor values over in NRRD's own order, xx xy xz yy yz zz.
     bufferOrder = TensorOrder::Fsl;
   } else if (ioClass == "NiftiImageIO") {
@@ -138,8 +97,7 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
     const bool oneSlice = dims < 3 && image.screened.niftiDim[0] == 5 && image.screened.niftiDim[3] == 1;
     if ((dims == 3 || oneSlice) && components == 6 && tensorPixel) {
       info.layout = TensorFileLayout::NiftiSymMatrix5D;
-      info.order = TensorOrder::Lower;
-      checkStatedOrder(path, options, info.layout, info.order);
+      info.order = resolveTensorOrder(path, info.layout, options.order);
       // ITK reorders the standard's lower triangle into its own upper one.
       bufferOrder = TensorOrder::Fsl;
     } else if ((dims == 3 && components == 6) || (dims == 4 && components == 1 && io->GetDimensions(3) == 6) ||
@@ -148,10 +106,7 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
       // with six volumes, or five with the six along the fifth (as the 5D
       // layout, without its intent).
       info.layout = TensorFileLayout::NiftiSixVolumes;
-      if (!options.order)
-        throw ImageIoError(path, "a NIfTI file with six values per voxel and no SYMMATRIX intent does not say "
-                                 "its component order; " + std::string(kOrderHint));
-      info.order = *options.order;
+      info.order = resolveTensorOrder(path, info.layout, options.order);
       bufferOrder = info.order;
       interleaved = dims == 3;
     } else if (dims == 4 && components == 1) {
@@ -176,15 +131,11 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
   if (values.size() != 6 * n)
     throw ImageIoError(path, "holds " + std::to_string(values.size()) + " values, expected 6 per voxel");
 
-  const Matrix3 toLps = fileToLps(info, volume.geometry);
-  info.componentsToLps = toLps;
-  if (interleaved) {
-    volume.tensors.resize(n);
-    for (std::size_t v = 0; v < n; ++v)
-      volume.tensors[v] = tensorInLps(&values[6 * v], bufferOrder, toLps);
-  } else {
-    tensorsFromVolumes(values, bufferOrder, toLps, volume.tensors);
-  }
+  // The same conversion as for arrays in memory (tensor_arrays.hpp).
+  info.componentsToLps = componentFrameToLps(info, volume.geometry);
+  const TensorComponentLayout layout = interleaved ? componentsPerVoxel(volume.geometry.size, bufferOrder)
+                                                   : oneVolumePerComponent(volume.geometry.size, bufferOrder);
+  volume.tensors = tensorsFromArray(values.data(), volume.geometry.size, layout, info.componentsToLps);
 
   if (info.layout == TensorFileLayout::NrrdMaskedSymMatrix) {
     const std::vector<float> confidence = detail::readNrrdConfidence(path);

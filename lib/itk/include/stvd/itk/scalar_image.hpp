@@ -75,4 +75,10 @@ bool hasImageExtension(const std::string& path);
 /// the first difference, e.g. "size 112x112x32 differs from 64x64x32".
 std::string geometryMismatch(const GridGeometry& a, const GridGeometry& b);
 
+/// Throws ImageIoError(imageName, "<subject> on another grid than
+/// <referenceName> (<mismatch>)") unless geometryMismatch(image, reference)
+/// is empty; `subject` is e.g. "the mask is" or "the seed labels are".
+void requireSameGrid(const GridGeometry& image, const GridGeometry& reference, const std::string& imageName,
+                     const std::string& subject, const std::string& referenceName);
+
 }  // namespace stvd::imaging

@@ -113,4 +113,16 @@ std::optional<double> anisotropyCap(const MetricOptions& options);
 MetricFromTensors buildMetric(const std::vector<SymTensor3>& tensors, const std::vector<std::uint8_t>& mask,
                               const MetricOptions& options);
 
+/// Throws NothingToCompute naming `inputName` when buildMetric left no voxel
+/// in the domain; the message says whether a mask (`masked`) and an FA
+/// threshold took part.
+void requireNonEmptyDomain(const std::string& inputName, const MetricVoxelCounts& counts, bool masked,
+                           const MetricOptions& options);
+
+/// The fractional anisotropy of each tensor in the domain (of the tensor as
+/// read, before repairs), 0 elsewhere: the values `stvd path` samples along
+/// its paths.
+std::vector<float> fractionalAnisotropyMap(const std::vector<SymTensor3>& tensors,
+                                           const std::vector<std::uint8_t>& inDomain);
+
 }  // namespace stvd::imaging

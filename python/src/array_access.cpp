@@ -1,0 +1,146 @@
+#include "array_access.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <type_traits>
+
+#include "stvd/itk/label_values.hpp"
+
+namespace stvd::python {
+
+py::array numericArray(const py::handle& object, const std::string& name) {
+  py::array array = py::array::ensure(object);
+  if (!array) throw py::type_error(name + ": expected a NumPy array (or a nested list of numbers), got " +
+                                   std::string(py::str(py::type::of(object).attr("__name__"))));
+  const char kind = array.dtype().kind();
+  if (kind != 'b' && kind != 'i' && kind != 'u' && kind != 'f')
+    throw py::type_error(name + ": expected numbers, got an array of dtype " + std::string(py::str(array.dtype())));
+  py::module_ numpy = py::module_::import("numpy");
+  // Half precision has no C++ type here, and a foreign byte order no direct
+  // reading: both are converted once to a native type.
+  if (kind == 'f' && array.itemsize() == 2) array = array.attr("astype")(numpy.attr("float32"));
+  if (array.dtype().byteorder() == '>') array = array.attr("astype")(array.dtype().attr("newbyteorder")("="));
+  for (py::ssize_t d = 0; d < array.ndim(); ++d)
+    if (array.strides(d) % array.itemsize() != 0) {
+      array = numpy.attr("ascontiguousarray")(array);
+      break;
+    }
+  return array;
+}
+
+std::string shapeText(const py::array& array) {
+  std::ostringstream s;
+  s << "(";
+  for (py::ssize_t d = 0; d < array.ndim(); ++d) s << (d ? ", " : "") << array.shape(d);
+  if (array.ndim() == 1) s << ",";
+  s << ")";
+  return s.str();
+}
+
+void requireDimensions(const py::array& array, int ndim, const std::string& name, const std::string& expected) {
+  if (array.ndim() != ndim)
+    throw py::value_error(name + ": expected an array of shape " + expected + ", got shape " + shapeText(array));
+}
+
+void requireFloatingPoint(const py::array& array, const std::string& name) {
+  if (array.dtype().kind() != 'f')
+    throw py::type_error(name + ": expected float32 or float64 values, got dtype " +
+                         std::string(py::str(array.dtype())));
+}
+
+namespace {
+
+/// out[v] = convert(element, v) for the elements of a 3D array in the
+/// library's voxel order, through the array's strides, without the GIL.
+template <class T, class Out, class Convert>
+void copyVoxels(const py::array& array, std::vector<Out>& out, Convert convert) {
+  const T* data = static_cast<const T*>(array.data());
+  const py::ssize_t s0 = array.strides(0) / array.itemsize(), s1 = array.strides(1) / array.itemsize(),
+                    s2 = array.strides(2) / array.itemsize();
+  const py::ssize_t n0 = array.shape(0), n1 = array.shape(1), n2 = array.shape(2);
+  py::gil_scoped_release release;
+  std::size_t v = 0;
+  for (py::ssize_t k = 0; k < n2; ++k)
+    for (py::ssize_t j = 0; j < n1; ++j)
+      for (py::ssize_t i = 0; i < n0; ++i, ++v) out[v] = convert(data[i * s0 + j * s1 + k * s2], v);
+}
+
+/// Calls f(T{}) with T the element type of a numeric array.
+template <class F>
+void withElementType(const py::array& array, F&& f) {
+  const char kind = array.dtype().kind();
+  const auto size = array.itemsize();
+  if (kind == 'f')
+    size == 4 ? f(float{}) : f(double{});
+  else if (kind == 'b' || (kind == 'u' && size == 1))
+    f(std::uint8_t{});
+  else if (kind == 'u')
+    size == 2 ? f(std::uint16_t{}) : size == 4 ? f(std::uint32_t{}) : f(std::uint64_t{});
+  else
+    size == 1 ? f(std::int8_t{}) : size == 2 ? f(std::int16_t{}) : size == 4 ? f(std::int32_t{}) : f(std::int64_t{});
+}
+
+}  // namespace
+
+std::vector<float> voxelValues(const py::array& array) {
+  std::vector<float> out(static_cast<std::size_t>(array.size()));
+  withElementType(array, [&](auto type) {
+    using T = decltype(type);
+    copyVoxels<T>(array, out, [](T x, std::size_t) { return static_cast<float>(x); });
+  });
+  return out;
+}
+
+std::vector<std::int64_t> voxelLabels(const py::array& array, const std::string& name, const GridGeometry& geometry) {
+  std::vector<std::int64_t> out(static_cast<std::size_t>(array.size()));
+  withElementType(array, [&](auto type) {
+    using T = decltype(type);
+    copyVoxels<T>(array, out, [&](T x, std::size_t v) -> std::int64_t {
+      if constexpr (std::is_floating_point_v<T>)
+        return imaging::labelOfReal(static_cast<double>(x), name, geometry, v);
+      else if constexpr (std::is_same_v<T, std::uint64_t>)
+        return imaging::labelOfUnsigned64(x, name, geometry, v);
+      else
+        return static_cast<std::int64_t>(x);
+    });
+  });
+  return out;
+}
+
+std::vector<Vec3d> pointRows(const py::handle& object, const std::string& name) {
+  const py::array array = numericArray(object, name);
+  if (array.ndim() != 2 || array.shape(1) != 3)
+    throw py::value_error(name + ": expected an array of shape (N, 3), got shape " + shapeText(array));
+  const py::array_t<double> values = array.attr("astype")("float64");
+  const auto r = values.unchecked<2>();
+  std::vector<Vec3d> points(static_cast<std::size_t>(r.shape(0)));
+  for (py::ssize_t n = 0; n < r.shape(0); ++n) {
+    points[n] = {r(n, 0), r(n, 1), r(n, 2)};
+    if (!std::isfinite(points[n].x) || !std::isfinite(points[n].y) || !std::isfinite(points[n].z))
+      throw py::value_error(name + ": row " + std::to_string(n) + " is not finite");
+  }
+  return points;
+}
+
+std::array<double, 16> affineOf(const py::handle& object, const std::string& name) {
+  const py::array array = numericArray(object, name);
+  if (array.ndim() != 2 || array.shape(0) != 4 || array.shape(1) != 4)
+    throw py::value_error(name + ": expected a 4x4 array (voxel index to RAS millimetres), got shape " +
+                          shapeText(array));
+  const py::array_t<double> values = array.attr("astype")("float64");
+  const auto r = values.unchecked<2>();
+  std::array<double, 16> affine{};
+  for (int row = 0; row < 4; ++row)
+    for (int column = 0; column < 4; ++column) affine[4 * row + column] = r(row, column);
+  return affine;
+}
+
+py::array_t<double> newFortranArray(const std::array<std::size_t, 3>& shape) {
+  return py::array_t<double, py::array::f_style>({shape[0], shape[1], shape[2]});
+}
+
+py::array_t<float> newFortranFloatArray(const std::array<std::size_t, 3>& shape) {
+  return py::array_t<float, py::array::f_style>({shape[0], shape[1], shape[2]});
+}
+
+}  // namespace stvd::python

@@ -1,0 +1,279 @@
+// Tetrahedral meshes and polygon surfaces from Python arrays: the steps of
+// `stvd distance MESH.node` and `stvd distance MESH.obj` without the files,
+// with the GIL released while the library works.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "array_access.hpp"
+#include "bindings.hpp"
+#include "progress_relay.hpp"
+#include "propagation_keywords.hpp"
+#include "stvd/front_end_errors.hpp"
+#include "stvd/itk/tensor_arrays.hpp"
+#include "stvd/itk/tensor_input.hpp"
+#include "stvd/itk/tensor_metric.hpp"
+#include "stvd/propagation_choice.hpp"
+#include "stvd/steiner_propagation.hpp"
+#include "stvd/surface_domain.hpp"
+#include "stvd/surface_metrics.hpp"
+#include "stvd/tetmesh/tet_mesh_propagation.hpp"
+#include "tensor_field.hpp"
+
+namespace stvd::python {
+namespace {
+
+/// One tensor per row of an (N, 6) array in a stated order or an (N, 3, 3)
+/// array, in the frame of the mesh's coordinates (no change of frame).
+std::vector<SymTensor3> rowTensors(const py::handle& object, std::size_t rows, const std::optional<std::string>& order,
+                                   const std::string& name, const std::string& rowKind) {
+  const py::array array = numericArray(object, name);
+  requireFloatingPoint(array, name);
+  const bool matrices = array.ndim() == 3 && array.shape(1) == 3 && array.shape(2) == 3;
+  if (!(matrices || (array.ndim() == 2 && array.shape(1) == 6)))
+    throw py::value_error(name + ": expected an array of shape (N, 6) or (N, 3, 3), got shape " + shapeText(array));
+  if (static_cast<std::size_t>(array.shape(0)) != rows)
+    throw py::value_error(name + ": " + std::to_string(array.shape(0)) + " tensors for " + std::to_string(rows) +
+                          " " + rowKind + (rows == 1 ? "" : rowKind == "vertex" ? "es" : "s"));
+  const py::ssize_t item = array.itemsize();
+  imaging::TensorComponentLayout layout;
+  layout.voxelStride = {array.strides(0) / item, 0, 0};
+  const py::ssize_t last = array.strides(array.ndim() - 1) / item;
+  if (matrices) {
+    if (order) throw py::value_error(name + ": tensor_order applies to six components per row, not to 3x3 matrices");
+    const py::ssize_t row = array.strides(1) / item;
+    layout.order = imaging::TensorOrder::Fsl;
+    layout.componentOffset = {0, last, 2 * last, row + last, row + 2 * last, 2 * row + 2 * last};
+  } else {
+    if (!order)
+      throw py::value_error(name + ": an array of six values per " + rowKind +
+                            " does not say its component order; state it with tensor_order='fsl', 'mrtrix' or "
+                            "'lower'");
+    imaging::TensorInputOptions parsed;
+    imaging::setTensorOrder(parsed, *order);
+    layout.order = *parsed.order;
+    for (int q = 0; q < 6; ++q) layout.componentOffset[q] = q * last;
+  }
+  const imaging::Matrix3 identity{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  return withFloatView(array, [&](const auto& view) {
+    py::gil_scoped_release release;
+    return imaging::tensorsFromArray(view.data, {rows, 1, 1}, layout, identity);
+  });
+}
+
+/// Vertex indices from an (M, width) integer array (width 0: any).
+std::vector<std::vector<VertexId>> indexRows(const py::handle& object, std::size_t width, const std::string& name) {
+  std::vector<std::vector<VertexId>> rows;
+  if (py::isinstance<py::array>(object) || width != 0) {
+    const py::array array = numericArray(object, name);
+    if (array.dtype().kind() != 'i' && array.dtype().kind() != 'u')
+      throw py::type_error(name + ": expected integer vertex indices, got dtype " + std::string(py::str(array.dtype())));
+    if (array.ndim() != 2 || (width != 0 && static_cast<std::size_t>(array.shape(1)) != width))
+      throw py::value_error(name + ": expected an array of shape (M, " + (width ? std::to_string(width) : "K") +
+                            "), got shape " + shapeText(array));
+    const py::array_t<long long> values = array.attr("astype")("int64");
+    const auto r = values.unchecked<2>();
+    for (py::ssize_t m = 0; m < r.shape(0); ++m) {
+      std::vector<VertexId> row;
+      for (py::ssize_t c = 0; c < r.shape(1); ++c) {
+        if (r(m, c) < 0 || r(m, c) >= static_cast<long long>(kNoVertex))
+          throw py::value_error(name + ": row " + std::to_string(m) + " holds the vertex index " +
+                                std::to_string(r(m, c)));
+        row.push_back(static_cast<VertexId>(r(m, c)));
+      }
+      rows.push_back(std::move(row));
+    }
+    return rows;
+  }
+  // A list of polygons of any sizes.
+  for (const py::handle& face : object) {
+    std::vector<VertexId> row;
+    for (const long long v : face.cast<std::vector<long long>>()) {
+      if (v < 0 || v >= static_cast<long long>(kNoVertex))
+        throw py::value_error(name + ": face " + std::to_string(rows.size()) + " holds the vertex index " +
+                              std::to_string(v));
+      row.push_back(static_cast<VertexId>(v));
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+/// The seed vertices, sorted and each once; ValueError (NothingToCompute)
+/// for one that does not exist or is outside the domain.
+std::vector<VertexId> seedVertices(const std::vector<long long>& seeds, const std::vector<std::uint8_t>& inDomain,
+                                   const std::string& meshName) {
+  if (seeds.empty()) throw OptionError("no seed given (--seed-vertex N)");
+  std::vector<VertexId> sources;
+  for (const long long s : seeds) {
+    if (s < 0 || s >= static_cast<long long>(inDomain.size()))
+      throw NothingToCompute(meshName + ": seed vertex " + std::to_string(s) + " does not exist (the mesh has " +
+                             std::to_string(inDomain.size()) + " vertices)");
+    if (!inDomain[s]) throw NothingToCompute(meshName + ": seed vertex " + std::to_string(s) + " is outside the domain");
+    sources.push_back(static_cast<VertexId>(s));
+  }
+  std::sort(sources.begin(), sources.end());
+  sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
+  return sources;
+}
+
+py::dict resultDict(const PropagationResult& r) {
+  py::dict d;
+  d["distance"] = py::array_t<double>(r.distance.size(), r.distance.data());
+  d["predecessor"] = py::array_t<VertexId>(r.predecessor.size(), r.predecessor.data());
+  d["finalized_vertices"] = r.finalizedVertices;
+  d["relaxed_edges"] = r.relaxedEdges;
+  d["cancelled"] = r.termination == Termination::Cancelled;
+  return d;
+}
+
+py::dict tetMeshPropagate(const py::object& pointsObject, const py::object& tetsObject,
+                          const std::vector<long long>& seeds, const py::object& tensorsObject,
+                          const std::optional<std::string>& order, const std::optional<std::string>& kind,
+                          const std::optional<std::string>& diffusionMetric, const std::optional<double>& maxAnisotropy,
+                          const std::optional<double>& faThreshold, const std::optional<std::string>& method,
+                          const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
+                          const std::optional<int>& steiner, const std::optional<double>& maxDistance,
+                          const py::object& progress) {
+  const PropagationChoice choice = choiceOf(method, k, chainMeasure, std::nullopt, steiner);
+  checkMeshPropagationChoice(choice, "tetrahedron edge", 2);
+  const double limit = maxDistanceOf(maxDistance);
+  // The order is the rows' (rowTensors); a mesh has no frame of its own.
+  const imaging::TensorInputOptions options =
+      tensorOptions(std::nullopt, std::nullopt, kind, diffusionMetric, maxAnisotropy, faThreshold);
+  const std::vector<Vec3d> points = pointRows(pointsObject, "points");
+  std::vector<std::array<VertexId, 4>> tets;
+  for (const auto& row : indexRows(tetsObject, 4, "tetrahedra")) tets.push_back({row[0], row[1], row[2], row[3]});
+  std::vector<SymTensor3> tensors;
+  if (!tensorsObject.is_none()) tensors = rowTensors(tensorsObject, points.size(), order, "tensors", "vertex");
+
+  ProgressRelay relay(progress);
+  tetmesh::TetMeshPropagation propagation;
+  std::vector<std::uint8_t> covered;
+  {
+    py::gil_scoped_release release;
+    std::vector<SymTensor3> metric;
+    std::vector<std::uint8_t> inDomain;
+    if (tensors.empty()) {  // the Euclidean metric
+      metric.assign(points.size(), SymTensor3{1.f, 0.f, 0.f, 1.f, 0.f, 1.f});
+      inDomain.assign(points.size(), 1);
+    } else {
+      imaging::MetricFromTensors built = imaging::buildMetric(tensors, {}, options.metric);
+      metric = std::move(built.metric);
+      inDomain = std::move(built.inDomain);
+    }
+    tetmesh::TetrahedraInDomain kept = tetmesh::tetrahedraInDomain(tets, inDomain, "tetrahedra");
+    covered = std::move(kept.covered);
+    const std::vector<VertexId> sources = seedVertices(seeds, covered, "points");
+    propagation = tetmesh::propagateOverTetrahedra(points, kept.tets, metric, covered, sources, choice, limit,
+                                                   "tetrahedra", relay.hook());
+  }
+  relay.rethrowIfFailed();
+  py::dict d = resultDict(propagation.result);
+  d["edge_count"] = propagation.edgeCount;
+  d["in_domain"] = py::array_t<std::uint8_t>(covered.size(), covered.data());
+  return d;
+}
+
+RiemannianMetric surfaceMetric(const SurfaceDomain& surface, const std::string& kind, const py::object& values,
+                               const std::optional<double>& anisotropy, const std::optional<std::string>& order) {
+  const bool needsGamma = kind == "curvature" || kind == "field";
+  if (kind != "isotropic" && kind != "curvature" && kind != "field" && kind != "tensors" && kind != "face-tensors")
+    throw OptionError("--metric: '" + kind + "' is not one of isotropic, curvature, field, tensors, face-tensors");
+  if (needsGamma && !anisotropy) throw OptionError("--metric " + kind + " needs --anisotropy G");
+  if (!needsGamma && anisotropy) throw OptionError("--anisotropy applies to the curvature and field metrics only");
+  if (anisotropy && !(*anisotropy >= 1.0 && std::isfinite(*anisotropy)))
+    throw OptionError("--anisotropy must be a number >= 1");
+  const bool withValues = kind == "field" || kind == "tensors" || kind == "face-tensors";
+  if (withValues == values.is_none())
+    throw py::value_error(withValues ? "metric='" + kind + "' needs metric_values"
+                                     : "metric_values applies to the field, tensors and face-tensors metrics only");
+  if (kind == "isotropic") return isotropicSurfaceMetric(surface);
+  if (kind == "curvature") return curvatureMetric(surface, *anisotropy);
+  if (kind == "field") {
+    const std::vector<Vec3d> directions = pointRows(values, "metric_values");
+    if (directions.size() != surface.vertexCount())
+      throw py::value_error("metric_values: " + std::to_string(directions.size()) + " directions for " +
+                            std::to_string(surface.vertexCount()) + " vertices");
+    return vectorFieldMetric(surface, directions, 1.0, *anisotropy);
+  }
+  const bool perFace = kind == "face-tensors";
+  const std::vector<SymTensor3> tensors =
+      rowTensors(values, perFace ? surface.faceCount() : surface.vertexCount(), order, "metric_values",
+                 perFace ? "face" : "vertex");
+  return perFace ? surfaceMetricFromFaceTensors(surface, tensors) : surfaceMetricFromWorldTensors(surface, tensors);
+}
+
+py::dict surfacePropagate(const py::object& verticesObject, const py::object& facesObject,
+                          const std::vector<long long>& seeds, const std::string& metricKind,
+                          const py::object& metricValues, const std::optional<double>& anisotropy,
+                          const std::optional<std::string>& order, const std::optional<std::string>& method,
+                          const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
+                          const std::optional<int>& steiner, const std::optional<double>& maxDistance,
+                          const py::object& progress) {
+  const PropagationChoice choice = choiceOf(method, k, chainMeasure, std::nullopt, steiner);
+  checkMeshPropagationChoice(choice, "face edge", 4);
+  const double limit = maxDistanceOf(maxDistance);
+  std::vector<Vec3d> points = pointRows(verticesObject, "vertices");
+  PolygonList faces;
+  for (const auto& row : indexRows(facesObject, 0, "faces")) faces.add(row.begin(), row.end());
+  std::optional<SurfaceDomain> surface;
+  try {
+    py::gil_scoped_release release;
+    surface.emplace(std::move(points), faces);
+  } catch (const SurfaceError& e) {  // not an orientable 2-manifold
+    throw py::value_error("surface: " + std::string(e.what()));
+  }
+  const RiemannianMetric metric = surfaceMetric(*surface, metricKind, metricValues, anisotropy, order);
+  const std::vector<std::uint8_t> all(surface->vertexCount(), 1);
+  ProgressRelay relay(progress);
+  PropagationResult result;
+  {
+    py::gil_scoped_release release;
+    const std::vector<VertexId> sources = seedVertices(seeds, all, "vertices");
+    if (choice.lanthier) {
+      SteinerOptions steiner;
+      steiner.steinerPoints = choice.steinerPoints;
+      steiner.maxDistance = limit;
+      steiner.progress = relay.hook();
+      try {
+        result = steinerPropagate(*surface, metric, sources, steiner);
+      } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
+        throw OptionError("vertices: --method lanthier: " + std::string(e.what()));
+      }
+    } else {
+      PropagationOptions options = propagationOptions(choice);
+      options.maxDistance = limit;
+      options.progress = relay.hook();
+      result = propagate(*surface, metric, sources, options);
+    }
+  }
+  relay.rethrowIfFailed();
+  py::dict d = resultDict(result);
+  d["component_count"] = surface->componentCount();
+  return d;
+}
+
+}  // namespace
+
+void bindMeshes(py::module_& m) {
+  m.def("tet_mesh_propagate", &tetMeshPropagate, py::arg("points"), py::arg("tetrahedra"), py::arg("seeds"),
+        py::arg("tensors") = py::none(), py::arg("tensor_order") = py::none(), py::arg("tensor_kind") = py::none(),
+        py::arg("diffusion_metric") = py::none(), py::arg("max_anisotropy") = py::none(),
+        py::arg("fa_threshold") = py::none(), py::arg("method") = py::none(), py::arg("k") = py::none(),
+        py::arg("chain_measure") = py::none(), py::arg("steiner") = py::none(), py::arg("max_distance") = py::none(),
+        py::arg("progress") = py::none());
+  m.def("surface_propagate", &surfacePropagate, py::arg("vertices"), py::arg("faces"), py::arg("seeds"),
+        py::arg("metric") = "isotropic", py::arg("metric_values") = py::none(), py::arg("anisotropy") = py::none(),
+        py::arg("tensor_order") = py::none(), py::arg("method") = py::none(), py::arg("k") = py::none(),
+        py::arg("chain_measure") = py::none(), py::arg("steiner") = py::none(), py::arg("max_distance") = py::none(),
+        py::arg("progress") = py::none());
+}
+
+}  // namespace stvd::python

@@ -1,0 +1,216 @@
+#include "tensor_field.hpp"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "array_access.hpp"
+#include "stvd/itk/tensor_arrays.hpp"
+#include "stvd/itk/tensor_metric.hpp"
+
+namespace stvd::python {
+
+const std::vector<float>& TensorField::fractionalAnisotropy() const {
+  std::call_once(faOnce_, [this] { fa_ = imaging::fractionalAnisotropyMap(input.read.volume.tensors, inDomain); });
+  return fa_;
+}
+
+imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& order,
+                                          const std::optional<std::string>& frame,
+                                          const std::optional<std::string>& kind,
+                                          const std::optional<std::string>& diffusionMetric,
+                                          const std::optional<double>& maxAnisotropy,
+                                          const std::optional<double>& faThreshold, bool acceptImplausible) {
+  imaging::TensorInputOptions o;
+  o.acceptImplausible = acceptImplausible;
+  if (order) imaging::setTensorOrder(o, *order);
+  if (frame) imaging::setTensorFrame(o, *frame);
+  if (kind) imaging::setTensorKind(o, *kind);
+  if (diffusionMetric) imaging::setDiffusionMetric(o, *diffusionMetric);
+  if (maxAnisotropy) imaging::setMaxAnisotropy(o, *maxAnisotropy);
+  if (faThreshold) imaging::setFaThreshold(o, *faThreshold);
+  imaging::checkTensorInputOptions(o);
+  return o;
+}
+
+std::string scalarImageName(const py::handle& spec) {
+  return py::isinstance<py::str>(spec) ? spec.cast<std::string>() : spec.cast<py::tuple>()[3].cast<std::string>();
+}
+
+namespace {
+
+/// The grid of an image given as a tuple (array, affine or None, zooms or
+/// None, name): the affine's, or `grid` with the array's size when there is
+/// none (reported as another grid when the sizes differ).
+GridGeometry arrayGeometry(const py::tuple& given, const py::array& values, const GridGeometry& grid,
+                           const std::string& name) {
+  requireDimensions(values, 3, name, "(X, Y, Z)");
+  const std::array<std::size_t, 3> size{static_cast<std::size_t>(values.shape(0)),
+                                        static_cast<std::size_t>(values.shape(1)),
+                                        static_cast<std::size_t>(values.shape(2))};
+  if (given[1].is_none()) {
+    GridGeometry g = grid;
+    g.size = size;
+    return g;
+  }
+  std::optional<std::array<double, 3>> zooms;
+  if (!given[2].is_none()) zooms = given[2].cast<std::array<double, 3>>();
+  try {
+    return imaging::gridGeometryFromRasAffine(affineOf(given[1], name + " affine"), size, zooms);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(name + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+imaging::ScalarImage scalarImageOf(const py::handle& spec, const GridGeometry& grid) {
+  const std::string name = scalarImageName(spec);
+  if (py::isinstance<py::str>(spec)) {
+    py::gil_scoped_release release;
+    return imaging::readScalarImage(name);
+  }
+  const py::tuple given = spec.cast<py::tuple>();
+  const py::array values = numericArray(given[0], name);
+  imaging::ScalarImage image;
+  image.geometry = arrayGeometry(given, values, grid, name);
+  image.values = voxelValues(values);
+  return image;
+}
+
+imaging::LabelImage labelImageOf(const py::handle& spec, const GridGeometry& grid) {
+  const std::string name = scalarImageName(spec);
+  if (py::isinstance<py::str>(spec)) {
+    py::gil_scoped_release release;
+    return imaging::readLabelImage(name);
+  }
+  const py::tuple given = spec.cast<py::tuple>();
+  const py::array values = numericArray(given[0], name);
+  imaging::LabelImage image;
+  image.geometry = arrayGeometry(given, values, grid, name);
+  image.labels = voxelLabels(values, name, image.geometry);
+  return image;
+}
+
+namespace {
+
+/// The 3x3 matrices must be symmetric (to single precision: a matrix made
+/// as V diag(l) V^T in floating point is symmetric only up to rounding);
+/// their upper triangles are used.
+template <class T>
+void requireSymmetric(const T* data, const std::array<std::size_t, 3>& size,
+                      const std::array<std::ptrdiff_t, 3>& voxelStride, std::ptrdiff_t row, std::ptrdiff_t column,
+                      const std::string& name) {
+  for (std::size_t k = 0; k < size[2]; ++k)
+    for (std::size_t j = 0; j < size[1]; ++j)
+      for (std::size_t i = 0; i < size[0]; ++i) {
+        const T* m = data + static_cast<std::ptrdiff_t>(i) * voxelStride[0] +
+                     static_cast<std::ptrdiff_t>(j) * voxelStride[1] + static_cast<std::ptrdiff_t>(k) * voxelStride[2];
+        double largest = 0.0;
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) largest = std::max(largest, std::abs(double(m[r * row + c * column])));
+        for (int r = 0; r < 3; ++r)
+          for (int c = r + 1; c < 3; ++c) {
+            const double upper = m[r * row + c * column], lower = m[c * row + r * column];
+            if (std::abs(upper - lower) > 1e-5 * largest)
+              throw std::invalid_argument(name + ": the matrix of voxel (" + std::to_string(i) + ", " +
+                                          std::to_string(j) + ", " + std::to_string(k) + ") is not symmetric");
+          }
+      }
+}
+
+/// Builds the metric and the domain as `stvd distance` does, without the GIL.
+std::shared_ptr<TensorField> finishField(std::shared_ptr<TensorField> field, const py::handle& mask) {
+  if (!mask.is_none())
+    imaging::addMask(field->input, scalarImageOf(mask, field->geometry()), scalarImageName(mask), field->name);
+  py::gil_scoped_release release;
+  imaging::MetricFromTensors built = imaging::buildCheckedMetric(field->name, field->input, field->options);
+  imaging::requireNonEmptyDomain(field->name, built.counts, !field->input.mask.empty(), field->options.metric);
+  field->counts = built.counts;
+  field->inDomain = std::move(built.inDomain);
+  field->metric = RiemannianMetric(std::move(built.metric), &field->inDomain);
+  return field;
+}
+
+}  // namespace
+
+std::shared_ptr<TensorField> fieldFromFile(const std::string& path, imaging::TensorInputOptions options,
+                                           const py::handle& mask) {
+  auto field = std::make_shared<TensorField>();
+  field->name = path;
+  field->options = options;
+  {
+    py::gil_scoped_release release;
+    field->input = imaging::tensorInputOf(imaging::readTensorVolume(path, {options.order, options.frame}), path);
+  }
+  return finishField(std::move(field), mask);
+}
+
+std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py::handle& affine,
+                                            const std::optional<std::array<double, 3>>& zooms,
+                                            const std::optional<bool>& niftiIntent, const std::string& name,
+                                            imaging::TensorInputOptions options, const py::handle& mask) {
+  const py::array array = numericArray(tensors, name);
+  requireFloatingPoint(array, name);
+  const py::ssize_t ndim = array.ndim();
+  const bool matrices = ndim == 5 && array.shape(3) == 3 && array.shape(4) == 3;
+  const bool sixLast = (ndim == 4 && array.shape(3) == 6) || (ndim == 5 && array.shape(3) == 1 && array.shape(4) == 6);
+  if (!matrices && !sixLast)
+    throw py::value_error(name + ": expected an array of shape (X, Y, Z, 6) or (X, Y, Z, 3, 3)" +
+                          std::string(niftiIntent ? " (or X, Y, Z, 1, 6 from a NIfTI file)" : "") + ", got shape " +
+                          shapeText(array));
+  if (affine.is_none())
+    throw py::value_error(name + ": an array needs affine=, the 4x4 matrix from voxel indices to RAS millimetres");
+
+  auto field = std::make_shared<TensorField>();
+  field->name = name;
+  field->options = options;
+  imaging::TensorFileInfo& info = field->input.read.info;
+  info.componentType = array.itemsize() == 4 ? "float" : "double";
+  imaging::TensorComponentLayout layout;
+  const py::ssize_t item = array.itemsize();
+  const py::ssize_t last = array.strides(ndim - 1) / item;
+  if (matrices) {
+    if (options.order)
+      throw py::value_error(name + ": tensor_order applies to six components per voxel, not to 3x3 matrices");
+    info.layout = imaging::TensorFileLayout::NiftiSixVolumes;
+    info.order = imaging::TensorOrder::Fsl;  // the upper triangle, row by row
+    const py::ssize_t row = array.strides(3) / item;
+    layout.componentOffset = {0, last, 2 * last, row + last, row + 2 * last, 2 * row + 2 * last};
+  } else {
+    if (!niftiIntent && !options.order)
+      throw py::value_error(name + ": an array of six values per voxel does not say its component order; state it "
+                                   "with tensor_order='fsl', 'mrtrix' or 'lower'");
+    info.layout = niftiIntent.value_or(false) && ndim == 5 ? imaging::TensorFileLayout::NiftiSymMatrix5D
+                                                           : imaging::TensorFileLayout::NiftiSixVolumes;
+    info.order = imaging::resolveTensorOrder(name, info.layout, options.order);
+    for (int q = 0; q < 6; ++q) layout.componentOffset[q] = q * last;
+  }
+  layout.order = info.order;
+  info.frameWasStated = options.frame.has_value();
+  info.frame = options.frame.value_or(imaging::defaultTensorFrame(info.layout, info.order));
+  for (int a = 0; a < 3; ++a) layout.voxelStride[a] = array.strides(a) / item;
+  const std::array<std::size_t, 3> size{static_cast<std::size_t>(array.shape(0)),
+                                        static_cast<std::size_t>(array.shape(1)),
+                                        static_cast<std::size_t>(array.shape(2))};
+  const std::array<double, 16> matrix = affineOf(affine, "affine");
+  GridGeometry& g = field->input.read.volume.geometry;
+  try {
+    g = imaging::gridGeometryFromRasAffine(matrix, size, zooms);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(name + ": " + std::string(e.what()));
+  }
+  const imaging::Matrix3 toLps = imaging::componentFrameToLps(info, g);
+  // The views are taken with the GIL; reading through them needs none.
+  withFloatView(array, [&](const auto& view) {
+    const py::ssize_t row = matrices ? array.strides(3) / item : 0;
+    py::gil_scoped_release release;
+    if (matrices) requireSymmetric(view.data, size, layout.voxelStride, row, last, name);
+    field->input.read.volume.tensors = imaging::tensorsFromArray(view.data, size, layout, toLps);
+  });
+  return finishField(std::move(field), mask);
+}
+
+}  // namespace stvd::python

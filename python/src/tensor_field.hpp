@@ -1,0 +1,73 @@
+// A tensor volume made ready for propagations: its tensors (from a file or
+// an array), its mask, the metric and the domain, built as `stvd distance`
+// builds them. Propagations, paths and connectivity from Python share one.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "stvd/itk/scalar_image.hpp"
+#include "stvd/itk/tensor_input.hpp"
+#include "stvd/metric_field.hpp"
+
+namespace stvd::python {
+
+namespace py = pybind11;
+
+struct TensorField {
+  /// How the input is named in messages: the path, or "tensors".
+  std::string name;
+  imaging::TensorInputOptions options;
+  imaging::TensorInput input;
+  imaging::MetricVoxelCounts counts;
+  std::vector<std::uint8_t> inDomain;
+  RiemannianMetric metric;
+
+  const GridGeometry& geometry() const { return input.read.volume.geometry; }
+  /// FA of the tensors in the domain (0 elsewhere), computed once.
+  const std::vector<float>& fractionalAnisotropy() const;
+
+ private:
+  mutable std::once_flag faOnce_;
+  mutable std::vector<float> fa_;
+};
+
+/// The tensor options from the keywords (None: the library's default),
+/// through the library's setters and checks.
+imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& order,
+                                          const std::optional<std::string>& frame,
+                                          const std::optional<std::string>& kind,
+                                          const std::optional<std::string>& diffusionMetric,
+                                          const std::optional<double>& maxAnisotropy,
+                                          const std::optional<double>& faThreshold, bool acceptImplausible = false);
+
+/// A scalar image given from Python: a path (read through ITK), or a tuple
+/// (array, affine or None, zooms or None, name). Without an affine the
+/// array is taken to be on `grid` when its shape is the grid's size (and is
+/// reported on another grid otherwise).
+imaging::ScalarImage scalarImageOf(const py::handle& spec, const GridGeometry& grid);
+/// The same for a label image: a path read by imaging::readLabelImage, or
+/// an array whose values follow the same rules (integers exactly).
+imaging::LabelImage labelImageOf(const py::handle& spec, const GridGeometry& grid);
+/// How such an image is named in messages: its path, or the name in the tuple.
+std::string scalarImageName(const py::handle& spec);
+
+/// Reads a tensor file (and a mask) and builds the field. GIL released.
+std::shared_ptr<TensorField> fieldFromFile(const std::string& path, imaging::TensorInputOptions options,
+                                           const py::handle& mask);
+
+/// Converts a tensor array with its affine and builds the field. `niftiIntent`
+/// says where the array came from: None for a plain array (six components
+/// in a stated order, or 3x3 matrices), true or false for a NiBabel image
+/// with or without the SYMMATRIX intent (read as the tool reads that file).
+std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py::handle& affine,
+                                            const std::optional<std::array<double, 3>>& zooms,
+                                            const std::optional<bool>& niftiIntent, const std::string& name,
+                                            imaging::TensorInputOptions options, const py::handle& mask);
+
+}  // namespace stvd::python

@@ -1,0 +1,519 @@
+// Tensor volumes from Python: the field (tensors, mask, metric, domain), the
+// propagation from seeds, geodesic paths and region connectivity. Each call
+// composes the library's functions in the order `stvd distance`, `stvd path`
+// and `stvd connectivity` do, with the GIL released while the library works.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "array_access.hpp"
+#include "bindings.hpp"
+#include "progress_relay.hpp"
+#include "propagation_keywords.hpp"
+#include "stvd/files/output_transaction.hpp"
+#include "stvd/geodesic_path.hpp"
+#include "stvd/itk/scalar_image.hpp"
+#include "stvd/itk/seed_voxels.hpp"
+#include "stvd/itk/streamline_io.hpp"
+#include "stvd/label_regions.hpp"
+#include "stvd/propagation_choice.hpp"
+#include "stvd/region_connectivity.hpp"
+#include "stvd/stencil.hpp"
+#include "stvd/steiner_propagation.hpp"
+#include "tensor_field.hpp"
+
+namespace stvd::python {
+namespace {
+
+/// A finished propagation over a field, with everything paths need.
+struct VolumePropagation {
+  std::shared_ptr<const TensorField> field;
+  PropagationChoice choice;
+  VoxelGridDomain domain;
+  PropagationResult result;
+  std::vector<imaging::SeedVoxel> seeds;
+  std::size_t labelSeedsLeftOut = 0;
+};
+
+std::string terminationName(Termination t) {
+  switch (t) {
+    case Termination::Completed: return "completed";
+    case Termination::MaxDistanceReached: return "max_distance_reached";
+    case Termination::TargetsReached: return "targets_reached";
+    case Termination::Cancelled: return "cancelled";
+  }
+  return "?";
+}
+
+std::vector<std::array<double, 3>> finiteTriples(const std::vector<std::array<double, 3>>& points,
+                                                 const std::string& name) {
+  for (const auto& p : points)
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      throw py::value_error(name + ": a point is not finite");
+  return points;
+}
+
+py::dict voxelCounts(const imaging::MetricVoxelCounts& c) {
+  py::dict d;
+  d["total"] = c.total;
+  d["domain"] = c.domain;
+  d["masked"] = c.masked;
+  d["zero_tensor"] = c.zero;
+  d["non_finite_tensor"] = c.nonFinite;
+  d["no_positive_eigenvalue"] = c.noPositiveEigenvalue;
+  d["below_fa_threshold"] = c.belowFaThreshold;
+  d["repaired"] = c.repaired();
+  d["repaired_non_positive"] = c.repairedNonPositive;
+  d["repaired_anisotropy"] = c.repairedAnisotropy;
+  return d;
+}
+
+py::array_t<double> affineArray(const GridGeometry& g) {
+  const std::array<double, 16> m = imaging::voxelToRas(g);
+  py::array_t<double> a({4, 4});
+  auto w = a.mutable_unchecked<2>();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) w(r, c) = m[4 * r + c];
+  return a;
+}
+
+std::vector<std::size_t> gridShape(const GridGeometry& g) { return {g.size[0], g.size[1], g.size[2]}; }
+
+std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const TensorField>& field,
+                                                  const std::vector<std::array<int, 3>>& seedVoxels,
+                                                  const std::vector<std::array<double, 3>>& seedPoints, bool lps,
+                                                  const py::handle& seedLabels, PropagationChoice choice,
+                                                  double maxDistance, const py::handle& progress) {
+  checkPropagationChoice(choice, /*lanthierAllowed=*/true);
+  if (seedVoxels.empty() && seedPoints.empty() && seedLabels.is_none())
+    throw OptionError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
+  std::optional<imaging::ScalarImage> labels;
+  std::string labelsName;
+  if (!seedLabels.is_none()) {
+    labels = scalarImageOf(seedLabels, field->geometry());
+    labelsName = scalarImageName(seedLabels);
+  }
+
+  ProgressRelay relay(progress);
+  std::shared_ptr<VolumePropagation> out;
+  {
+    py::gil_scoped_release release;
+    std::vector<imaging::SeedVoxel> seeds = imaging::seedVoxelsAt(
+        field->name, seedVoxels, seedPoints, lps, field->input, field->options.metric, field->inDomain);
+    std::size_t leftOut = 0;
+    if (labels) {
+      const auto labelled =
+          imaging::labelSeedVoxels(labelsName, *labels, field->name, field->geometry(), field->inDomain, leftOut);
+      seeds.insert(seeds.end(), labelled.begin(), labelled.end());
+    }
+    out = std::make_shared<VolumePropagation>(VolumePropagation{
+        field, choice, VoxelGridDomain(field->geometry(), Stencil::byName(choice.stencil), field->inDomain, choice.connectivity), {},
+        std::move(seeds), leftOut});
+    const std::vector<VertexId> sources = imaging::sourceVertices(out->domain, out->seeds);
+    if (choice.lanthier) {
+      SteinerOptions steiner;
+      steiner.steinerPoints = choice.steinerPoints;
+      steiner.maxDistance = maxDistance;
+      steiner.progress = relay.hook();
+      try {
+        out->result = steinerPropagate(out->domain, field->metric, sources, steiner);
+      } catch (const std::invalid_argument& e) {  // a grid too thin for cubes, or too large a graph
+        throw OptionError(field->name + ": --method lanthier: " + e.what());
+      }
+    } else {
+      PropagationOptions options = propagationOptions(choice);
+      options.maxDistance = maxDistance;
+      options.progress = relay.hook();
+      out->result = propagate(out->domain, field->metric, sources, options);
+    }
+  }
+  relay.rethrowIfFailed();
+  return out;
+}
+
+/// The paths of `stvd path` from a finished propagation, one dict each.
+py::list tracePaths(const std::shared_ptr<VolumePropagation>& p, const std::vector<std::array<int, 3>>& targetVoxels,
+                    const std::vector<std::array<double, 3>>& targetPoints, bool lps, const py::handle& targetLabels,
+                    const std::optional<double>& step, const std::optional<int>& smooth, const std::optional<bool>& refine,
+                    bool discrete) {
+  checkPropagationChoice(p->choice, /*lanthierAllowed=*/false);
+  PathTracingOptions tracing;
+  if (step) {
+    if (!(*step > 0.0 && *step <= 1.0)) throw OptionError("--step must be in (0, 1]");
+    tracing.stepFraction = *step;
+  }
+  if (smooth) {
+    if (*smooth < 0 || *smooth > 1000) throw OptionError("--smooth must be between 0 and 1000");
+    tracing.smoothingPasses = *smooth;
+  }
+  if (refine) tracing.refine = *refine;
+  if (targetVoxels.empty() && targetPoints.empty() && targetLabels.is_none())
+    throw OptionError("no target: add --target-voxel I,J,K, --target-point X,Y,Z or --targets LABELS");
+  const TensorField& field = *p->field;
+  std::optional<imaging::LabelImage> labels;
+  std::string labelsName;
+  if (!targetLabels.is_none()) {
+    labels = labelImageOf(targetLabels, field.geometry());
+    labelsName = scalarImageName(targetLabels);
+  }
+
+  struct Traced {
+    imaging::PathTarget target;
+    TracedPath path;
+    PathSamples fa;
+  };
+  std::vector<Traced> traced;
+  const bool withFa = field.options.metric.kind == imaging::TensorKind::Diffusion;
+  {
+    py::gil_scoped_release release;
+    std::vector<imaging::PathTarget> targets;
+    for (const auto& t : imaging::seedVoxelsAt(field.name, targetVoxels, targetPoints, lps, field.input,
+                                               field.options.metric, field.inDomain, "target"))
+      targets.push_back({p->domain.vertexAt(t.index.i, t.index.j, t.index.k), t.givenAs});
+    if (labels) {
+      const auto fromLabels = imaging::labelTargets(labelsName, *labels, field.name, field.geometry(), field.inDomain,
+                                                    p->result.distance);
+      targets.insert(targets.end(), fromLabels.begin(), fromLabels.end());
+    }
+    imaging::requireReachable(field.name, targets, p->result.distance);
+    for (const imaging::PathTarget& t : targets) {
+      Traced one{t, discrete ? discreteGeodesicPath(p->domain, p->result, t.vertex)
+                             : traceGeodesicPath(p->domain, field.metric, p->result, t.vertex, tracing),
+                 {}};
+      if (withFa) one.fa = sampleAlongPath(p->domain, field.fractionalAnisotropy(), one.path.points);
+      traced.push_back(std::move(one));
+    }
+  }
+
+  py::list paths;
+  for (const Traced& t : traced) {
+    const TracedPath& path = t.path;
+    py::array_t<double> points({static_cast<py::ssize_t>(path.points.size()), py::ssize_t{3}});
+    auto w = points.mutable_unchecked<2>();
+    for (std::size_t n = 0; n < path.points.size(); ++n) {
+      const Vec3d ras = imaging::lpsToRas(path.points[n]);
+      w(n, 0) = ras.x;
+      w(n, 1) = ras.y;
+      w(n, 2) = ras.z;
+    }
+    const VoxelIndex ti = p->domain.indexOf(t.target.vertex), si = p->domain.indexOf(path.discrete.front());
+    py::dict fallbacks;
+    for (int f = 0; f < kPathFallbackKinds; ++f)
+      if (path.fallbacks[f]) fallbacks[pathFallbackName(static_cast<PathFallback>(f))] = path.fallbacks[f];
+    py::dict d;
+    d["points"] = points;
+    d["target"] = t.target.name;
+    d["target_voxel"] = py::make_tuple(ti.i, ti.j, ti.k);
+    d["seed_voxel"] = py::make_tuple(si.i, si.j, si.k);
+    d["geodesic_mm"] = path.geodesicLength;
+    d["euclidean_mm"] = path.euclideanLength;
+    d["straight_mm"] =
+        norm(p->domain.physicalPoint(t.target.vertex) - p->domain.physicalPoint(path.discrete.front()));
+    d["metric_length_mm"] = path.metricLength;
+    d["mean_fa"] = withFa ? t.fa.lengthWeightedMean : std::numeric_limits<double>::quiet_NaN();
+    d["fa"] = withFa ? py::object(py::array_t<float>(t.fa.values.size(), t.fa.values.data())) : py::object(py::none());
+    d["gradient_steps"] = path.gradientSteps;
+    d["discrete_points"] = path.discretePoints;
+    d["fallbacks"] = fallbacks;
+    d["refine_iterations"] = path.refinement.iterations;
+    paths.append(d);
+  }
+  return paths;
+}
+
+/// `stvd connectivity` over a field: the label regions, one propagation per
+/// region, the matrices.
+py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py::handle& labelsSpec,
+                      PropagationChoice choice, unsigned threads, const py::handle& progress) {
+  checkPropagationChoice(choice, /*lanthierAllowed=*/false);
+  const imaging::LabelImage labels = labelImageOf(labelsSpec, field->geometry());
+  const std::string labelsName = scalarImageName(labelsSpec);
+  ProgressRelay relay(progress);
+  std::vector<LabelRegion> regions;
+  std::size_t leftOut = 0;
+  RegionConnectivity table;
+  {
+    py::gil_scoped_release release;
+    imaging::requireSameGrid(labels.geometry, field->geometry(), labelsName, "the labels are", field->name);
+    regions = regionsInDomain(labelRegions(labels.labels, field->inDomain), labelsName, field->name,
+                              leftOut);
+    std::vector<std::vector<VertexId>> voxels;
+    for (const LabelRegion& r : regions) voxels.push_back(r.voxels);
+    const VoxelGridDomain domain(field->geometry(), Stencil::byName(choice.stencil), field->inDomain,
+                                 choice.connectivity);
+    PropagationOptions options = propagationOptions(choice);
+    options.progress = relay.hook();
+    table = regionConnectivity(domain, field->metric, voxels, options, threads);
+  }
+  relay.rethrowIfFailed();
+  const py::ssize_t n = static_cast<py::ssize_t>(regions.size());
+  py::array_t<long long> labelValues(n), voxelCounts(n);
+  py::array_t<double> geodesic({n, n}), pathLength({n, n}), straight({n, n}), index({n, n});
+  auto g = geodesic.mutable_unchecked<2>(), l = pathLength.mutable_unchecked<2>(), s = straight.mutable_unchecked<2>(),
+       c = index.mutable_unchecked<2>();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (py::ssize_t a = 0; a < n; ++a) {
+    labelValues.mutable_at(a) = regions[a].label;
+    voxelCounts.mutable_at(a) = static_cast<long long>(regions[a].voxels.size());
+    for (py::ssize_t b = 0; b < n; ++b) {
+      const RegionPair& r = table(a, b);
+      const bool measured = a != b && std::isfinite(r.geodesic);
+      g(a, b) = measured ? r.geodesic : nan;
+      l(a, b) = measured ? r.pathLength : nan;
+      s(a, b) = measured ? r.straight : nan;
+      c(a, b) = measured ? r.connectivity() : nan;
+    }
+  }
+  py::dict d;
+  d["labels"] = labelValues;
+  d["voxels"] = voxelCounts;
+  d["geodesic_mm"] = geodesic;
+  d["path_mm"] = pathLength;
+  d["straight_mm"] = straight;
+  d["connectivity"] = index;
+  d["labels_left_out"] = leftOut;
+  d["threads"] = table.threads;
+  return d;
+}
+
+}  // namespace
+
+void bindVolumes(py::module_& m) {
+  py::class_<TensorField, std::shared_ptr<TensorField>>(m, "TensorField",
+                                                        "Tensors, mask, metric and domain of a tensor volume.")
+      .def_static(
+          "from_file",
+          [](const std::string& path, const py::object& mask, const std::optional<std::string>& order, const std::optional<std::string>& frame,
+             const std::optional<std::string>& kind, const std::optional<std::string>& diffusionMetric,
+             const std::optional<double>& maxAnisotropy, const std::optional<double>& faThreshold,
+             bool acceptImplausible) {
+            return fieldFromFile(
+                path, tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold, acceptImplausible),
+                mask);
+          },
+          py::arg("path"), py::arg("mask") = py::none(),
+          py::arg("tensor_order") = py::none(), py::arg("tensor_frame") = py::none(),
+          py::arg("tensor_kind") = py::none(), py::arg("diffusion_metric") = py::none(),
+          py::arg("max_anisotropy") = py::none(), py::arg("fa_threshold") = py::none(),
+          py::arg("accept_implausible_tensors") = false)
+      .def_static(
+          "from_array",
+          [](const py::object& tensors, const py::object& affine, const std::optional<std::array<double, 3>>& zooms,
+             const std::optional<bool>& niftiIntent, const std::string& name, const py::object& mask,
+             const std::optional<std::string>& order,
+             const std::optional<std::string>& frame, const std::optional<std::string>& kind,
+             const std::optional<std::string>& diffusionMetric, const std::optional<double>& maxAnisotropy,
+             const std::optional<double>& faThreshold, bool acceptImplausible) {
+            return fieldFromArray(
+                tensors, affine, zooms, niftiIntent, name,
+                tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold, acceptImplausible),
+                mask);
+          },
+          py::arg("tensors"), py::arg("affine"), py::arg("zooms") = py::none(), py::arg("nifti_intent") = py::none(),
+          py::arg("name") = "tensors", py::arg("mask") = py::none(),
+          py::arg("tensor_order") = py::none(), py::arg("tensor_frame") = py::none(),
+          py::arg("tensor_kind") = py::none(), py::arg("diffusion_metric") = py::none(),
+          py::arg("max_anisotropy") = py::none(), py::arg("fa_threshold") = py::none(),
+          py::arg("accept_implausible_tensors") = false)
+      .def_property_readonly("name", [](const TensorField& f) { return f.name; })
+      .def_property_readonly("shape", [](const TensorField& f) { return py::tuple(py::cast(gridShape(f.geometry()))); })
+      .def_property_readonly("affine", [](const TensorField& f) { return affineArray(f.geometry()); },
+                             "4x4 voxel index to RAS millimetres.")
+      .def_property_readonly("zooms",
+                             [](const TensorField& f) {
+                               const auto& s = f.geometry().spacing;
+                               return py::make_tuple(s[0], s[1], s[2]);
+                             })
+      .def_property_readonly("axis_codes", [](const TensorField& f) { return imaging::rasAxisCodes(f.geometry()); })
+      .def_property_readonly("voxel_counts", [](const TensorField& f) { return voxelCounts(f.counts); })
+      .def_property_readonly("warnings", [](const TensorField& f) { return f.input.warnings; },
+                             "What the readers noted about the tensor and mask files, each 'FILE: text'.")
+      .def_property_readonly(
+          "in_domain",
+          [](py::object self) {
+            const TensorField& f = self.cast<const TensorField&>();
+            return fortranView(f.inDomain.data(), gridShape(f.geometry()), self);
+          },
+          "uint8 per voxel, 1 inside the domain.")
+      .def_property_readonly(
+          "fractional_anisotropy",
+          [](py::object self) {
+            const TensorField& f = self.cast<const TensorField&>();
+            {
+              py::gil_scoped_release release;
+              f.fractionalAnisotropy();
+            }
+            return fortranView(f.fractionalAnisotropy().data(), gridShape(f.geometry()), self);
+          },
+          "FA of the tensors as read, in the domain (0 elsewhere).")
+      .def_property_readonly("tensor_info",
+                             [](const TensorField& f) {
+                               const imaging::TensorFileInfo& i = f.input.read.info;
+                               py::dict d;
+                               d["layout"] = imaging::tensorFileLayoutName(i.layout);
+                               d["order"] = imaging::tensorOrderName(i.order);
+                               d["frame"] = imaging::tensorFrameName(i.frame);
+                               d["frame_was_stated"] = i.frameWasStated;
+                               d["mask"] = f.input.maskDescription;
+                               d["tensor_kind"] = imaging::tensorKindName(f.options.metric.kind);
+                               d["metric_formula"] = imaging::metricFormula(f.options.metric.kind,
+                                                                            f.options.metric.diffusionMetric);
+                               return d;
+                             })
+      .def(
+          "propagate",
+          [](const std::shared_ptr<TensorField>& field, const std::vector<std::array<int, 3>>& seeds,
+             const std::vector<std::array<double, 3>>& seedPoints, bool lps, const py::object& seedLabels,
+             const std::optional<std::string>& method, const std::optional<int>& k,
+             const std::optional<std::string>& chainMeasure, const std::optional<std::string>& stencil,
+             const std::optional<int>& steiner, const std::optional<double>& maxDistance, const py::object& progress,
+             const std::optional<std::string>& domainConnectivity) {
+            return propagateField(field, seeds, finiteTriples(seedPoints, "seed_points"), lps, seedLabels,
+                                  choiceOf(method, k, chainMeasure, stencil, steiner, domainConnectivity),
+                                  maxDistanceOf(maxDistance), progress);
+          },
+          py::arg("seeds") = std::vector<std::array<int, 3>>{},
+          py::arg("seed_points") = std::vector<std::array<double, 3>>{}, py::arg("lps") = false,
+          py::arg("seed_labels") = py::none(), py::arg("method") = py::none(), py::arg("k") = py::none(),
+          py::arg("chain_measure") = py::none(), py::arg("stencil") = py::none(), py::arg("steiner") = py::none(),
+          py::arg("max_distance") = py::none(), py::arg("progress") = py::none(),
+          py::arg("domain_connectivity") = py::none())
+      .def(
+          "connectivity",
+          [](const std::shared_ptr<TensorField>& field, const py::object& labels, const std::optional<std::string>& method,
+             const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
+             const std::optional<std::string>& stencil, const std::optional<int>& threads, const py::object& progress,
+             const std::optional<std::string>& domainConnectivity) {
+            if (threads && (*threads < 1 || *threads > 1024))
+              throw OptionError("--threads must be between 1 and 1024");
+            return connectivity(field, labels,
+                                choiceOf(method, k, chainMeasure, stencil, std::nullopt, domainConnectivity),
+                                threads ? static_cast<unsigned>(*threads) : 0u, progress);
+          },
+          py::arg("labels"), py::arg("method") = py::none(), py::arg("k") = py::none(),
+          py::arg("chain_measure") = py::none(), py::arg("stencil") = py::none(), py::arg("threads") = py::none(),
+          py::arg("progress") = py::none(), py::arg("domain_connectivity") = py::none());
+
+  py::class_<VolumePropagation, std::shared_ptr<VolumePropagation>>(m, "VolumePropagation")
+      .def_property_readonly("field", [](const VolumePropagation& p) { return std::const_pointer_cast<TensorField>(p.field); })
+      .def_property_readonly(
+          "distance",
+          [](py::object self) {
+            const VolumePropagation& p = self.cast<const VolumePropagation&>();
+            return fortranView(p.result.distance.data(), gridShape(p.field->geometry()), self);
+          },
+          "float64 millimetres per voxel, inf where not reached (read-only view).")
+      .def_property_readonly(
+          "predecessor",
+          [](py::object self) {
+            const VolumePropagation& p = self.cast<const VolumePropagation&>();
+            return fortranView(p.result.predecessor.data(), gridShape(p.field->geometry()), self);
+          },
+          "uint32 linear voxel index (i + nx*(j + ny*k)) of each voxel's predecessor; NO_VERTEX for seeds and "
+          "voxels not reached.")
+      .def(
+          "distance_map",
+          [](const VolumePropagation& p, double unreachable) {
+            checkUnreachableValue(unreachable, py::str(py::float_(unreachable)));
+            py::array_t<float> map = newFortranFloatArray(p.field->geometry().size);
+            float* out = map.mutable_data();
+            const float value = static_cast<float>(unreachable);
+            py::gil_scoped_release release;
+            const std::vector<double>& d = p.result.distance;
+            for (std::size_t v = 0; v < d.size(); ++v) out[v] = std::isfinite(d[v]) ? static_cast<float>(d[v]) : value;
+            return map;
+          },
+          py::arg("unreachable_value"), "float32 distances as `stvd distance` writes them.")
+      .def(
+          "write_distance_map",
+          [](const VolumePropagation& p, files::OutputTransaction& outputs, const std::string& path,
+             double unreachable) {
+            checkUnreachableValue(unreachable, py::str(py::float_(unreachable)));
+            // The values and the writer of `stvd distance`: the same bytes.
+            const float value = static_cast<float>(unreachable);
+            py::gil_scoped_release release;
+            const std::vector<double>& d = p.result.distance;
+            std::vector<float> values(d.size());
+            for (std::size_t v = 0; v < d.size(); ++v) values[v] = std::isfinite(d[v]) ? static_cast<float>(d[v]) : value;
+            imaging::writeScalarImage(outputs, path, p.field->geometry(), values);
+          },
+          py::arg("outputs"), py::arg("path"), py::arg("unreachable_value"),
+          "Stages the float32 distance map in `outputs` as `stvd distance` writes it.")
+      .def(
+          "write_paths",
+          [](const VolumePropagation& p, files::OutputTransaction& outputs, const std::string& path,
+             const py::list& lines, const std::vector<double>& geodesic, const std::vector<double>& euclidean,
+             const std::optional<std::vector<double>>& meanFa, const py::object& fa) {
+            // The streamline set of `stvd path` (stvd/itk/streamline_io.hpp).
+            imaging::StreamlineSet set;
+            set.geometry = p.field->geometry();
+            for (const py::handle& line : lines) {
+              std::vector<Vec3d> lps;
+              // The flip between RAS and LPS is its own inverse.
+              for (const Vec3d& ras : pointRows(line, "paths")) lps.push_back(imaging::lpsToRas(ras));
+              set.lines.push_back(std::move(lps));
+            }
+            set.lineValueNames = {"geodesic_mm", "euclidean_mm"};
+            set.lineValues = {std::vector<float>(geodesic.begin(), geodesic.end()),
+                              std::vector<float>(euclidean.begin(), euclidean.end())};
+            if (meanFa) {
+              set.lineValueNames.push_back("mean_fa");
+              set.lineValues.emplace_back(meanFa->begin(), meanFa->end());
+              set.pointValueNames = {"fa"};
+              set.pointValues.resize(1);
+              for (const py::handle& values : fa) set.pointValues[0].push_back(values.cast<std::vector<float>>());
+            }
+            py::gil_scoped_release release;
+            imaging::writeStreamlines(outputs, path, set);
+          },
+          py::arg("outputs"), py::arg("path"), py::arg("lines"), py::arg("geodesic_mm"), py::arg("euclidean_mm"),
+          py::arg("mean_fa") = py::none(), py::arg("fa") = py::none(),
+          "Stages the paths (RAS millimetres) in `outputs` as `stvd path` writes them.")
+      .def_property_readonly("termination", [](const VolumePropagation& p) { return terminationName(p.result.termination); })
+      .def_property_readonly("finalized_vertices", [](const VolumePropagation& p) { return p.result.finalizedVertices; })
+      .def_property_readonly("relaxed_edges", [](const VolumePropagation& p) { return p.result.relaxedEdges; })
+      .def_property_readonly("peak_state_bytes", [](const VolumePropagation& p) { return p.result.peakStateBytes; })
+      .def_property_readonly("seeds",
+                             [](const VolumePropagation& p) {
+                               py::array_t<int> a({static_cast<py::ssize_t>(p.seeds.size()), py::ssize_t{3}});
+                               auto w = a.mutable_unchecked<2>();
+                               for (std::size_t s = 0; s < p.seeds.size(); ++s) {
+                                 w(s, 0) = p.seeds[s].index.i;
+                                 w(s, 1) = p.seeds[s].index.j;
+                                 w(s, 2) = p.seeds[s].index.k;
+                               }
+                               return a;
+                             })
+      .def_property_readonly("label_seeds_left_out", [](const VolumePropagation& p) { return p.labelSeedsLeftOut; })
+      .def_property_readonly("method", [](const VolumePropagation& p) { return methodName(p.choice); })
+      .def_property_readonly("method_text", [](const VolumePropagation& p) { return methodText(p.choice, memoryDepthOf<VoxelGridDomain>(p.choice)); })
+      .def_property_readonly("k", [](const VolumePropagation& p) {
+        return p.choice.lanthier ? py::object(py::none()) : py::object(py::int_(memoryDepthOf<VoxelGridDomain>(p.choice)));
+      })
+      .def_property_readonly("chain_measure", [](const VolumePropagation& p) { return chainMeasureName(p.choice.chainMeasure); })
+      .def_property_readonly("stencil", [](const VolumePropagation& p) { return p.choice.stencil; })
+      .def_property_readonly("domain_connectivity",
+                             [](const VolumePropagation& p) { return static_cast<int>(p.choice.connectivity); })
+      .def(
+          "trace_paths",
+          [](const std::shared_ptr<VolumePropagation>& p, const std::vector<std::array<int, 3>>& targets,
+             const std::vector<std::array<double, 3>>& targetPoints, bool lps, const py::object& targetLabels,
+             const std::optional<double>& step, const std::optional<int>& smooth, const std::optional<bool>& refine,
+             bool discrete) {
+            return tracePaths(p, targets, finiteTriples(targetPoints, "target_points"), lps, targetLabels, step, smooth,
+                              refine, discrete);
+          },
+          py::arg("targets") = std::vector<std::array<int, 3>>{},
+          py::arg("target_points") = std::vector<std::array<double, 3>>{}, py::arg("lps") = false,
+          py::arg("target_labels") = py::none(), py::arg("step") = py::none(), py::arg("smooth") = py::none(),
+          py::arg("refine") = py::none(), py::arg("discrete") = false);
+}
+
+}  // namespace stvd::python

@@ -1,0 +1,360 @@
+"""stvd: anisotropic geodesic distances, paths and connectivity on diffusion
+tensor images, tetrahedral meshes and surfaces.
+
+A thin layer over stvd's C++ library (the ``stvd`` command-line tool runs the
+same code): NumPy arrays and NiBabel images in, distances, paths and
+connectivity out. Every option that is not given takes the library's default
+(``stvd.defaults``); option names follow the tool's flags (``--seed-point``
+is ``seed_points=``, ``--tensor-order`` is ``tensor_order=``), and bad input
+raises ValueError or TypeError with the tool's one-line messages. The library
+works without the GIL, so threads run in parallel. See docs/python.md.
+"""
+
+import numpy as np
+
+from . import _core
+from ._inputs import index_list, is_image, is_path, point_list, scalar_image_spec, tensor_field, voxel_list
+from ._outputs import FileConflictError, OutputError, OutputFiles, input_file_of
+from ._paths import Paths, tractogram
+from ._progress import progress_reporter
+
+__version__ = _core.__version__
+NO_VERTEX = _core.NO_VERTEX
+
+__all__ = ["defaults", "distance", "propagate", "Propagation", "trace_paths", "Paths", "tractogram",
+           "connectivity", "Connectivity", "tet_mesh_distance", "surface_distance", "NO_VERTEX", "OutputFiles",
+           "FileConflictError", "OutputError"]
+
+
+class _Defaults:
+    """The library's defaults, read-only: ``stvd.defaults.k``, ...
+
+    method, k (on volumes), surface_k, tet_mesh_k (the k of each kind of
+    domain when none is given), chain_measure, surface_chain_measure (the
+    same measure), stencil, domain_connectivity (volumes), tensor_kind,
+    diffusion_metric, max_anisotropy (None: diffusion tensors capped at
+    diffusion_max_anisotropy, a metric taken as given),
+    accept_implausible_tensors, unreachable_value, step, smooth, refine
+    (paths), max_k, max_steiner. The values are the library's, the ones the
+    ``stvd`` tool uses.
+    """
+
+    def __init__(self, values):
+        object.__setattr__(self, "_values", dict(values))
+
+    def __getattr__(self, name):
+        try:
+            return self._values[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __setattr__(self, name, value):
+        raise AttributeError("stvd.defaults is read-only: pass the option to the call instead")
+
+    def __dir__(self):
+        return list(self._values)
+
+    def __repr__(self):
+        return "stvd.defaults(" + ", ".join(f"{k}={v!r}" for k, v in self._values.items()) + ")"
+
+    def as_dict(self):
+        return dict(self._values)
+
+
+defaults = _Defaults(_core.defaults())
+
+
+def _connectivity(value):
+    """domain_connectivity (6, 18 or 26, or the same as text) as the tool's
+    option text, which the library checks; None kept."""
+    return None if value is None else str(value)
+
+
+def _tensor_options(tensor_order, tensor_frame, tensor_kind, diffusion_metric, max_anisotropy, fa_threshold,
+                    accept_implausible_tensors=False):
+    return dict(tensor_order=tensor_order, tensor_frame=tensor_frame, tensor_kind=tensor_kind,
+                diffusion_metric=diffusion_metric, max_anisotropy=max_anisotropy, fa_threshold=fa_threshold,
+                accept_implausible_tensors=bool(accept_implausible_tensors))
+
+
+class Propagation:
+    """A finished propagation over a tensor volume (``stvd.propagate``).
+
+    ``distance`` (float64 millimetres, ``inf`` where not reached) and
+    ``predecessor`` (uint32 linear voxel index ``i + nx*(j + ny*k)`` of each
+    voxel's predecessor, ``stvd.NO_VERTEX`` for seeds and voxels not reached)
+    are read-only arrays on the input's grid, without a copy. Statistics:
+    ``termination``, ``finalized_vertices``, ``relaxed_edges``,
+    ``peak_state_bytes``, ``seeds`` (the seed voxels), ``label_seeds_left_out``,
+    ``voxel_counts``, ``method``, ``k``, ``chain_measure``, ``stencil``,
+    ``domain_connectivity``. The
+    grid: ``shape``, ``affine`` (voxel index to RAS millimetres), ``zooms``,
+    ``in_domain``. Paths (``stvd.trace_paths``) and connectivity
+    (``stvd.connectivity``) use it without propagating again.
+    ``input_files``: (role, path) of the files it read (tensors, mask, seed
+    labels; NiBabel images by the files they came from), which ``save``
+    never writes over.
+    """
+
+    def __init__(self, result, template, input_files=()):
+        self._result = result
+        self._template = template
+        self.input_files = [(role, path) for role, path in input_files if path]
+
+    def __getattr__(self, name):
+        if name in ("distance", "predecessor", "termination", "finalized_vertices", "relaxed_edges",
+                    "peak_state_bytes", "seeds", "label_seeds_left_out", "method", "method_text", "k",
+                    "chain_measure", "stencil", "domain_connectivity"):
+            return getattr(self._result, name)
+        if name in ("shape", "affine", "zooms", "voxel_counts", "in_domain", "fractional_anisotropy", "tensor_info"):
+            return getattr(self._result.field, name)
+        raise AttributeError(name)
+
+    def distance_map(self, unreachable_value=None):
+        """The distance map as ``stvd distance`` writes it: float32, voxels not
+        reached holding ``unreachable_value`` (``stvd.defaults.unreachable_value``
+        when None). A NiBabel image when an image or a file came in, a NumPy
+        array otherwise."""
+        if unreachable_value is None:
+            unreachable_value = defaults.unreachable_value
+        data = self._result.distance_map(float(unreachable_value))
+        return self._template(data) if self._template else data
+
+    def save(self, path, unreachable_value=None, *, outputs=None):
+        """Writes the distance map to ``path`` (NIfTI, NRRD or MRtrix by the
+        extension) as ``stvd distance -o path`` writes it, byte for byte, with
+        the tool's promises: never over one of ``input_files``, atomically.
+        Within ``outputs`` (a ``stvd.OutputFiles`` that declares ``path`` and
+        these input files) it is staged there and appears at its commit."""
+        if unreachable_value is None:
+            unreachable_value = defaults.unreachable_value
+        if outputs is None:
+            with OutputFiles({"distance map": path}, inputs=self.input_files) as files:
+                self.save(path, unreachable_value, outputs=files)
+            return
+        outputs._require_inputs(self.input_files, "the propagation")
+        self._result.write_distance_map(outputs._transaction, outputs._declared_output(path),
+                                        float(unreachable_value))
+
+    def __repr__(self):
+        return (f"<stvd.Propagation {self.method_text} on {self.shape}: {self.finalized_vertices} of "
+                f"{self.voxel_counts['domain']} domain voxels reached, {self.termination}>")
+
+
+def _image_template(tensors, field):
+    """How to wrap a distance map in an image of the input's grid, or None."""
+    import nibabel
+
+    if is_image(tensors):
+        nifti = isinstance(tensors, nibabel.Nifti1Image)  # NIfTI-2 images are NIfTI-1 images too
+        header = tensors.header.copy() if nifti else None
+        image_class = type(tensors) if nifti else nibabel.Nifti1Image
+        affine = tensors.affine
+    elif is_path(tensors):
+        try:  # a NIfTI file keeps its own header (read lazily, without the data)
+            source = nibabel.load(tensors)
+            nifti = isinstance(source, nibabel.Nifti1Image)
+            header = source.header.copy() if nifti else None
+            image_class = type(source) if nifti else nibabel.Nifti1Image
+            affine = source.affine if nifti else field.affine
+        except Exception:  # NRRD, which NiBabel does not read
+            header, affine, image_class = None, field.affine, nibabel.Nifti1Image
+    else:
+        return None
+
+    def wrap(data):
+        if header is None:
+            image = nibabel.Nifti1Image(data, affine)
+            image.set_qform(affine, code=1)
+            image.set_sform(affine, code=1)
+            return image
+        out = header.copy()
+        out.set_intent("none", (), name="")
+        out.set_data_dtype(np.float32)
+        out.set_slope_inter(None, None)
+        return image_class(data, affine, out)
+
+    return wrap
+
+
+def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=None, lps=False, mask=None,
+              tensor_order=None, tensor_frame=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None,
+              fa_threshold=None, method=None, k=None, chain_measure=None, stencil=None, steiner=None,
+              max_distance=None, progress=None, accept_implausible_tensors=False, domain_connectivity=None):
+    """Propagates the geodesic distance from seeds over a tensor volume and
+    returns the whole result (``stvd.Propagation``): distances, predecessors
+    and statistics. The arguments are those of ``stvd.distance``."""
+    field = tensor_field(tensors, affine, mask, _tensor_options(tensor_order, tensor_frame, tensor_kind,
+                                                                diffusion_metric, max_anisotropy, fa_threshold,
+                                                                accept_implausible_tensors))
+    labels = scalar_image_spec(seed_labels, "seed_labels")
+    with progress_reporter(progress) as reporter:
+        result = field.propagate(voxel_list(seeds, "seeds"), point_list(seed_points, "seed_points"), bool(lps),
+                                 labels, method=method, k=k, chain_measure=chain_measure, stencil=stencil,
+                                 steiner=steiner, max_distance=max_distance, progress=reporter.callback,
+                                 domain_connectivity=_connectivity(domain_connectivity))
+        reporter.finish(result.finalized_vertices)
+    template = _image_template(tensors, field) if (is_image(tensors) or is_path(tensors)) else None
+    return Propagation(result, template,
+                       [("tensor input", input_file_of(tensors)), ("mask", input_file_of(mask)),
+                        ("seed labels", input_file_of(seed_labels))])
+
+
+def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=None, lps=False, mask=None,
+             tensor_order=None, tensor_frame=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None,
+             fa_threshold=None, method=None, k=None, chain_measure=None, stencil=None, steiner=None,
+             max_distance=None, unreachable_value=None, progress=None, accept_implausible_tensors=False,
+             domain_connectivity=None):
+    """The anisotropic geodesic distance (millimetres) from seeds over a
+    diffusion or metric tensor volume, as ``stvd distance`` computes it.
+
+    tensors: a path (NIfTI or NRRD, read as the tool reads it), a NiBabel
+        image (read as the tool reads its file), or a NumPy array with
+        ``affine=`` (4x4, voxel index to RAS millimetres): ``(X, Y, Z, 6)`` in
+        the order ``tensor_order=`` states (``'lower'``, ``'fsl'`` or
+        ``'mrtrix'``), or ``(X, Y, Z, 3, 3)`` as DIPY's
+        ``TensorFit.quadratic_form``. float32 or float64.
+    seeds: voxel indices ``(i, j, k)``, 0-based; ``seed_points=``: RAS
+        millimetres (LPS with ``lps=True``), the nearest voxel;
+        ``seed_labels=``: every non-zero voxel of a label image (path, image
+        or array on the tensors' grid) inside the domain.
+    mask, fa_threshold, tensor_frame, tensor_kind, diffusion_metric,
+        max_anisotropy, accept_implausible_tensors: the domain and the
+        metric, as the tool's options.
+    method, k, chain_measure, stencil, steiner, max_distance,
+        domain_connectivity: the propagation, as the tool's options
+        (``domain_connectivity`` 6, 18 or 26: which domain voxels touch when
+        a mask or an FA threshold leaves gaps; paths keep to it too).
+    unreachable_value: the value of voxels not reached.
+    progress: True for a tqdm bar, or a function
+        ``f(finalized, domain_vertices, front_mm)``; returning False cancels.
+
+    Options left at None take ``stvd.defaults``. Returns the float32 distance
+    map on the input's grid: a NiBabel image when an image or a file came in,
+    a NumPy array otherwise.
+    """
+    result = propagate(tensors, seeds, affine=affine, seed_points=seed_points, seed_labels=seed_labels, lps=lps,
+                       mask=mask, tensor_order=tensor_order, tensor_frame=tensor_frame, tensor_kind=tensor_kind,
+                       diffusion_metric=diffusion_metric, max_anisotropy=max_anisotropy, fa_threshold=fa_threshold,
+                       method=method, k=k, chain_measure=chain_measure, stencil=stencil, steiner=steiner,
+                       max_distance=max_distance, progress=progress,
+                       accept_implausible_tensors=accept_implausible_tensors,
+                       domain_connectivity=domain_connectivity)
+    return result.distance_map(unreachable_value)
+
+
+def trace_paths(result, targets=None, *, target_points=None, target_labels=None, lps=False, step=None, smooth=None,
+                refine=None, discrete=False):
+    """The geodesic paths from targets back to the seeds of a propagation, as
+    ``stvd path`` traces them (``step``, ``smooth``, ``refine=False`` for
+    ``--no-refine``, ``discrete=True`` for ``--discrete``). Targets: voxel
+    indices, ``target_points=`` (RAS millimetres, LPS with ``lps=True``) or
+    ``target_labels=`` (one path per label, to the region's voxel nearest to
+    the seeds). Returns ``stvd.Paths``."""
+    if not isinstance(result, Propagation):
+        raise TypeError("result: expected the stvd.Propagation that stvd.propagate returns")
+    labels = scalar_image_spec(target_labels, "target_labels")
+    records = result._result.trace_paths(voxel_list(targets, "targets"), point_list(target_points, "target_points"),
+                                         bool(lps), labels, step=step, smooth=smooth, refine=refine,
+                                         discrete=bool(discrete))
+    field = result._result.field
+    return Paths(records, field.affine, field.shape, field.zooms, field.axis_codes, result,
+                 result.input_files + [("target labels", input_file_of(target_labels))])
+
+
+class Connectivity:
+    """Geodesic distance and connectivity between labelled regions
+    (``stvd.connectivity``): ``labels`` (the regions' label values), ``voxels``
+    (their voxels in the domain), and n x n matrices with row a measured from
+    region a: ``geodesic_mm`` (d(a, b)), ``path_mm`` (Euclidean length of the
+    path), ``straight_mm`` and ``connectivity`` (path_mm / geodesic_mm, the
+    measure of Astola, Florack and ter Haar Romeny). NaN on the diagonal and
+    where b is not reachable from a. ``labels_left_out``: regions without a
+    voxel in the domain; ``threads``: how many ran."""
+
+    def __init__(self, values):
+        for key, value in values.items():
+            setattr(self, key, value)
+
+    def __repr__(self):
+        return f"<stvd.Connectivity of {len(self.labels)} regions>"
+
+
+def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tensor_order=None, tensor_frame=None,
+                 tensor_kind=None, diffusion_metric=None, max_anisotropy=None, fa_threshold=None, method=None, k=None,
+                 chain_measure=None, stencil=None, progress=None, accept_implausible_tensors=False,
+                 domain_connectivity=None):
+    """Region-to-region connectivity as ``stvd connectivity`` computes it: one
+    propagation from each region of ``labels`` (a path, image or array on the
+    tensors' grid; each distinct non-zero integer is a region), ``threads`` at
+    a time (None: one per core; the result does not depend on it).
+    ``tensors`` is what ``stvd.distance`` takes, or a ``stvd.Propagation``,
+    whose field and method are reused. Returns ``stvd.Connectivity``."""
+    if isinstance(tensors, Propagation):
+        if accept_implausible_tensors or any(
+                v is not None for v in (affine, mask, tensor_order, tensor_frame, tensor_kind, diffusion_metric,
+                                        max_anisotropy, fa_threshold, method, k, chain_measure, stencil,
+                                        domain_connectivity)):
+            raise ValueError("tensor and method options come from the stvd.Propagation given")
+        field = tensors._result.field
+        given = tensors._result
+        options = dict(method=given.method, k=given.k if given.method == "stvd" else None,
+                       chain_measure=given.chain_measure if given.method == "stvd" else None, stencil=given.stencil,
+                       domain_connectivity=str(given.domain_connectivity))
+    else:
+        field = tensor_field(tensors, affine, mask, _tensor_options(tensor_order, tensor_frame, tensor_kind,
+                                                                    diffusion_metric, max_anisotropy, fa_threshold,
+                                                                    accept_implausible_tensors))
+        options = dict(method=method, k=k, chain_measure=chain_measure, stencil=stencil,
+                       domain_connectivity=_connectivity(domain_connectivity))
+    spec = scalar_image_spec(labels, "labels")
+    with progress_reporter(progress) as reporter:
+        values = field.connectivity(spec, threads=threads, progress=reporter.callback, **options)
+    return Connectivity(values)
+
+
+def _distances(values, unreachable_value):
+    distance = values["distance"]
+    distance[~np.isfinite(distance)] = defaults.unreachable_value if unreachable_value is None else unreachable_value
+    return distance
+
+
+def tet_mesh_distance(points, tetrahedra, seeds, *, tensors=None, tensor_order=None, tensor_kind=None,
+                      diffusion_metric=None, max_anisotropy=None, fa_threshold=None, method=None, k=None,
+                      chain_measure=None, steiner=None, max_distance=None, unreachable_value=None, progress=None):
+    """The geodesic distance over a tetrahedral mesh, as ``stvd distance
+    MESH.node`` computes it: ``points`` (N, 3), ``tetrahedra`` (M, 4) vertex
+    indices from 0, ``seeds`` vertex indices. ``tensors``: one per vertex in
+    the frame of the points, (N, 6) in the order ``tensor_order`` states or
+    (N, 3, 3); diffusion tensors unless ``tensor_kind='metric'``; none: the
+    Euclidean metric. Tetrahedra with a vertex outside the domain are left
+    out. Returns float64 distances per vertex (``unreachable_value`` where
+    not reached)."""
+    with progress_reporter(progress) as reporter:
+        values = _core.tet_mesh_propagate(
+            points, tetrahedra, index_list(seeds, "seeds"), tensors=tensors, tensor_order=tensor_order,
+            tensor_kind=tensor_kind, diffusion_metric=diffusion_metric, max_anisotropy=max_anisotropy,
+            fa_threshold=fa_threshold, method=method, k=k, chain_measure=chain_measure, steiner=steiner,
+            max_distance=max_distance, progress=reporter.callback)
+        reporter.finish(values["finalized_vertices"])
+    return _distances(values, unreachable_value)
+
+
+def surface_distance(vertices, faces, seeds, *, metric="isotropic", metric_values=None, anisotropy=None,
+                     tensor_order=None, method=None, k=None, chain_measure=None, steiner=None, max_distance=None,
+                     unreachable_value=None, progress=None):
+    """The geodesic distance over a polygon surface, as ``stvd distance
+    MESH.obj`` computes it: ``vertices`` (N, 3), ``faces`` (F, 3) or a list of
+    polygons (vertex indices from 0), ``seeds`` vertex indices. ``metric``:
+    ``'isotropic'``, ``'curvature'`` (with ``anisotropy``), ``'field'`` (a
+    direction per vertex in ``metric_values``, with ``anisotropy``),
+    ``'tensors'`` or ``'face-tensors'`` (world tensors per vertex or face in
+    ``metric_values``: (N, 6) in ``tensor_order`` or (N, 3, 3)). Returns
+    float64 distances per vertex (``unreachable_value`` where not reached)."""
+    with progress_reporter(progress) as reporter:
+        values = _core.surface_propagate(
+            vertices, faces, index_list(seeds, "seeds"), metric=metric, metric_values=metric_values,
+            anisotropy=anisotropy, tensor_order=tensor_order, method=method, k=k, chain_measure=chain_measure,
+            steiner=steiner, max_distance=max_distance, progress=reporter.callback)
+        reporter.finish(values["finalized_vertices"])
+    return _distances(values, unreachable_value)

@@ -1,0 +1,90 @@
+"""Calls from Python: the GIL is released while the library computes,
+progress goes to any callable (or a tqdm bar), and a callable can cancel."""
+
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import stvd
+from conftest import CC_BODY
+
+
+def test_the_gil_is_released_while_the_library_computes(dipy_image):
+    """A Python thread keeps running while another one is in the library: the
+    longest pause between its iterations is a small part of the computation
+    (with the GIL held it would be about half of it: the library lets go
+    only for its two progress reports on this brain)."""
+    stvd.distance(dipy_image, CC_BODY)  # warm up
+    finished = threading.Event()
+    took = []
+
+    def compute():
+        start = time.perf_counter()
+        stvd.distance(dipy_image, CC_BODY, stencil="98")
+        took.append(time.perf_counter() - start)
+        finished.set()
+
+    worker = threading.Thread(target=compute)
+    ticks = []
+    worker.start()
+    while not finished.is_set():
+        ticks.append(time.perf_counter())
+    worker.join()
+    longest_pause = np.max(np.diff(ticks))
+    assert longest_pause < 0.2 * took[0], (longest_pause, took[0])
+
+
+def test_threads_give_the_same_maps_as_one_after_the_other(dipy_image):
+    seeds = [CC_BODY, (68, 50, 11), (41, 51, 12), (55, 41, 8)]
+    serial = [stvd.distance(dipy_image, s).get_fdata(dtype=np.float32) for s in seeds]
+    parallel = [None] * len(seeds)
+
+    def compute(n):
+        parallel[n] = stvd.distance(dipy_image, seeds[n]).get_fdata(dtype=np.float32)
+
+    threads = [threading.Thread(target=compute, args=(n,)) for n in range(len(seeds))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for a, b in zip(serial, parallel):
+        assert np.array_equal(a, b)
+
+
+def test_a_progress_function_sees_the_front_advance_and_can_cancel(dipy_image):
+    calls = []
+    result = stvd.propagate(dipy_image, CC_BODY, progress=lambda *report: calls.append(report))
+    assert len(calls) == 2  # every 65,536 finalised vertices, of 132,892
+    assert [c[0] for c in calls] == [65536, 131072]
+    assert all(c[1] == 132892 for c in calls)
+    assert 0 < calls[0][2] < calls[1][2] < np.max(result.distance[np.isfinite(result.distance)])
+
+    cancelled = stvd.propagate(dipy_image, CC_BODY, progress=lambda *report: False)
+    assert cancelled.termination == "cancelled"
+    assert cancelled.finalized_vertices == 65536
+    partial = cancelled.distance_map()
+    assert np.count_nonzero(partial.get_fdata() >= 0) == 65536
+
+
+def test_an_exception_in_the_progress_function_reaches_the_caller(dipy_image):
+    class Stop(Exception):
+        pass
+
+    def fail(*report):
+        raise Stop("enough")
+
+    with pytest.raises(Stop, match="enough"):
+        stvd.distance(dipy_image, CC_BODY, progress=fail)
+    with pytest.raises(Stop):
+        labels = np.zeros(dipy_image.shape[:3], np.uint8)
+        labels[54:57, 53:56, 14:17] = 1
+        labels[67:70, 49:52, 10:13] = 2
+        stvd.connectivity(dipy_image, labels, progress=fail)
+
+
+def test_progress_true_shows_a_tqdm_bar(dipy_image, capsys):
+    stvd.distance(dipy_image, CC_BODY, progress=True)
+    bar = capsys.readouterr().err
+    assert "propagating" in bar and "100%" in bar and "133k/133k" in bar
