@@ -12,10 +12,10 @@
 #      propagation suites (they read no files, and take most of the pass's
 #      time under the sanitizers), the exact surface references (a CGAL
 #      oracle, most of a minute per mesh under AddressSanitizer, and the
-#      accuracy tests that need it), and the memory
-#      check of the tool (ToolMemoryCheck: it measures the memory of the
-#      uninstrumented tool, and AddressSanitizer needs terabytes of address
-#      space that its `ulimit -v` cannot give).
+#      accuracy tests that need it), and the tool's memory check
+#      (ToolMemoryCheck: it measures the memory of the uninstrumented tool,
+#      and AddressSanitizer needs terabytes of address space, which its
+#      `ulimit -v` can never give).
 # Any sanitizer report fails the pass; reports are written to
 # BUILD/sanitizer-reports/ (the readers divert standard error while a
 # library runs) and printed at the end.
