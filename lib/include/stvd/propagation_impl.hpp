@@ -419,15 +419,25 @@ class Propagation {
     PropagationProgress progress;
     progress.domainVertices = domain_.domainVertexCount();
     while (!queue_.empty()) {
-      // (Deferred: the key is a screened estimate or a measured distance.
-      // A vertex settled and finalised below the limit may still measure
-      // above it; it is reported unreachable (run()), so that a run with a
-      // limit finalises exactly what a full run finalises first.)
       if (queue_.minKey() > options_.maxDistance) {
-        termination_ = Termination::MaxDistanceReached;
-        break;
-      }
-      if constexpr (Deferred) {
+        // Deferred: a key may be a screened estimate, and a candidate
+        // screened above the limit may measure below it; measure it before
+        // stopping, so that a limit at a full run's largest distance
+        // completes that run. (A vertex settled a little beyond the limit is
+        // reported unreachable, run(), so that a run with a limit finalises
+        // what a full run finalises first.)
+        bool stop = true;
+        if constexpr (Deferred) {
+          if (state_[queue_.minVertex()].pendingBase != kNoVertex) {
+            if (!settleMin()) continue;  // queued again with its measured distance
+            stop = state_[queue_.minVertex()].finalDistance() > options_.maxDistance;
+          }
+        }
+        if (stop) {
+          termination_ = Termination::MaxDistanceReached;
+          break;
+        }
+      } else if constexpr (Deferred) {
         if (!settleMin()) continue;
       }
       const VertexId v = queue_.popMin();
