@@ -1,0 +1,145 @@
+"""The work of one subject of a cohort, as a worker process runs it: read the
+subject's files, compute with the package's public calls (``stvd.propagate``,
+``stvd.connectivity``), write the outputs atomically into the subject's
+folder, and return a small summary. Arrays never leave the worker: what
+travels back to the scheduler is a dict of a few numbers and names.
+
+A task computes some *parts* of a subject: ``'connectivity'`` and the seed
+sets of its seeds table, one distance map each. By default one task computes
+all of a subject's parts; with many seed sets a task per part spreads one
+subject over the workers.
+"""
+
+import math
+import os
+import resource
+import socket
+import time
+
+import numpy as np
+
+from ._outputs import atomic_path, file_record, write_text
+
+CONNECTIVITY = "connectivity"
+CONNECTIVITY_FILE = "connectivity.tsv"
+
+# The tool's table (stvd connectivity): columns, and numbers with four
+# decimals or n/a, so that the cohort's table and the tool's are the same
+# bytes (tested).
+CONNECTIVITY_COLUMNS = ("region_a", "region_b", "geodesic_mm", "path_mm", "straight_mm", "connectivity",
+                        "voxels_a", "voxels_b")
+
+
+def map_file(seed_set):
+    return f"distance_{seed_set}.nii.gz"
+
+
+def one_line(error):
+    """An exception as the one line a cohort table keeps."""
+    text = " ".join(str(error).split())
+    return text if text else type(error).__name__
+
+
+def _number(value):
+    return f"{value:.4f}" if math.isfinite(value) else "n/a"
+
+
+def connectivity_table(result):
+    """The TSV text of a ``stvd.Connectivity``, as ``stvd connectivity`` writes it."""
+    lines = ["\t".join(CONNECTIVITY_COLUMNS)]
+    labels, voxels = list(result.labels), list(result.voxels)
+    for a in range(len(labels)):
+        for b in range(len(labels)):
+            if a != b:
+                lines.append("\t".join([str(int(labels[a])), str(int(labels[b])),
+                                        _number(result.geodesic_mm[a, b]), _number(result.path_mm[a, b]),
+                                        _number(result.straight_mm[a, b]), _number(result.connectivity[a, b]),
+                                        str(int(voxels[a])), str(int(voxels[b]))]))
+    return "\n".join(lines) + "\n"
+
+
+def _load_tensors(path):
+    """The tensors as the calls take them: a NIfTI file read once into memory
+    (every part of the subject uses it), another file as its path."""
+    import nibabel
+
+    try:
+        image = nibabel.load(path)
+    except Exception:  # NRRD, which NiBabel does not read, or a file it cannot: the library says why
+        return path
+    if not isinstance(image, nibabel.Nifti1Image):
+        return path
+    try:
+        data = np.asanyarray(image.dataobj)
+    except Exception as error:  # a truncated or corrupt file
+        raise ValueError(f"{path}: cannot read the tensors: {one_line(error)}") from None
+    loaded = type(image)(data, image.affine, image.header)
+    loaded.set_filename(path)  # messages name the file
+    return loaded
+
+
+def _round(value):
+    return float(f"{float(value):.6g}")
+
+
+def _map_summary(propagation, seeds):
+    finite = propagation.distance[np.isfinite(propagation.distance)]
+    return {"seeds": [list(map(int, s)) for s in seeds], "termination": propagation.termination,
+            "reached_voxels": int(finite.size), "domain_voxels": int(propagation.voxel_counts["domain"]),
+            "median_mm": _round(np.median(finite)) if finite.size else None,
+            "max_mm": _round(finite.max()) if finite.size else None}
+
+
+def _connectivity_summary(result):
+    geodesic = result.geodesic_mm[np.isfinite(result.geodesic_mm)]
+    n = len(result.labels)
+    return {"regions": [int(v) for v in result.labels], "voxels": [int(v) for v in result.voxels],
+            "labels_left_out": int(result.labels_left_out),  # regions without a voxel in the domain
+            "pairs": n * (n - 1), "pairs_connected": int(geodesic.size),
+            "mean_geodesic_mm": _round(geodesic.mean()) if geodesic.size else None}
+
+
+def compute_parts(subject, parts, seed_sets, folder, options):
+    """Computes ``parts`` of ``subject`` (a ``_manifest.Subject``) and writes
+    their outputs into ``folder``. ``seed_sets``: ``{name: [(i, j, k), ...]}``
+    of the parts that are seed sets; ``options``: the keywords of the
+    package's calls. Returns ``{'parts': {part: summary}, 'outputs': {file:
+    {'bytes', 'sha256'}}, 'run': {...}}``, or ``{'error': one line}`` for a
+    subject that cannot be computed. Never raises for bad input: a bad
+    subject must not stop the others."""
+    import stvd
+
+    start = time.perf_counter()
+    try:
+        tensor_options = {name: options.get(name) for name in (
+            "tensor_kind", "diffusion_metric", "max_anisotropy", "fa_threshold")}
+        method_options = {name: options.get(name) for name in ("method", "k", "chain_measure", "stencil")}
+        tensors = _load_tensors(subject.tensors)
+        common = dict(mask=subject.mask, tensor_order=subject.tensor_order, tensor_frame=subject.tensor_frame,
+                      **tensor_options, **method_options)
+        summaries, outputs = {}, {}
+        for part in parts:
+            if part == CONNECTIVITY:
+                result = stvd.connectivity(tensors, subject.labels, threads=options.get("threads"), **common)
+                path = os.path.join(folder, CONNECTIVITY_FILE)
+                write_text(path, connectivity_table(result))
+                summaries[part] = _connectivity_summary(result)
+                outputs[CONNECTIVITY_FILE] = file_record(path)
+            else:
+                seeds = seed_sets[part]
+                propagation = stvd.propagate(tensors, seeds, max_distance=options.get("max_distance"), **common)
+                image = propagation.distance_map(options.get("unreachable_value"))
+                path = os.path.join(folder, map_file(part))
+                with atomic_path(path) as partial:
+                    image.to_filename(partial)
+                summaries[part] = _map_summary(propagation, seeds)
+                outputs[map_file(part)] = file_record(path)
+    except (ValueError, TypeError, OSError, MemoryError, EOFError) as error:
+        return {"error": one_line(error)}
+    except Exception as error:  # anything else from reading a hostile file is still this subject's failure
+        return {"error": f"{type(error).__name__}: {one_line(error)}"}
+    return {"parts": summaries, "outputs": outputs,
+            "run": {"seconds": round(time.perf_counter() - start, 3), "host": socket.gethostname(),
+                    "pid": os.getpid(),
+                    # ru_maxrss is in KiB on Linux: the worker's peak so far.
+                    "worker_peak_rss_mib": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)}}
