@@ -5,6 +5,9 @@
 #include <cstdlib>
 #include <iostream>
 #include <sstream>
+#include <vector>
+
+#include <unistd.h>
 
 namespace stvd::tool {
 
@@ -177,6 +180,15 @@ bool takeInputOrHelp(const std::string& argument, const ArgumentReader& args, st
     throw ToolError(kExitOk, "");
   }
   return false;
+}
+
+std::string executableFolder() {
+  std::vector<char> buffer(4096);
+  const ssize_t n = ::readlink("/proc/self/exe", buffer.data(), buffer.size() - 1);
+  if (n <= 0) return ".";
+  const std::string path(buffer.data(), static_cast<std::size_t>(n));
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? "." : path.substr(0, slash);
 }
 
 }  // namespace stvd::tool

@@ -92,6 +92,10 @@ std::string tensorInputHelp(bool withMetricOptions);
 bool takeInputOrHelp(const std::string& argument, const ArgumentReader& args, std::string& input,
                      const char* helpText, bool withMetricOptions);
 
+/// The folder of the running executable (from /proc/self/exe): where the
+/// programs and packages that `stvd` runs are found relative to it.
+std::string executableFolder();
+
 // Numbers in messages and reports, as the library writes them.
 using text::fixed;
 using text::withThousands;

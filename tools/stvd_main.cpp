@@ -23,6 +23,8 @@ const char* kToolHelp =
     "                                       or .vtk streamlines with a TSV summary (docs/paths.md)\n"
     "  connectivity INPUT --labels L -o T   geodesic distance and connectivity index between\n"
     "                                       every pair of labelled regions, as a TSV table\n"
+    "  cohort MANIFEST.tsv -o OUTDIR        every subject of a manifest (connectivity, distance\n"
+    "                                       maps) on a Dask cluster, resumable (docs/cohorts.md)\n"
     "  info INPUT [options]                 geometry, layout, order, frame and eigenvalue\n"
     "                                       statistics of a tensor volume\n"
     "  tetrahedralize SURFACE -o MESH       quality tet mesh of a closed surface (TetGen); then\n"
@@ -49,6 +51,7 @@ int dispatch(int argc, char** argv) {
   if (command == "tetrahedralize") return runTetrahedralize(argc, argv);
   if (command == "path") return runPath(argc, argv);
   if (command == "connectivity") return runConnectivity(argc, argv);
+  if (command == "cohort") return runCohort(argc, argv);
   if (command == "-h" || command == "--help" || command == "help") {
     if (command == "help" && argc > 2) {
       char* helpArgv[] = {argv[0], argv[2], const_cast<char*>("--help")};
@@ -62,7 +65,7 @@ int dispatch(int argc, char** argv) {
     return kExitOk;
   }
   usageError("unknown command '" + command +
-             "' (commands: distance, path, connectivity, info, tetrahedralize; see stvd --help)");
+             "' (commands: distance, path, connectivity, cohort, info, tetrahedralize; see stvd --help)");
 }
 
 /// One line on stderr, and the exit code.

@@ -457,8 +457,16 @@ input (nothing written); 3 some subjects failed (their errors are in
 cohort.tsv); 5 OUTDIR cannot be written."""
 
 
+class _ArgumentParser(argparse.ArgumentParser):
+    """Bad command lines as the tool reports them: one line, exit 2."""
+
+    def error(self, message):
+        print(f"stvd: {message} (see stvd cohort --help)", file=sys.stderr)
+        sys.exit(EXIT_USAGE)
+
+
 def _parser():
-    parser = argparse.ArgumentParser(prog="stvd cohort", description=DESCRIPTION, epilog=EPILOG,
+    parser = _ArgumentParser(prog="stvd cohort", description=DESCRIPTION, epilog=EPILOG,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("manifest", metavar="MANIFEST.tsv")
     parser.add_argument("-o", "--output", metavar="OUTDIR", required=True, help="the output folder")
