@@ -91,7 +91,8 @@ def check_outputs_are_not_inputs(outputs, inputs, context):
     """Raises ValueError when an output is one of the inputs, however it is
     spelled (``./x``, ``../dir/x``, a symlink, a hard link), or when two
     outputs are the same file. ``outputs`` and ``inputs`` map a role (for
-    the message) to a path; ``context`` starts the message."""
+    the message: "output x", "tensors input of y") to a path; ``context``
+    starts the message."""
     by_identity = {}
     for role, path in inputs.items():
         by_identity.setdefault(file_identity(path), (role, path))
@@ -103,9 +104,9 @@ def check_outputs_are_not_inputs(outputs, inputs, context):
         for identity in identities:
             if identity in by_identity:
                 input_role, input_path = by_identity[identity]
-                raise ValueError(f"{context}: the output {role} ({path}) is the {input_role} input ({input_path}); "
+                raise ValueError(f"{context}: the {role} ({path}) is the {input_role} ({input_path}); "
                                  "nothing was written")
             if identity in seen:
-                raise ValueError(f"{context}: the outputs {seen[identity]} and {role} are the same file ({path})")
+                raise ValueError(f"{context}: the {seen[identity]} and the {role} are the same file ({path})")
         for identity in identities:
             seen[identity] = role

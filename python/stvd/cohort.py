@@ -293,11 +293,12 @@ def _check_files(manifest, outdir, plans):
     inputs = {"manifest": os.path.abspath(manifest)}
     for plan in plans:
         for role, path in plan.subject.inputs().items():
-            inputs[f"{role} of subject {plan.subject.id}"] = path
-    outputs = {"cohort table": os.path.join(outdir, COHORT_TABLE), "lock file": os.path.join(outdir, LOCK_FILE)}
+            inputs[f"{role} input of subject {plan.subject.id}"] = path
+    outputs = {f"output {COHORT_TABLE}": os.path.join(outdir, COHORT_TABLE),
+               f"lock file {LOCK_FILE}": os.path.join(outdir, LOCK_FILE)}
     for plan in plans:
         for name, path in plan.output_files().items():
-            outputs[f"{name} of subject {plan.subject.id}"] = path
+            outputs[f"output {name} of subject {plan.subject.id}"] = path
     check_outputs_are_not_inputs(outputs, inputs, f"{manifest} -> {outdir}")
 
 
