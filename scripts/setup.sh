@@ -8,12 +8,14 @@ set -euo pipefail
 # wants Boost.Iostreams); Python with NiBabel and NumPy for the tests that
 # check written NIfTI files independently of ITK; for the Python package
 # stvd, its headers and pybind11, and what its tests and example use (DIPY,
-# pytest, tqdm, matplotlib).
+# pytest, tqdm, matplotlib); Dask's distributed scheduler and Nipype for
+# cohort runs (stvd cohort, stvd.interfaces).
 packages=(
   g++ cmake make libgtest-dev libbenchmark-dev
   libinsighttoolkit5-dev libeigen3-dev libtet1.5-dev libopenvdb-dev libboost-iostreams-dev
   python3-nibabel python3-numpy
   python3-dev pybind11-dev python3-pybind11 python3-dipy python3-pytest python3-tqdm python3-matplotlib
+  python3-distributed python3-nipype
 )
 # Scripts with needs of their own name extra packages as arguments
 # (scripts/evaluate.sh: gnuplot for its plots).
