@@ -61,10 +61,14 @@ void table(const SurfaceScene& scene, int maxSteiner) {
   double s = bench::timedSeconds([&] { r = propagate(scene.surface, scene.metric, sources, o); });
   row(scene, "Dijkstra", r, scene.surface.vertexCount(), s);
   o.method = Method::ShortTermVectorDijkstra;
-  for (int k : {5, 8}) {
-    o.k = k;
-    s = bench::timedSeconds([&] { r = propagate(scene.surface, scene.metric, sources, o); });
-    row(scene, "STVD k = " + std::to_string(k) + " (projection)", r, scene.surface.vertexCount(), s);
+  for (const ChainMeasure measure : {ChainMeasure::Segment, ChainMeasure::ProjectionWeighted}) {
+    o.chainMeasure = measure;
+    for (int k : {5, 8}) {
+      o.k = k;
+      s = bench::timedSeconds([&] { r = propagate(scene.surface, scene.metric, sources, o); });
+      row(scene, "STVD k = " + std::to_string(k) + " (" + chainMeasureName(measure) + ")", r,
+          scene.surface.vertexCount(), s);
+    }
   }
   bench::printLanthierRows(scene.surface, scene.metric, sources, maxSteiner,
                            [&](const std::string& label, const PropagationResult& result, std::uint64_t points,

@@ -19,7 +19,7 @@ bash scripts/setup.sh gnuplot-nox
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSTVD_BUILD_BENCHMARKS=ON
 cmake --build "$build_dir" -j"$(nproc)" \
   --target stvd_evaluation stvd_accuracy_table stvd_propagation_speed stvd_path_tracing \
-  stvd_surface_speed stvd_surface_steiner_table stvd_tool
+  stvd_surface_speed stvd_surface_steiner_table stvd_brain_comparison stvd_tool
 # The tetrahedral-mesh benchmark exists only when the optional TetGen module
 # is built (STVD_WITH_TETGEN); build it when it is there.
 # (grep reads all of the list: with -q it would stop early, make would die of
@@ -69,7 +69,7 @@ echo "evaluate.sh: masked volumes"
 echo "evaluate.sh: many source sets on 1 and 2 threads (${parallel_size}^3)"
 "$bench/stvd_evaluation" parallel --size "$parallel_size" --repeats "$repeats" >"$run_dir/parallel.tsv"
 echo "evaluate.sh: time per relaxed edge"
-"$bench/stvd_propagation_speed" --benchmark_filter="n:$speed_size/k:(0|5|8)/" \
+"$bench/stvd_propagation_speed" --benchmark_filter="n:$speed_size/k:(0|4|6|8)/" \
   --benchmark_repetitions="$((repeats + 2))" --benchmark_report_aggregates_only=true \
   --benchmark_format=json >"$run_dir/propagation_speed.json"
 # The 128^3 accuracy tables (every k, three shear slopes, other stencils,
@@ -90,6 +90,37 @@ echo "evaluate.sh: surfaces"
 echo "evaluate.sh: Lanthier on surfaces (${surface_size}^2)"
 "$bench/stvd_surface_steiner_table" --size "$surface_size" --max-steiner "$surface_steiner_max" \
   >"$run_dir/section_surface_steiner.md"
+# Surfaces against exact polyhedral geodesics (CGAL's data meshes and the
+# test oracle, built when CGAL is found) and, under the curvature metric,
+# against Lanthier M = 16: the tables of docs/surfaces.md.
+oracle="$build_dir/tests/surface/stvd_exact_geodesic_oracle"
+if cmake --build "$build_dir" --target help | grep stvd_exact_geodesic_oracle >/dev/null; then
+  cmake --build "$build_dir" -j"$(nproc)" --target stvd_exact_geodesic_oracle stvd_surface_exact_table
+  surface_meshes="armadillo elephant cheese fandisk turbine blade" surface_repeats=5
+  if [[ $quick == 1 ]]; then surface_meshes="elephant" surface_repeats=1; fi
+  mesh_dir="$run_dir/meshes"
+  mkdir -p "$mesh_dir"
+  header=()
+  for mesh in $surface_meshes; do
+    echo "evaluate.sh: surface $mesh against exact geodesics"
+    (cd "$mesh_dir" && cmake -E tar xzf /usr/share/doc/libcgal-dev/data.tar.gz "data/meshes/$mesh.off")
+    for source in 0 2000; do
+      "$oracle" "$mesh_dir/data/meshes/$mesh.off" "$source" "$mesh_dir/$mesh.$source.txt"
+      "$bench/stvd_surface_exact_table" "$mesh_dir/data/meshes/$mesh.off" --source "$source" \
+        --exact "$mesh_dir/$mesh.$source.txt" --repeats "$surface_repeats" "${header[@]}" >>"$run_dir/surface_exact.tsv"
+      header=(--no-header)
+    done
+  done
+  header=()
+  for gamma in 10 20; do
+    for mesh in $surface_meshes; do
+      echo "evaluate.sh: surface $mesh, curvature metric $gamma, against Lanthier M = 16"
+      "$bench/stvd_surface_exact_table" "$mesh_dir/data/meshes/$mesh.off" --source 0 --curvature "$gamma" \
+        --repeats "$surface_repeats" "${header[@]}" >>"$run_dir/surface_curvature.tsv"
+      header=(--no-header)
+    done
+  done
+fi
 if [[ -x $bench/stvd_tet_mesh_speed ]]; then
   echo "evaluate.sh: tetrahedral meshes"
   tet_filter=.
@@ -98,6 +129,11 @@ if [[ -x $bench/stvd_tet_mesh_speed ]]; then
   "$bench/stvd_tet_mesh_speed" "${gbench_options[@]}" --benchmark_filter="$tet_filter" \
     >"$run_dir/tet_mesh_speed.json"
 fi
+echo "evaluate.sh: the shipped brain against Lanthier's Steiner points"
+brain_steiner=8
+if [[ $quick == 1 ]]; then brain_steiner=2; fi
+"$bench/stvd_brain_comparison" sample_data/dti_philips_biobank/dti_tensor_dipy5d.nii.gz \
+  --seed-voxel 55,54,15 --steiner "$brain_steiner" >"$run_dir/brain_comparison.tsv"
 echo "evaluate.sh: real brain"
 "$build_dir/tools/stvd" distance sample_data/dti_philips_biobank/dti_tensor_dipy5d.nii.gz \
   --seed-voxel 55,54,15 -o "$run_dir/cc_body_distance.nii.gz" --stats "$run_dir/brain_stats.json"

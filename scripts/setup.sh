@@ -5,16 +5,24 @@ set -euo pipefail
 
 # Compiler and build tools; GoogleTest and Google Benchmark; the libraries of
 # the adapters (ITK, Eigen, TetGen, OpenVDB; Debian's FindOpenVDB.cmake also
-# wants Boost.Iostreams); Python with NiBabel and NumPy for the tests that
-# check written NIfTI files independently of ITK; for the Python package
-# stvd, its headers and pybind11, and what its tests and example use (DIPY,
-# pytest, tqdm, matplotlib); Dask's distributed scheduler and Nipype for
+# wants Boost.Iostreams; zlib for .mif.gz and the checks of gzip streams);
+# Python with NiBabel and NumPy for the tests that check written NIfTI files
+# independently of ITK; for the Python package stvd, its headers and
+# pybind11, and what its tests and example use (DIPY, pytest, tqdm,
+# matplotlib; pip, setuptools and wheel for the test of `pip install
+# --no-build-isolation .`); clang with its sanitizer and libFuzzer runtimes
+# for the sanitizer and fuzzing builds (scripts/sanitize.sh,
+# scripts/fuzz.sh); CGAL (header-only, GPL) for the exact-geodesic oracle of
+# the surface tests only, and CGAL's data archive (libcgal-demo), whose
+# meshes those tests read; Dask's distributed scheduler and Nipype for
 # cohort runs (stvd cohort, stvd.interfaces).
 packages=(
-  g++ cmake make libgtest-dev libbenchmark-dev
-  libinsighttoolkit5-dev libeigen3-dev libtet1.5-dev libopenvdb-dev libboost-iostreams-dev
+  g++ cmake make libgtest-dev libbenchmark-dev clang-14 libclang-rt-14-dev
+  libinsighttoolkit5-dev libeigen3-dev libtet1.5-dev libopenvdb-dev libboost-iostreams-dev zlib1g-dev
   python3-nibabel python3-numpy
   python3-dev pybind11-dev python3-pybind11 python3-dipy python3-pytest python3-tqdm python3-matplotlib
+  python3-pip python3-setuptools python3-wheel
+  libcgal-dev libcgal-demo
   python3-distributed python3-nipype
 )
 # Scripts with needs of their own name extra packages as arguments

@@ -9,8 +9,19 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 build_dir=${STVD_BUILD_DIR:-build}
 
 bash scripts/setup.sh
+# MRtrix3 for the walk-through test of docs/mrtrix.md (about 20 MB to
+# download); without it, that one test is skipped.
+bash scripts/setup.sh mrtrix3 ||
+  echo "test.sh: mrtrix3 is not installed; the MRtrix walk-through test will be skipped"
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSTVD_BUILD_TESTS=ON
 cmake --build "$build_dir" -j"$(nproc)"
 # Every test takes seconds; 300 s means one has hung. Tests may set a
 # TIMEOUT property of their own.
 ctest --test-dir "$build_dir" --output-on-failure -j2 --timeout 300
+# The file-reading suites again under AddressSanitizer and
+# UndefinedBehaviorSanitizer, and a few seconds of each fuzz target
+# (docs/reliability.md). Runs with STVD_SANITIZE=1; off by default until
+# one complete run of it has been timed on CI's 2 cores.
+if [[ ${STVD_SANITIZE:-0} != 0 ]]; then
+  bash scripts/sanitize.sh
+fi

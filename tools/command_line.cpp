@@ -1,13 +1,22 @@
 #include "command_line.hpp"
 
+#include <sys/resource.h>
+
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <vector>
 
 #include <unistd.h>
+
+#include "stvd/itk/mrtrix_image.hpp"
+#include "stvd/itk/scalar_image.hpp"
+#include "stvd/propagation_choice.hpp"
 
 namespace stvd::tool {
 
@@ -110,10 +119,59 @@ bool parseTensorInputOption(const std::string& option, ArgumentReader& args, Ten
     setFaThreshold(options, parseNumber(option, args.value(option)));
   } else if (option == "--mask") {
     options.maskPath = args.value(option);
+  } else if (option == "--accept-implausible-tensors") {
+    args.noValue(option);
+    options.acceptImplausible = true;
   } else {
     return false;
   }
   return true;
+}
+
+double parseUnreachableValue(const std::string& option, const std::string& text) {
+  if (text == "nan" || text == "NaN") return std::numeric_limits<double>::quiet_NaN();
+  const double value = parseNumber(option, text);
+  checkUnreachableValue(value, text);
+  return value;
+}
+
+void checkImageOutputSpelling(const std::string& path) {
+  // MRtrix images are written by our own code, in any letter case.
+  if (!imaging::hasImageExtension(path) || imaging::isMrtrixImagePath(path)) return;
+  for (const char* ext : {".nii", ".nii.gz", ".nrrd", ".nhdr"}) {
+    const std::size_t n = std::char_traits<char>::length(ext);
+    if (path.size() > n && path.compare(path.size() - n, n, ext) == 0) return;
+  }
+  usageError(path + ": write the extension in lower case (.nii, .nii.gz, .nrrd or .nhdr)");
+}
+
+namespace {
+std::vector<std::string>& noted() {
+  static std::vector<std::string> warnings;
+  return warnings;
+}
+}  // namespace
+
+void noteInputWarnings(const std::vector<std::string>& lines) {
+  for (const std::string& line : lines) {
+    if (std::find(noted().begin(), noted().end(), line) != noted().end()) continue;
+    noted().push_back(line);
+    std::cerr << "stvd: warning: " << line << std::endl;
+  }
+}
+
+void noteInputWarnings(const std::string& path, const std::vector<std::string>& warnings) {
+  std::vector<std::string> lines;
+  for (const std::string& w : warnings) lines.push_back(path + ": " + w);
+  noteInputWarnings(lines);
+}
+
+const std::vector<std::string>& inputWarnings() { return noted(); }
+
+TensorInput readTensorInputNotingWarnings(const std::string& path, const TensorInputOptions& options) {
+  TensorInput input = imaging::readTensorInput(path, options);
+  noteInputWarnings(input.warnings);
+  return input;
 }
 
 std::string orientationCode(const GridGeometry& geometry) {
@@ -136,6 +194,8 @@ std::string tensorInputHelp(bool withMetricOptions) {
       "    standard: lower), or six volumes X Y Z 6, whose order must be stated.\n"
       "  NRRD (.nrrd, .nhdr): kind 3D-symmetric-matrix, or 3D-masked-symmetric-matrix whose\n"
       "    confidence channel (>= 0.5) becomes a mask. Order fixed: xx,xy,xz,yy,yz,zz.\n"
+      "  MRtrix (.mif, .mif.gz, .mih): X Y Z 6 as dwi2tensor writes it (order mrtrix and the\n"
+      "    world frame unless stated).\n"
       "  --tensor-order ORDER    component order of a six-volume NIfTI file (no default):\n"
       "                          lower  = xx,xy,yy,xz,yz,zz (NIfTI standard, DIPY, ANTs; alias nifti)\n"
       "                          fsl    = xx,xy,xz,yy,yz,zz (FSL dtifit; alias upper)\n"
@@ -157,13 +217,50 @@ std::string tensorInputHelp(bool withMetricOptions) {
         "                          tissue costs 1 per mm (O'Donnell et al. 2002);\n"
         "                          adjugate: G = adj(D/MD), anisotropic tissue cheaper still\n"
         "                          (Fuster et al. 2016).\n"
-        "  --max-anisotropy A      raise eigenvalues below lambda_max/A to it (default 100), which\n"
-        "                          also repairs zero and negative eigenvalues.\n"
+        "  --max-anisotropy A      raise eigenvalues below lambda_max/A to it, which also repairs\n"
+        "                          zero and negative eigenvalues (default 100 for diffusion\n"
+        "                          tensors; a metric is taken as given, with only zero and\n"
+        "                          negative eigenvalues raised to lambda_max/100).\n"
         "  --fa-threshold T        only voxels whose tensor has FA >= T (diffusion tensors).\n"
+        "  --accept-implausible-tensors\n"
+        "                          go on although more than 10 % of the tensors are not positive\n"
+        "                          definite, which a wrong --tensor-order gives (default: exit 3;\n"
+        "                          stvd info tries each order).\n"
         "  Voxels with a zero, NaN or infinite tensor, or no positive eigenvalue, are outside.\n";
   else
     text += "  --max-anisotropy A      count tensors with lambda_max/lambda_min above A (default 100).\n";
   return text;
+}
+
+std::string jsonString(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
+      out += buffer;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::string jsonNumber(double x) {
+  if (!std::isfinite(x)) return "null";
+  std::ostringstream s;
+  s.precision(10);
+  s << x;
+  return s.str();
+}
+
+std::uint64_t peakMemoryBytes() {
+  rusage usage{};
+  ::getrusage(RUSAGE_SELF, &usage);
+  return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
 }
 
 bool takeInputOrHelp(const std::string& argument, const ArgumentReader& args, std::string& input,

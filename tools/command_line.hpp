@@ -26,6 +26,7 @@ enum ExitCode : int {
   kExitInput = 3,     ///< an input file cannot be read or used (format, layout, geometry)
   kExitDomain = 4,    ///< nothing to compute: empty domain, seed outside the image or domain
   kExitOutput = 5,    ///< an output file cannot be written
+  kExitMemory = 6,    ///< the run needs more memory than is available
 };
 
 /// A failure with its exit code; what() is the one-line message.
@@ -69,14 +70,37 @@ std::array<double, 3> parseTriple(const std::string& option, const std::string& 
 std::array<int, 3> parseIntegerTriple(const std::string& option, const std::string& text);
 
 // How to read a tensor file and turn it into a metric, and the tensors with
-// their mask (stvd/itk/tensor_input.hpp). imaging::readTensorInput throws
-// ImageIoError, which main() reports with kExitInput.
+// their mask (stvd/itk/tensor_input.hpp). The library's readers throw
+// ImageIoError and InputError, which main() reports with kExitInput.
 using imaging::TensorInput;
 using imaging::TensorInputOptions;
 
 /// When `option` is one of the tensor input options, reads its value from
 /// `args` into `options` and returns true.
 bool parseTensorInputOption(const std::string& option, ArgumentReader& args, TensorInputOptions& options);
+
+/// imaging::readTensorInput, noting the warnings about the files it read.
+TensorInput readTensorInputNotingWarnings(const std::string& path, const TensorInputOptions& options);
+
+/// --unreachable-value: "nan" or a number that a float32 map can hold
+/// (1e300 would become infinity, which is refused as such). Usage error
+/// otherwise.
+double parseUnreachableValue(const std::string& option, const std::string& text);
+
+/// An image output path whose extension ITK's writers will recognise: they
+/// take .nii, .nii.gz, .nrrd and .nhdr in lower case only, so "D.NII.GZ"
+/// is a usage error here rather than a failed write after the computation
+/// (.mif and .mif.gz, written by stvd itself, may be spelt in any case).
+void checkImageOutputSpelling(const std::string& path);
+
+/// Says each warning about an input file once, in the tool's words, as a
+/// line "stvd: warning: FILE: text" on stderr (also with --quiet: it is
+/// about the data, not progress), and keeps it for inputWarnings().
+void noteInputWarnings(const std::string& path, const std::vector<std::string>& warnings);
+/// The same for warnings that name their file already ("FILE: text").
+void noteInputWarnings(const std::vector<std::string>& lines);
+/// Every warning noted so far, each "FILE: text", for --stats.
+const std::vector<std::string>& inputWarnings();
 
 /// "LAS"-style orientation code: the RAS direction each index axis points
 /// to most (L/R, P/A, I/S), as NIfTI tools print it.
@@ -99,5 +123,11 @@ std::string executableFolder();
 // Numbers in messages and reports, as the library writes them.
 using text::fixed;
 using text::withThousands;
+/// A JSON string literal (quotes and control characters escaped).
+std::string jsonString(const std::string& s);
+/// A JSON number with 10 significant digits; null for NaN and infinities.
+std::string jsonNumber(double x);
+/// The peak resident set size of the process (getrusage), in bytes.
+std::uint64_t peakMemoryBytes();
 
 }  // namespace stvd::tool

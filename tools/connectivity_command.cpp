@@ -4,17 +4,21 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
-#include "stvd/geodesic_path.hpp"
-#include "stvd/itk/atomic_output.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "memory_check.hpp"
+#include "run_files.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/label_regions.hpp"
+#include "stvd/parallel_tasks.hpp"
 #include "stvd/region_connectivity.hpp"
 #include "stvd/stencil.hpp"
 #include "subcommands.hpp"
@@ -41,23 +45,35 @@ const char* kConnectivityHelp =
     "A. d(A, B) and d(B, A) are computed separately and agree up to discretisation.\n"
     "\n"
     "  --labels LABELS         the region image (required).\n"
-    "  -o, --output FILE       the table (required); written atomically.\n"
+    "  -o, --output FILE       the table (required). The table and matrices appear together,\n"
+    "                          complete, or not at all; none may be an input.\n"
+    "  --matrix FILE.csv       also the square N x N matrix of geodesic distances (mm): row A,\n"
+    "                          column B holds d(A, B); rows and columns in label order, the labels\n"
+    "                          in a '# labels:' header line; 0 on the diagonal, inf where B is not\n"
+    "                          reachable from A (numpy.loadtxt(FILE, delimiter=',') and MRtrix's\n"
+    "                          matrix readers skip the '#' lines, as for tck2connectome output).\n"
+    "  --matrix-index FILE.csv the same matrix of the connectivity index; 0 on the diagonal and\n"
+    "                          where B is not reachable.\n"
     "  --threads N             regions propagated in parallel (default: the number of cores);\n"
     "                          the table does not depend on N.\n"
-    "  --method, --k, --chain-measure, --stencil   as in stvd distance (defaults stvd, 8,\n"
-    "                          largest, 26).\n"
+    "  --method, --k, --chain-measure, --stencil   as in stvd distance (defaults stvd, 6,\n"
+    "                          segment, 26).\n"
+    "  --no-memory-check       run even when the memory the propagations need (one per thread)\n"
+    "                          exceeds the memory available.\n"
     "  -q, --quiet             no summary on stdout.\n"
     "\n"
     "%TENSOR%"
     "\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
     "input (also labels on another grid or not integers); 4 fewer than two regions with voxels\n"
-    "in the domain; 5 output cannot be written.\n";
+    "in the domain; 5 output cannot be written; 6 not enough memory for the run.\n";
 
 struct ConnectivityOptions : PropagationChoice {
   std::string input;
   std::string labels;
   std::string output;
+  std::string matrix;       // --matrix
+  std::string matrixIndex;  // --matrix-index
   TensorInputOptions tensor;
   unsigned threads = 0;
   bool quiet = false;
@@ -73,6 +89,10 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
       o.output = args.value(a);
     } else if (a == "--labels") {
       o.labels = args.value(a);
+    } else if (a == "--matrix") {
+      o.matrix = args.value(a);
+    } else if (a == "--matrix-index") {
+      o.matrixIndex = args.value(a);
     } else if (a == "--threads") {
       const int n = parseInteger(a, args.value(a));
       if (n < 1 || n > 1024) usageError("--threads must be between 1 and 1024");
@@ -94,39 +114,67 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
 
 std::string number(double x) { return std::isfinite(x) ? fixed(x, 4) : "n/a"; }
 
+/// One square matrix as CSV: '#' header lines, then row a, column b.
+std::string matrixCsv(const std::string& what, const std::vector<LabelRegion>& regions,
+                      const RegionConnectivity& table, bool index) {
+  const std::size_t n = regions.size();
+  std::ostringstream csv;
+  csv << "# stvd connectivity: " << what << " from the region of the row to the region of the column\n# labels: ";
+  for (std::size_t a = 0; a < n; ++a) csv << (a ? "," : "") << regions[a].label;
+  csv << "\n";
+  for (std::size_t a = 0; a < n; ++a) {
+    for (std::size_t b = 0; b < n; ++b) {
+      const RegionPair& r = table(a, b);
+      csv << (b ? "," : "");
+      if (a == b) csv << "0";
+      else if (index) csv << (std::isfinite(r.connectivity()) ? fixed(r.connectivity(), 6) : "0");
+      else csv << (std::isfinite(r.geodesic) ? fixed(r.geodesic, 4) : "inf");
+    }
+    csv << "\n";
+  }
+  return csv.str();
+}
+
 }  // namespace
 
 int runConnectivity(int argc, char** argv) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   const ConnectivityOptions o = parseConnectivityOptions(argc, argv);
-  try {
-    imaging::checkOutputPath(o.output);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
-  const TensorInput input = readTensorInput(o.input, o.tensor);
+  RunFiles files;
+  files.inputImage("tensor input", o.input);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("label image", o.labels);
+  files.outputFile("connectivity table", o.output);
+  files.outputFile("distance matrix", o.matrix);
+  files.outputFile("connectivity-index matrix", o.matrixIndex);
+  files.check();
+  const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
-  imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
+  imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.input, input, o.tensor);
 
-  imaging::ScalarImage labels;
-  try {
-    labels = imaging::readScalarImage(o.labels);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitInput, e.what());
-  }
+  const imaging::LabelImage labels = imaging::readLabelImage(o.labels);
+  noteInputWarnings(o.labels, labels.warnings);
   imaging::requireSameGrid(labels.geometry, g, o.labels, "the labels are", o.input);
   std::size_t empty = 0;
   const std::vector<LabelRegion> regions =
-      regionsInDomain(labelRegions(o.labels, labels.values, built.inDomain), o.labels, o.input, empty);
+      regionsInDomain(labelRegions(labels.labels, built.inDomain), o.labels, o.input, empty);
 
+  // One propagation at a time on each thread, each with its own state and result.
+  const unsigned threadCount = threadCountFor(o.threads, regions.size());
+  checkMemory(o.input, threadCount * propagationMemoryEstimate(g.voxelCount(), built.counts.domain),
+              std::to_string(threadCount) + (threadCount == 1 ? " propagation" : " propagations at once") + " on " +
+                  withThousands(built.counts.domain) + " domain voxels",
+              !o.memoryCheck);
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   const std::size_t n = regions.size();
   std::vector<std::vector<VertexId>> regionVoxels;
   for (const LabelRegion& r : regions) regionVoxels.push_back(r.voxels);
-  const RegionConnectivity table = regionConnectivity(domain, metric, regionVoxels, propagationOptions(o), o.threads);
-  const unsigned threadCount = table.threads;
+  // Region a's row is written only by the thread that propagates from a,
+  // so the table is the same for any number of threads.
+  const RegionConnectivity table =
+      regionConnectivity(domain, metric, regionVoxels, propagationOptions(o), threadCount);
 
   std::ostringstream tsv;
   tsv << "region_a\tregion_b\tgeodesic_mm\tpath_mm\tstraight_mm\tconnectivity\tvoxels_a\tvoxels_b\n";
@@ -139,23 +187,26 @@ int runConnectivity(int argc, char** argv) {
           << "\t" << number(r.straight) << "\t" << number(index) << "\t" << regions[a].voxels.size() << "\t"
           << regions[b].voxels.size() << "\n";
     }
+  // The table and the matrices appear together or not at all.
+  std::vector<std::pair<std::string, std::string>> texts{{o.output, tsv.str()}};
+  if (!o.matrix.empty()) texts.emplace_back(o.matrix, matrixCsv("geodesic distance (mm)", regions, table, false));
+  if (!o.matrixIndex.empty())
+    texts.emplace_back(o.matrixIndex, matrixCsv("connectivity index (path_mm / geodesic_mm)", regions, table, true));
+  files::OutputTransaction outputs;
   try {
-    imaging::AtomicOutput output(o.output);
-    {
-      std::ofstream file(output.stagingPath());
-      file << tsv.str();
-      if (!file.flush()) throw imaging::ImageIoError(o.output, "cannot write the table");
-    }
-    output.commit();
-  } catch (const imaging::ImageIoError& e) {
+    for (const auto& [path, text] : texts)
+      outputs.write(path, [&](const std::string& staging) { files::writeFileContents(staging, text); });
+    outputs.commit();
+  } catch (const files::OutputError& e) {
     throw ToolError(kExitOutput, e.what());
   }
   if (!o.quiet)
     std::cout << "Connectivity of " << n << " regions of " << o.labels
               << (empty ? " (" + std::to_string(empty) + " more without voxels in the domain left out)" : std::string())
-              << ": " << n * (n - 1) << " ordered pairs, " << methodText(o) << " on the " << o.stencil
+              << ": " << n * (n - 1) << " ordered pairs, " << methodText(o, memoryDepthOf<VoxelGridDomain>(o)) << " on the " << o.stencil
               << "-neighbour stencil, " << threadCount << (threadCount == 1 ? " thread" : " threads") << ". Took "
               << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s. Wrote " << o.output
+              << (o.matrix.empty() ? "" : ", " + o.matrix) << (o.matrixIndex.empty() ? "" : ", " + o.matrixIndex)
               << "." << std::endl;
   return kExitOk;
 }

@@ -1,20 +1,20 @@
 // `stvd distance`: the anisotropic geodesic distance from seeds over a
 // tensor volume, written as a float32 image on the input's grid.
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <sstream>
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
-#include "stvd/itk/atomic_output.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "memory_check.hpp"
+#include "run_files.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/symmetric_eigen.hpp"
 #include "stvd/itk/tensor_frames.hpp"
@@ -41,18 +41,19 @@ double secondsSince(Clock::time_point start) {
 
 const char* kDistanceHelp =
     "Usage: stvd distance INPUT -o OUTPUT [options]\n"
-    "       (polygon surfaces: stvd distance MESH.obj|off|ply --help)\n"
+    "       stvd distance MESH.obj|off|ply|stl -o OUT.ply|vtk|csv --seed-vertex N|--seed-point X,Y,Z\n"
+    "       stvd distance MESH.node -o OUT.vtk|vtu|csv|nii.gz --seed-vertex N|--seed-point X,Y,Z\n"
     "\n"
     "Anisotropic geodesic distance (millimetres) from seed voxels over a diffusion or metric\n"
-    "tensor volume. The output format follows the extension: .nii, .nii.gz, .nrrd or .nhdr give a\n"
-    "float32 image on exactly the input's grid (same size, spacing, origin and direction\n"
-    "cosines), in which voxels not reached (outside the domain, disconnected from the seeds, or\n"
+    "tensor volume. The output format follows the extension: .nii, .nii.gz, .nrrd, .nhdr, .mif or\n"
+    ".mif.gz give a float32 image on exactly the input's grid (same size, spacing, origin and\n"
+    "direction cosines), in which voxels not reached (outside the domain, disconnected from the seeds, or\n"
     "beyond --max-distance) hold the unreachable value, -1 unless --unreachable-value says\n"
     "otherwise; .vdb gives an OpenVDB FloatGrid named \"distance\" whose transform places the\n"
     "voxels in RAS millimetres and in which voxels not reached are inactive. All coordinates\n"
     "are millimetres; distances are measured in physical space (spacing and direction cosines\n"
-    "applied). A TetGen tetrahedral mesh (INPUT ending in .node or .ele) has options of its own:\n"
-    "see stvd distance MESH.node --help and docs/tet_meshes.md.\n"
+    "applied). Polygon surfaces (.obj, .off, .ply, .stl) and TetGen tetrahedral meshes (.node,\n"
+    ".ele) take the options of their own sections below.\n"
     "\n"
     "Seeds (at least one; all given seeds are sources at distance 0):\n"
     "  --seed-voxel I,J,K      0-based voxel index (repeatable).\n"
@@ -69,21 +70,26 @@ const char* kDistanceHelp =
     "                          slow accurate reference (needs --steiner; docs/steiner.md).\n"
     "  --steiner M             lanthier: Steiner points per cube edge, 1..16; time and memory grow\n"
     "                          like M^4 and M^2 (shipped brain: M = 2 3 s, M = 8 4 min, 1.1 GB).\n"
-    "  --k N                   STVD memory depth, 1..16 (default 8; see docs/cli.md).\n"
+    "  --k N                   STVD memory depth, 1..16 (default 6; see docs/cli.md).\n"
     "  --chain-measure R       how STVD measures a sum of chain edges: largest (default; with the\n"
     "                          most expensive edge norm on the chain, robust on noisy tensor\n"
     "                          fields) or projection (the paper's rule, which underestimates on\n"
     "                          DTI data for k > 3; see docs/cli.md).\n"
     "  --stencil S             neighbourhood: 6, 18, 26 (default), 98 (5x5x5) or 290 (7x7x7).\n"
     "  --max-distance D        stop at D mm; farther voxels are unreachable.\n"
+    "  --no-memory-check       run even when the estimate of the memory the propagation needs\n"
+    "                          exceeds the memory available (exit code 6 otherwise).\n"
     "\n"
     "%TENSOR%"
     "\n"
     "Output:\n"
-    "  -o, --output FILE       the distance map (required): .nii, .nii.gz, .nrrd, .nhdr or .vdb.\n"
-    "                          Its folder must exist. Written under a temporary name in the same\n"
-    "                          folder and renamed when complete.\n"
-    "  --unreachable-value V   value of voxels not reached: a number or nan (default -1).\n"
+    "  -o, --output FILE       the distance map (required): .nii, .nii.gz, .nrrd, .nhdr, .mif,\n"
+    "                          .mif.gz or .vdb.\n"
+    "                          Its folder must exist; it must not be an input. Written with the\n"
+    "                          statistics into a staging folder next to it and moved into place\n"
+    "                          when both are complete.\n"
+    "  --unreachable-value V   value of voxels not reached: a number or nan (default -1; nan keeps\n"
+    "                          them out of mrstats and most viewers' statistics).\n"
     "  --stats FILE.json       parameters, counts, seconds per phase and peak memory as JSON.\n"
     "  -q, --quiet             no summary on stdout, no progress bar.\n"
     "  -h, --help              this text.\n"
@@ -93,15 +99,28 @@ const char* kDistanceHelp =
     "\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
     "input (format, layout, geometry of mask or labels); 4 nothing to compute (empty domain, a\n"
-    "seed outside the image or the domain); 5 output cannot be written. On failure one line on\n"
-    "stderr names the file and the problem, and no output file is left behind.\n";
+    "seed outside the image or the domain); 5 output cannot be written; 6 not enough memory for\n"
+    "the run. On failure one line on stderr names the file and the problem, and no output file\n"
+    "is left behind.\n";
+
+/// The whole help: volumes, then surfaces and tetrahedral meshes in
+/// sections of their own.
+const std::string& distanceHelp() {
+  static const std::string help =
+      std::string(kDistanceHelp) +
+      "\n=== Polygon surfaces: stvd distance MESH.obj|off|ply|stl -o OUT.ply|vtk|csv (docs/surfaces.md) ===\n\n" +
+      surfaceOptionsHelp() +
+      "\n=== Tetrahedral meshes: stvd distance MESH.node -o OUT.vtk|vtu|csv|nii.gz (docs/tet_meshes.md) ===\n\n" +
+      tetMeshOptionsHelp();
+  return help;
+}
 
 struct DistanceOptions : SeedOptions, PropagationChoice {
   std::string input;
   std::string output;
   double maxDistance = std::numeric_limits<double>::infinity();
   TensorInputOptions tensor;
-  float unreachableValue = static_cast<float>(kFrontEndUnreachableValue);
+  float unreachableValue = static_cast<float>(kDefaultUnreachableValue);
   std::string statsPath;
   bool quiet = false;
 };
@@ -115,7 +134,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   ArgumentReader args(argc, argv, 2);
   while (!args.done()) {
     const std::string a = args.take();
-    if (takeInputOrHelp(a, args, o.input, kDistanceHelp, true)) continue;
+    if (takeInputOrHelp(a, args, o.input, distanceHelp().c_str(), true)) continue;
     if (a == "-o" || a == "--output") {
       o.output = args.value(a);
     } else if (parseSeedOption(a, args, o) || parsePropagationOption(a, args, o)) {
@@ -124,8 +143,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
       if (!(o.maxDistance > 0.0)) usageError("--max-distance must be positive");
     } else if (a == "--unreachable-value") {
       const std::string v = args.value(a);
-      o.unreachableValue = (v == "nan" || v == "NaN") ? std::numeric_limits<float>::quiet_NaN()
-                                                       : static_cast<float>(parseNumber(a, v));
+      o.unreachableValue = static_cast<float>(parseUnreachableValue(a, v));
     } else if (a == "--stats") {
       o.statsPath = args.value(a);
     } else if (a == "-q" || a == "--quiet") {
@@ -139,11 +157,12 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   if (o.output.empty()) usageError("no output file: add -o OUTPUT");
   if (isVdbPath(o.output)) {
 #ifndef STVD_WITH_VDB_OUTPUT
-    usageError(o.output + ": this stvd was built without OpenVDB; use .nii, .nii.gz, .nrrd or .nhdr");
+    usageError(o.output + ": this stvd was built without OpenVDB; use .nii, .nii.gz, .nrrd, .nhdr, .mif or .mif.gz");
 #endif
   } else if (!imaging::hasImageExtension(o.output)) {
-    usageError(o.output + ": unsupported output format; use .nii, .nii.gz, .nrrd, .nhdr or .vdb");
+    usageError(o.output + ": unsupported output format; use .nii, .nii.gz, .nrrd, .nhdr, .mif, .mif.gz or .vdb");
   }
+  checkImageOutputSpelling(o.output);
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
     usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
   checkPropagationChoice(o, /*lanthierAllowed=*/true);
@@ -182,31 +201,6 @@ class ProgressBar {
 };
 
 
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
-      out += buffer;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
-std::string jsonNumber(double x) {
-  if (!std::isfinite(x)) return "null";
-  std::ostringstream s;
-  s.precision(10);
-  s << x;
-  return s.str();
-}
-
 struct DistanceStatistics {
   std::size_t reached = 0;
   double maximum = 0.0;
@@ -232,12 +226,6 @@ DistanceStatistics summarise(const std::vector<double>& distance) {
   return s;
 }
 
-std::uint64_t peakMemoryBytes() {
-  rusage usage{};
-  ::getrusage(RUSAGE_SELF, &usage);
-  return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
-}
-
 std::string terminationName(Termination t) {
   switch (t) {
     case Termination::Completed: return "completed";
@@ -252,10 +240,9 @@ struct Timings {
   double read = 0, metric = 0, propagate = 0, write = 0, total = 0;
 };
 
-void writeStats(const std::string& path, const DistanceOptions& o, const TensorInput& input,
-                const imaging::MetricVoxelCounts& counts, const std::vector<Seed>& seeds,
-                std::size_t labelSeedsLeftOut, const PropagationResult& result, const DistanceStatistics& stats,
-                const Timings& t) {
+std::string statsJson(const DistanceOptions& o, const TensorInput& input, const imaging::MetricVoxelCounts& counts,
+                      const std::vector<Seed>& seeds, std::size_t labelSeedsLeftOut, const PropagationResult& result,
+                      const DistanceStatistics& stats, const MemoryCheck& memory, const Timings& t) {
   const GridGeometry& g = input.read.volume.geometry;
   const imaging::TensorFileInfo& info = input.read.info;
   std::ostringstream j;
@@ -266,11 +253,10 @@ void writeStats(const std::string& path, const DistanceOptions& o, const TensorI
   j << "    \"method\": " << jsonString(o.lanthier ? "lanthier" : o.method == Method::Dijkstra ? "dijkstra" : "stvd")
     << ",\n";
   if (o.lanthier) j << "    \"steiner_points\": " << o.steinerPoints << ",\n";
-  j << "    \"k\": " << (o.lanthier ? std::string("null") : std::to_string(o.method == Method::Dijkstra ? 1 : o.k))
+  j << "    \"k\": " << (o.lanthier ? std::string("null") : std::to_string(memoryDepthOf<VoxelGridDomain>(o)))
     << ",\n";
   if (!o.lanthier) {  // lanthier measures cells, not stencil edges or chains
-    j << "    \"chain_measure\": \""
-      << (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? "largest" : "projection") << "\",\n";
+    j << "    \"chain_measure\": \"" << chainMeasureName(o.chainMeasure) << "\",\n";
     j << "    \"stencil\": " << jsonString(o.stencil) << ",\n";
   }
   j << "    \"max_distance_mm\": " << jsonNumber(o.maxDistance) << ",\n";
@@ -279,7 +265,7 @@ void writeStats(const std::string& path, const DistanceOptions& o, const TensorI
     << ",\n";
   j << "    \"metric_formula\": "
     << jsonString(imaging::metricFormula(o.tensor.metric.kind, o.tensor.metric.diffusionMetric)) << ",\n";
-  j << "    \"max_anisotropy\": " << jsonNumber(o.tensor.metric.maxAnisotropy) << ",\n";
+  j << "    \"max_anisotropy\": " << jsonNumber(imaging::anisotropyCap(o.tensor.metric).value_or(NAN)) << ",\n";
   j << "    \"fa_threshold\": " << jsonNumber(o.tensor.metric.faThreshold.value_or(NAN)) << ",\n";
   j << "    \"tensor_layout\": " << jsonString(imaging::tensorFileLayoutName(info.layout)) << ",\n";
   j << "    \"tensor_order\": " << jsonString(imaging::tensorOrderName(info.order)) << ",\n";
@@ -312,24 +298,22 @@ void writeStats(const std::string& path, const DistanceOptions& o, const TensorI
     << ", \"repaired_anisotropy\": " << counts.repairedAnisotropy << "},\n";
   j << "  \"propagation\": {\"vertices\": " << g.voxelCount() << ", \"domain_vertices\": " << counts.domain
     << ", \"finalized_vertices\": " << result.finalizedVertices << ", \"relaxed_edges\": " << result.relaxedEdges
-    << ", \"termination\": " << jsonString(terminationName(result.termination))
+    << ", \"measured_candidates\": " << result.measuredCandidates
+    << ", \"refused_candidates\": " << result.refusedCandidates << ", \"termination\": " << jsonString(terminationName(result.termination))
     << ", \"peak_state_bytes\": " << result.peakStateBytes << "},\n";
   j << "  \"distance_mm\": {\"reached\": " << stats.reached << ", \"min\": " << (stats.reached ? "0" : "null")
     << ", \"median\": " << (stats.reached ? jsonNumber(stats.median) : "null")
     << ", \"max\": " << (stats.reached ? jsonNumber(stats.maximum) : "null") << "},\n";
+  j << "  \"warnings\": [";
+  for (std::size_t w = 0; w < inputWarnings().size(); ++w) j << (w ? ", " : "") << jsonString(inputWarnings()[w]);
+  j << "],\n";
   j << "  \"seconds\": {\"read\": " << jsonNumber(t.read) << ", \"metric\": " << jsonNumber(t.metric)
     << ", \"propagate\": " << jsonNumber(t.propagate) << ", \"write\": " << jsonNumber(t.write)
     << ", \"total\": " << jsonNumber(t.total) << "},\n";
+  j << "  \"memory\": " << memoryCheckJson(memory) << ",\n";
   j << "  \"peak_memory_bytes\": " << peakMemoryBytes() << "\n";
   j << "}\n";
-
-  imaging::AtomicOutput output(path);
-  {
-    std::ofstream file(output.stagingPath());
-    file << j.str();
-    if (!file.flush()) throw imaging::ImageIoError(path, "cannot write the statistics file");
-  }
-  output.commit();
+  return j.str();
 }
 
 std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
@@ -352,8 +336,11 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
       << " from the diffusion tensors";
   else
     s << "The file's tensors are the metric";
-  s << ", eigenvalue ratio capped at " << fixed(o.tensor.metric.maxAnisotropy, 0) << "; "
-    << withThousands(counts.domain) << " voxels in the domain";
+  if (const auto cap = imaging::anisotropyCap(o.tensor.metric))
+    s << ", eigenvalue ratio capped at " << fixed(*cap, 0);
+  else
+    s << ", taken as given (no eigenvalue ratio cap)";
+  s << "; " << withThousands(counts.domain) << " voxels in the domain";
   if (!input.maskDescription.empty()) s << " (mask: " << input.maskDescription << ")";
   s << ", of which " << withThousands(counts.repaired()) << " were repaired ("
     << withThousands(counts.repairedNonPositive) << " with a non-positive eigenvalue, "
@@ -373,7 +360,7 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
     s << withThousands(seeds.size()) << " seed voxels";
   }
   if (labelSeedsLeftOut) s << " (" << withThousands(labelSeedsLeftOut) << " label voxels outside the domain left out)";
-  s << ". Method: " << methodText(o);
+  s << ". Method: " << methodText(o, memoryDepthOf<VoxelGridDomain>(o));
   if (!o.lanthier) s << " on the " << o.stencil << "-neighbour stencil";
   if (std::isfinite(o.maxDistance)) s << ", stopping at " << fixed(o.maxDistance, 1) << " mm";
   s << ". Reached " << withThousands(stats.reached) << " of " << withThousands(counts.domain) << " domain voxels";
@@ -405,20 +392,24 @@ int runDistance(int argc, char** argv) {
   Timings t;
 
   // Output problems are found before the work, not after it.
-  try {
-    imaging::checkOutputPath(o.output);
-    if (!o.statsPath.empty()) imaging::checkOutputPath(o.statsPath);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputImage("tensor input", o.input);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("seed labels", o.seedLabels);
+  if (isVdbPath(o.output))
+    files.outputFile("distance map", o.output);
+  else
+    files.outputImage("distance map", o.output);
+  files.outputFile("statistics file", o.statsPath);
+  files.check();
 
   Clock::time_point phase = Clock::now();
-  const TensorInput input = readTensorInput(o.input, o.tensor);
+  const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
   t.read = secondsSince(phase);
 
   phase = Clock::now();
-  imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
+  imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.input, input, o.tensor);
   imaging::requireNonEmptyDomain(o.input, built.counts, !input.mask.empty(), o.tensor.metric);
   t.metric = secondsSince(phase);
 
@@ -426,6 +417,17 @@ int runDistance(int argc, char** argv) {
   std::size_t labelSeedsLeftOut = 0;
   const std::vector<Seed> seeds = resolveSeeds(o.input, o, input, o.tensor.metric, built.inDomain, labelSeedsLeftOut);
   t.read += secondsSince(phase);
+
+  const std::uint64_t voxels = g.voxelCount(), domainVoxels = built.counts.domain;
+  const std::uint64_t needed =
+      (o.lanthier ? steinerMemoryEstimate(steinerGridPointCount(domainVoxels, o.steinerPoints), voxels) +
+                        2 * sizeof(VertexId) * voxels  // the grid cells' numbering of domain voxels
+                  : propagationMemoryEstimate(voxels, domainVoxels)) +
+      kOutputBytesPerVoxel * voxels;
+  const MemoryCheck memory = checkMemory(
+      o.input, needed,
+      methodText(o, memoryDepthOf<VoxelGridDomain>(o)) + " on " + withThousands(domainVoxels) + " domain voxels",
+      !o.memoryCheck);
 
   phase = Clock::now();
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
@@ -464,27 +466,27 @@ int runDistance(int argc, char** argv) {
   for (std::size_t v = 0; v < values.size(); ++v)
     values[v] = std::isfinite(result.distance[v]) ? static_cast<float>(result.distance[v]) : o.unreachableValue;
   const DistanceStatistics stats = summarise(result.distance);
+  // The map and the statistics appear together or not at all.
+  files::OutputTransaction outputs;
   try {
     if (isVdbPath(o.output)) {
 #ifdef STVD_WITH_VDB_OUTPUT
       vdb::DistanceGridOptions grid;
       grid.background = std::isfinite(o.unreachableValue) ? o.unreachableValue : -1.f;
-      vdb::writeDistanceGrid(o.output, g, result.distance, grid);
+      vdb::writeDistanceGrid(outputs, o.output, g, result.distance, grid);
 #endif
     } else {
-      imaging::writeScalarImage(o.output, g, values);
+      imaging::writeScalarImage(outputs, o.output, g, values);
     }
-  } catch (const std::runtime_error& e) {
+    t.write = secondsSince(phase);
+    t.total = secondsSince(start);
+    if (!o.statsPath.empty()) {
+      const std::string json = statsJson(o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, memory, t);
+      outputs.write(o.statsPath, [&](const std::string& staging) { files::writeFileContents(staging, json); });
+    }
+    outputs.commit();
+  } catch (const files::OutputError& e) {
     throw ToolError(kExitOutput, e.what());
-  }
-  t.write = secondsSince(phase);
-  t.total = secondsSince(start);
-  if (!o.statsPath.empty()) {
-    try {
-      writeStats(o.statsPath, o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, t);
-    } catch (const imaging::ImageIoError& e) {
-      throw ToolError(kExitOutput, e.what());
-    }
   }
   if (!o.quiet)
     std::cout << summaryParagraph(o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, t) << std::endl;

@@ -29,6 +29,9 @@ bool parsePropagationOption(const std::string& a, ArgumentReader& args, Propagat
     setMemoryDepth(o, parseInteger(a, args.value(a)));
   } else if (a == "--chain-measure") {
     setChainMeasure(o, args.value(a));
+  } else if (a == "--no-memory-check") {
+    args.noValue(a);
+    o.memoryCheck = false;
   } else if (a == "--stencil") {
     setStencil(o, args.value(a));
   } else {
@@ -43,9 +46,10 @@ std::vector<Seed> resolveSeeds(const std::string& inputPath, const SeedOptions& 
   std::vector<Seed> seeds = imaging::seedVoxelsAt(inputPath, o.seedVoxels, o.seedPoints, o.seedPointsInLps, input,
                                                   metric, inDomain, role);
   if (!o.seedLabels.empty()) {
-    const std::vector<Seed> labelled =
-        imaging::labelSeedVoxels(o.seedLabels, imaging::readScalarImage(o.seedLabels), inputPath,
-                                 input.read.volume.geometry, inDomain, labelSeedsLeftOut);
+    const imaging::ScalarImage labels = imaging::readScalarImage(o.seedLabels);
+    noteInputWarnings(o.seedLabels, labels.warnings);
+    const std::vector<Seed> labelled = imaging::labelSeedVoxels(o.seedLabels, labels, inputPath,
+                                                                input.read.volume.geometry, inDomain, labelSeedsLeftOut);
     seeds.insert(seeds.end(), labelled.begin(), labelled.end());
   }
   return seeds;

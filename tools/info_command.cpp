@@ -2,13 +2,17 @@
 // layout, order and frame, eigenvalue and FA statistics, ill-conditioned
 // voxels.
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <iostream>
 #include <sstream>
 
 #include "command_line.hpp"
+#include "geodesic_options.hpp"
 #include "stvd/itk/symmetric_eigen.hpp"
+#include "stvd/itk/mrtrix_image.hpp"
 #include "stvd/itk/tensor_frames.hpp"
+#include "stvd/itk/tensor_plausibility.hpp"
 #include "subcommands.hpp"
 
 namespace stvd::tool {
@@ -24,13 +28,23 @@ const char* kInfoHelp =
     "the physical LPS frame after the frame conversion; eigenvalues do not depend on the frame.\n"
     "\n"
     "%TENSOR%"
+    "  --voxel I,J,K           also describe this voxel (stvd's 0-based index, as the file stores\n"
+    "                          it): the index MRtrix shows for it and its RAS position.\n"
     "  -h, --help              this text.\n"
     "\n"
-    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable input.\n";
+    "Voxel indices: stvd's --seed-voxel and --target-voxel count the axes as the file stores\n"
+    "them (NIfTI, ITK, nibabel). MRtrix (mrview, mrconvert -coord) reorders the axes of every\n"
+    "image to point right, anterior, superior, so its indices can differ (the shipped brain's\n"
+    "voxel 55,54,15 is 56,54,15 in MRtrix); `Voxel indices:` says how. --seed-point X,Y,Z in\n"
+    "scanner millimetres is the same point in every tool.\n"
+    "\n"
+    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable input;\n"
+    "4 a --voxel outside the image.\n";
 
 struct InfoOptions {
   std::string input;
   TensorInputOptions tensor;
+  std::vector<std::array<int, 3>> voxels;  // --voxel
 };
 
 InfoOptions parseInfoOptions(int argc, char** argv) {
@@ -41,6 +55,8 @@ InfoOptions parseInfoOptions(int argc, char** argv) {
     if (takeInputOrHelp(a, args, o.input, kInfoHelp, false)) continue;
     if (a == "--tensor-order" || a == "--tensor-frame" || a == "--mask" || a == "--max-anisotropy") {
       parseTensorInputOption(a, args, o.tensor);
+    } else if (a == "--voxel") {
+      o.voxels.push_back(parseIntegerTriple(a, args.value(a)));
     } else {
       usageError("unknown option '" + a + "' (see stvd info --help)");
     }
@@ -73,17 +89,79 @@ std::string matrixRows(const imaging::Matrix3& m) {
   return s.str();
 }
 
+/// How MRtrix numbers the voxels stvd numbers (i, j, k), and the voxels
+/// asked for with --voxel in both numberings.
+std::string voxelIndexReport(const InfoOptions& o, const GridGeometry& g) {
+  const imaging::MrtrixAxisOrder order = imaging::mrtrixAxisOrder(g);
+  std::ostringstream out;
+  out << "Voxel indices: stvd's (i, j, k) count the axes as stored; MRtrix (mrview, mrconvert -coord) shows (";
+  for (int r = 0; r < 3; ++r) {
+    const int a = order.axis[r];
+    out << (r ? ", " : "") << (order.reversed[r] ? std::to_string(g.size[a] - 1) + " - " : std::string())
+        << "ijk"[a];
+  }
+  out << ")\n";
+  for (const auto& v : o.voxels) {
+    for (int a = 0; a < 3; ++a)
+      if (v[a] < 0 || v[a] >= static_cast<long>(g.size[a]))
+        throw ToolError(kExitDomain, o.input + ": voxel " + voxelText({v[0], v[1], v[2]}) +
+                                         " lies outside the image (indices from 0)");
+    const auto shown = imaging::mrtrixVoxelIndex(g, {v[0], v[1], v[2]});
+    const Vec3d lps = g.indexToPhysicalPoint(v[0], v[1], v[2]);
+    out << "Voxel:       " << voxelText({v[0], v[1], v[2]}) << " in stvd = (" << shown[0] << ", " << shown[1]
+        << ", " << shown[2] << ") in MRtrix, at RAS (" << fixed(-lps.x, 2) << ", " << fixed(-lps.y, 2) << ", "
+        << fixed(lps.z, 2) << ") mm\n";
+  }
+  return out.str();
+}
+
+/// The three component orders tried on the file, and what the order as
+/// read looks like: a wrong order leaves most tensors not positive definite.
+std::string componentOrderReport(const TensorInput& input, std::size_t considered) {
+  const imaging::TensorFileInfo& info = input.read.info;
+  std::ostringstream out;
+  out << "Component orders tried (tensors positive definite, of the " << withThousands(considered)
+      << " with a value):\n";
+  const imaging::TensorOrder* best = nullptr;
+  std::uint64_t bestCount = 0, notPositiveDefinite = 0;
+  const auto trials = imaging::tryComponentOrders(input.read, input.mask);
+  for (const imaging::ComponentOrderTrial& t : trials) {
+    const std::string name = imaging::tensorOrderName(t.order);
+    out << "  " << name << std::string(8 - name.size(), ' ') << imaging::tensorOrderComponents(t.order) << "  "
+        << withThousands(t.positiveDefinite) << " ("
+        << fixed(t.tensors ? 100.0 * double(t.positiveDefinite) / double(t.tensors) : 0.0, 1) << " %), FA above 1 in "
+        << withThousands(t.faAboveOne) << (t.order == info.order ? "   <- as read" : "") << "\n";
+    if (t.order == info.order) notPositiveDefinite = t.tensors - t.positiveDefinite;
+    if (!best || t.positiveDefinite > bestCount) {
+      best = &t.order;
+      bestCount = t.positiveDefinite;
+    }
+  }
+  if (considered > 0 && double(notPositiveDefinite) > imaging::kMaxNotPositiveDefiniteShare * double(considered)) {
+    out << "Warning: read as " << imaging::tensorOrderName(info.order) << ", "
+        << fixed(100.0 * double(notPositiveDefinite) / double(considered), 1)
+        << " % of the tensors are not positive definite; stvd distance, path and connectivity stop on such a file"
+           " (exit 3) unless --accept-implausible-tensors is given.";
+    if (best && *best != info.order)
+      out << " The order " << imaging::tensorOrderName(*best) << " gives " << withThousands(bestCount)
+          << " positive definite tensors: try --tensor-order " << imaging::tensorOrderName(*best) << ".";
+    out << "\n";
+  }
+  return out.str();
+}
+
 }  // namespace
 
 int runInfo(int argc, char** argv) {
   const InfoOptions o = parseInfoOptions(argc, argv);
-  const TensorInput input = readTensorInput(o.input, o.tensor);
+  const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
   const imaging::TensorVolume& volume = input.read.volume;
   const imaging::TensorFileInfo& info = input.read.info;
   const GridGeometry& g = volume.geometry;
   const bool nrrd = info.layout == imaging::TensorFileLayout::NrrdSymMatrix ||
                     info.layout == imaging::TensorFileLayout::NrrdMaskedSymMatrix;
-  const bool fixedOrder = info.layout != imaging::TensorFileLayout::NiftiSixVolumes;
+  const bool mrtrixImage = info.layout == imaging::TensorFileLayout::MrtrixSixVolumes;
+  const bool fixedOrder = info.layout != imaging::TensorFileLayout::NiftiSixVolumes && !mrtrixImage;
 
   std::ostringstream out;
   out << "File:        " << o.input << "\n";
@@ -91,7 +169,10 @@ int runInfo(int argc, char** argv) {
       << " components\n";
   out << "Order:       " << imaging::tensorOrderName(info.order) << " ("
       << imaging::tensorOrderComponents(info.order) << ")"
-      << (fixedOrder ? ", fixed by the layout" : ", as stated") << "\n";
+      << (fixedOrder                        ? ", fixed by the layout"
+          : mrtrixImage && !o.tensor.order ? ", MRtrix's tensor convention (default for MRtrix images)"
+                                            : ", as stated")
+      << "\n";
   out << "Frame:       " << imaging::tensorFrameName(info.frame)
       << (info.frameWasStated ? " (as stated)" : " (default for this layout and order)") << ": ";
   if (info.frame == imaging::TensorFrame::Voxel)
@@ -114,12 +195,16 @@ int runInfo(int argc, char** argv) {
       << fixed(g.origin[2], 3) << ") mm = RAS (" << fixed(-g.origin[0], 3) << ", " << fixed(-g.origin[1], 3)
       << ", " << fixed(g.origin[2], 3) << ") mm\n";
   out << "Direction cosines in LPS (columns are the i, j, k axes):\n" << matrixRows(g.direction);
+  out << voxelIndexReport(o, g);
   if (!input.maskDescription.empty()) out << "Mask:        " << input.maskDescription << "\n";
 
   std::size_t masked = 0, zero = 0, nonFinite = 0, considered = 0;
   std::size_t noPositive = 0, nonPositiveSmallest = 0, beyondCap = 0, faAboveOne = 0;
   std::vector<double> l1, l2, l3, md, fa;
-  const double cap = o.tensor.metric.maxAnisotropy;
+  // A metric taken as given has no cap: only non-positive eigenvalues are
+  // raised, to lambda1/100, which is what the counts below report then.
+  const std::optional<double> givenCap = imaging::anisotropyCap(o.tensor.metric);
+  const double cap = givenCap.value_or(imaging::kDefaultMaxAnisotropy);
   for (std::size_t v = 0; v < volume.tensors.size(); ++v) {
     if (!input.mask.empty() && input.mask[v] == 0) { ++masked; continue; }
     const SymTensor3& t = volume.tensors[v];
@@ -137,7 +222,7 @@ int runInfo(int argc, char** argv) {
     if (f > 1.0) ++faAboveOne;
     if (!(e.values[0] > 0.0)) ++noPositive;
     else if (e.values[2] <= 0.0) ++nonPositiveSmallest;
-    else if (e.values[0] / e.values[2] > cap) ++beyondCap;
+    else if (givenCap && e.values[0] / e.values[2] > cap) ++beyondCap;
   }
   out << "Voxels:      " << withThousands(volume.tensors.size()) << " in all; " << withThousands(considered)
       << " with a non-zero finite tensor" << (input.mask.empty() ? "" : " inside the mask") << "; "
@@ -153,10 +238,12 @@ int runInfo(int argc, char** argv) {
       << "\n";
   out << "Ill-conditioned: " << withThousands(nonPositiveSmallest + beyondCap + noPositive) << " voxels: "
       << withThousands(nonPositiveSmallest) << " with a zero or negative smallest eigenvalue, "
-      << withThousands(beyondCap) << " with lambda1/lambda3 > " << fixed(cap, 0) << ", " << withThousands(noPositive)
-      << " without a positive eigenvalue.\n";
+      << withThousands(beyondCap) << " with lambda1/lambda3 > " << (givenCap ? fixed(cap, 0) : std::string("the cap (none)"))
+      << ", " << withThousands(noPositive) << " without a positive eigenvalue.\n";
   out << "  stvd distance raises the eigenvalues of the first two kinds to lambda1/" << fixed(cap, 0)
-      << " (--max-anisotropy) and leaves the last kind, zero and non-finite tensors outside the domain.\n";
+      << (givenCap ? " (--max-anisotropy)" : " (a metric is otherwise taken as given)")
+      << " and leaves the last kind, zero and non-finite tensors outside the domain.\n";
+  out << componentOrderReport(input, considered);
   std::cout << out.str();
   return kExitOk;
 }

@@ -3,19 +3,21 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <sstream>
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
+#include "memory_check.hpp"
+#include "run_files.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/geodesic_path.hpp"
-#include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/streamline_io.hpp"
+#include "stvd/itk/tensor_metric.hpp"
 #include "stvd/stencil.hpp"
 #include "subcommands.hpp"
 
@@ -51,9 +53,11 @@ const char* kPathHelp =
     "\n"
     "Propagation (as in stvd distance):\n"
     "  --method M              stvd (default) or dijkstra.\n"
-    "  --k N                   STVD memory depth, 1..16 (default 8).\n"
+    "  --k N                   STVD memory depth, 1..16 (default 6).\n"
     "  --chain-measure R       largest (default) or projection.\n"
     "  --stencil S             6, 18, 26 (default), 98 or 290.\n"
+    "  --no-memory-check       run even when the estimate of the memory needed exceeds the\n"
+    "                          memory available.\n"
     "\n"
     "%TENSOR%"
     "\n"
@@ -80,8 +84,8 @@ const char* kPathHelp =
     "\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
     "input; 4 nothing to compute (empty domain, a seed or target outside the image or domain, a\n"
-    "target not reachable from the seeds); 5 output cannot be written. No output file is left\n"
-    "behind on failure.\n";
+    "target not reachable from the seeds); 5 output cannot be written; 6 not enough memory for\n"
+    "the run. No output file is left behind on failure.\n";
 
 struct PathOptions : SeedOptions, PropagationChoice {
   std::string input;
@@ -145,7 +149,6 @@ PathOptions parsePathOptions(int argc, char** argv) {
   if (!imaging::streamlineFormatOf(o.output))
     usageError(o.output + ": unsupported output format; use .tck, .trk or .vtk");
   if (o.tsvPath.empty()) o.tsvPath = replaceExtension(o.output, ".tsv");
-  if (o.tsvPath == o.output) usageError("--tsv names the paths file itself");
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
     usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
   if (o.targetVoxels.empty() && o.targetPoints.empty() && o.targetLabels.empty())
@@ -159,31 +162,23 @@ using Target = imaging::PathTarget;
 
 std::string tsvNumber(double x, int decimals) { return std::isfinite(x) ? fixed(x, decimals) : "n/a"; }
 
-void writeTextAtomically(const std::string& path, const std::string& text) {
-  imaging::AtomicOutput output(path);
-  {
-    std::ofstream file(output.stagingPath());
-    file << text;
-    if (!file.flush()) throw imaging::ImageIoError(path, "cannot write the file");
-  }
-  output.commit();
-}
-
 }  // namespace
 
 int runPath(int argc, char** argv) {
   const Clock::time_point start = Clock::now();
   const PathOptions o = parsePathOptions(argc, argv);
-  try {
-    imaging::checkOutputPath(o.output);
-    imaging::checkOutputPath(o.tsvPath);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputImage("tensor input", o.input);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("seed labels", o.seedLabels);
+  files.inputImage("target labels", o.targetLabels);
+  files.outputFile("paths file", o.output);
+  files.outputFile("path table", o.tsvPath);
+  files.check();
 
-  const TensorInput input = readTensorInput(o.input, o.tensor);
+  const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
-  imaging::MetricFromTensors built = imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
+  imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.input, input, o.tensor);
   if (built.counts.domain == 0)
     throw ToolError(kExitDomain, o.input + ": the domain is empty: no voxel has a usable tensor");
   std::size_t leftOut = 0;
@@ -196,6 +191,12 @@ int runPath(int argc, char** argv) {
   const std::vector<Seed> targetSeeds =
       resolveSeeds(o.input, targetGiven, input, o.tensor.metric, built.inDomain, unused, "target");
 
+  // The propagation, FA per voxel and the paths.
+  checkMemory(o.input,
+              propagationMemoryEstimate(g.voxelCount(), built.counts.domain) + 2 * sizeof(float) * g.voxelCount(),
+              methodText(o, memoryDepthOf<VoxelGridDomain>(o)) + " on " + withThousands(built.counts.domain) +
+                  " domain voxels",
+              !o.memoryCheck);
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   const std::vector<VertexId> sources = imaging::sourceVertices(domain, seeds);
@@ -206,8 +207,10 @@ int runPath(int argc, char** argv) {
   std::vector<Target> targets;
   for (const Seed& t : targetSeeds) targets.push_back({domain.vertexAt(t.index.i, t.index.j, t.index.k), t.givenAs});
   if (!o.targetLabels.empty()) {
-    const std::vector<Target> fromLabels = imaging::labelTargets(
-        o.targetLabels, imaging::readScalarImage(o.targetLabels), o.input, g, built.inDomain, result.distance);
+    const imaging::LabelImage labels = imaging::readLabelImage(o.targetLabels);
+    noteInputWarnings(o.targetLabels, labels.warnings);
+    const std::vector<Target> fromLabels =
+        imaging::labelTargets(o.targetLabels, labels, o.input, g, built.inDomain, result.distance);
     targets.insert(targets.end(), fromLabels.begin(), fromLabels.end());
   }
   imaging::requireReachable(o.input, targets, result.distance);
@@ -272,22 +275,19 @@ int runPath(int argc, char** argv) {
   }
   const double tracingSeconds = std::chrono::duration<double>(Clock::now() - tracingStart).count();
 
+  // The paths and their table appear together or not at all.
+  files::OutputTransaction outputs;
   try {
-    // The table first: when the paths file then fails, the table is removed
-    // again, so no half result stays behind.
-    writeTextAtomically(o.tsvPath, tsv.str());
-    try {
-      imaging::writeStreamlines(o.output, set);
-    } catch (...) {
-      std::remove(o.tsvPath.c_str());
-      throw;
-    }
-  } catch (const imaging::ImageIoError& e) {
+    imaging::writeStreamlines(outputs, o.output, set);
+    const std::string table = tsv.str();
+    outputs.write(o.tsvPath, [&](const std::string& staging) { files::writeFileContents(staging, table); });
+    outputs.commit();
+  } catch (const std::runtime_error& e) {  // files::OutputError, imaging::ImageIoError
     throw ToolError(kExitOutput, e.what());
   }
   if (!o.quiet) {
     std::cout << summary.str();
-    std::cout << "Method: " << methodText(o) << " on the " << o.stencil << "-neighbour stencil; " << seeds.size()
+    std::cout << "Method: " << methodText(o, memoryDepthOf<VoxelGridDomain>(o)) << " on the " << o.stencil << "-neighbour stencil; " << seeds.size()
               << (seeds.size() == 1 ? " seed voxel" : " seed voxels") << ". Took "
               << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s (propagation "
               << fixed(propagationSeconds, 2) << ", paths " << fixed(tracingSeconds, 3) << "). Wrote " << o.output

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "command_line.hpp"
+#include "stvd/files/termination_signals.hpp"
 #include "stvd/front_end_errors.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "subcommands.hpp"
@@ -31,13 +32,14 @@ const char* kToolHelp =
     "                                       `stvd distance MESH.node` (docs/tet_meshes.md)\n"
     "  help [COMMAND]                       this text, or a command's (also COMMAND --help)\n"
     "\n"
-    "Inputs: NIfTI (.nii, .nii.gz) and NRRD (.nrrd, .nhdr) tensor volumes; outputs: float32\n"
-    "NIfTI or NRRD on the input's grid. Coordinates are millimetres; seed points are RAS unless\n"
-    "--lps is given; voxel indices are 0-based. See docs/cli.md for the details.\n"
+    "Inputs: NIfTI (.nii, .nii.gz), NRRD (.nrrd, .nhdr) and MRtrix (.mif, .mif.gz, .mih) tensor\n"
+    "volumes; outputs: float32 NIfTI, NRRD or MRtrix on the input's grid. Coordinates are\n"
+    "millimetres; seed points are RAS unless --lps is given; voxel indices are 0-based, in the\n"
+    "file's axis order (MRtrix may show other indices: stvd info --voxel). See docs/cli.md.\n"
     "\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
     "input; 4 nothing to compute (empty domain, seed outside the image or domain); 5 output\n"
-    "cannot be written.\n";
+    "cannot be written; 6 not enough memory for the run.\n";
 
 int dispatch(int argc, char** argv) {
   using namespace stvd::tool;
@@ -78,6 +80,9 @@ int reportFailure(int exitCode, const std::exception& e) {
 
 int main(int argc, char** argv) {
   using namespace stvd::tool;
+  // Before any other thread exists: Ctrl-C, SIGTERM and SIGHUP remove the
+  // outputs staged so far and end the tool by the signal.
+  stvd::files::removeStagedOutputsOnTerminationSignals("stvd");
   try {
     return dispatch(argc, argv);
   } catch (const ToolError& e) {
@@ -94,8 +99,10 @@ int main(int argc, char** argv) {
     // into kExitOutput.
     return reportFailure(kExitInput, e);
   } catch (const std::bad_alloc&) {
-    std::cerr << "stvd: out of memory" << std::endl;
-    return kExitInternal;
+    std::cerr << "stvd: out of memory (the machine, its control group or ulimit -v allows less than the run "
+                 "needs)"
+              << std::endl;
+    return kExitMemory;
   } catch (const std::exception& e) {
     std::cerr << "stvd: internal error: " << e.what() << std::endl;
     return kExitInternal;

@@ -5,33 +5,50 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <limits>
+#include <sstream>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
-#include "stvd/itk/atomic_output.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "memory_check.hpp"
+#include "run_files.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/propagation.hpp"
 #include "stvd/steiner_propagation.hpp"
 #include "stvd/surface_domain.hpp"
 #include "stvd/surface_io/surface_mesh_io.hpp"
 #include "stvd/surface_metrics.hpp"
 #include "surface_distance_command.hpp"
+#include "surface_seed_point.hpp"
 
 namespace stvd::tool {
 namespace {
 
 const char* kSurfaceDistanceHelp =
-    "Usage: stvd distance MESH -o OUTPUT --seed-vertex N [options]\n"
+    "Usage: stvd distance MESH -o OUTPUT --seed-vertex N|--seed-point X,Y,Z [options]\n"
     "\n"
     "Geodesic distance over a polygon surface (2-manifold, orientable; boundaries and several\n"
-    "components allowed). MESH is .obj, .off or .ply (ASCII or binary; triangles or general\n"
-    "polygons, used without triangulation). Distances are in the units of the mesh coordinates.\n"
-    "\n"
+    "components allowed). MESH is .obj, .off, .ply (ASCII or binary; triangles or general\n"
+    "polygons, used without triangulation) or .stl (ASCII or binary; corners with the same\n"
+    "coordinates are welded into one vertex, and the summary says how many). Distances are in the\n"
+    "units of the mesh coordinates.\n"
+    "%SURFACE%";
+
+/// The surface options, without the usage lines: shared by this command's
+/// help and `stvd distance --help`.
+const char* kSurfaceOptionsHelp =
     "Seeds (at least one):\n"
     "  --seed-vertex N         vertex index, counted from 0 in file order (repeatable).\n"
+    "  --seed-point X,Y,Z      a point in mesh coordinates (repeatable): the nearest vertex, or\n"
+    "                          with --seed-at point the closest point of the surface itself.\n"
+    "  --seed-at W             vertex (default) or point: the closest point of the surface is\n"
+    "                          inserted as a vertex (into its face, or into the edge it lies on;\n"
+    "                          its metric the barycentric mean of the corners'); outputs still\n"
+    "                          list the file's vertices only.\n"
     "\n"
     "Metric:\n"
     "  --metric M              isotropic (default): surface distance;\n"
@@ -52,36 +69,47 @@ const char* kSurfaceDistanceHelp =
     "  --steiner M             lanthier: Steiner points per face edge, 1..16; time grows like M^2,\n"
     "                          memory like M.\n"
     "  --k N                   STVD memory depth, 1..16 (default 8).\n"
-    "  --chain-measure R       projection (default on surfaces: the paper's rule) or largest.\n"
+    "  --chain-measure R       segment (default: real lines across the faces), projection\n"
+    "                          (the paper's rule) or largest.\n"
+    "  --max-distance D        stop at D (mesh units); farther vertices are unreachable.\n"
+    "  --no-memory-check       run even when the estimate of the memory needed exceeds the\n"
+    "                          memory available (exit code 6 otherwise).\n"
     "\n"
     "Output:\n"
-    "  -o, --output FILE       .ply (binary, the mesh with a double vertex property distance),\n"
+    "  -o, --output FILE       .ply (binary: the mesh, its coordinates in the input's type, with\n"
+    "                          a float vertex property distance; unreached inf),\n"
     "                          .vtk (legacy POLYDATA, POINT_DATA distance; unreached -1) or\n"
-    "                          .csv (rows vertex,distance; unreached inf). Written under a\n"
-    "                          temporary name and renamed when complete.\n"
+    "                          .csv (rows vertex,distance; unreached inf). It must not be an\n"
+    "                          input; written with the statistics into a staging folder next to\n"
+    "                          it and moved into place when both are complete.\n"
+    "  --stats FILE.json       parameters, mesh counts, seeds, distances, seconds and peak memory.\n"
     "  -q, --quiet             no summary on stdout.\n"
-    "  -h, --help              this text.\n";
+    "  -h, --help              this text.\n"
+    "\n"
+    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable mesh or\n"
+    "metric file; 4 a seed vertex that does not exist; 5 output cannot be written; 6 not enough\n"
+    "memory for the run.\n";
 
 /// --method, --steiner, --k and --chain-measure as in geodesic_options (no
-/// --stencil), with the surfaces' own default chain measure.
+/// --stencil), with the library's defaults.
 struct SurfaceOptions : PropagationChoice {
-  std::string input, output, metric = "isotropic";
+  std::string input, output, metric = "isotropic", statsPath;
   std::vector<long long> seeds;
+  std::vector<std::array<double, 3>> seedPoints;
+  bool seedAtPoint = false;
   double anisotropy = 0.0;
   bool anisotropyGiven = false;
+  double maxDistance = std::numeric_limits<double>::infinity();
   bool quiet = false;
 };
 
 SurfaceOptions parse(int argc, char** argv) {
   SurfaceOptions o;
-  // Surfaces keep the paper's chain measure as their default, as the help
-  // text and docs/surfaces.md state (images and tet meshes use largest).
-  o.chainMeasure = kSurfaceChainMeasure;
   ArgumentReader args(argc, argv, 2);
   while (!args.done()) {
     const std::string a = args.take();
     if (a == "-h" || a == "--help") {
-      std::cout << kSurfaceDistanceHelp;
+      std::cout << surfaceDistanceHelp();
       throw ToolError(kExitOk, "");
     }
     if (!args.isOption(a)) {
@@ -101,6 +129,17 @@ SurfaceOptions parse(int argc, char** argv) {
       }
       if (n < 0) usageError("--seed-vertex: '" + v + "' is not a vertex index (0, 1, 2, ...)");
       o.seeds.push_back(n);
+    } else if (a == "--seed-point") {
+      o.seedPoints.push_back(parseTriple(a, args.value(a)));
+    } else if (a == "--seed-at") {
+      const std::string v = args.value(a);
+      if (v != "vertex" && v != "point") usageError("--seed-at: '" + v + "' is not one of vertex, point");
+      o.seedAtPoint = v == "point";
+    } else if (a == "--max-distance") {
+      o.maxDistance = parseNumber(a, args.value(a));
+      if (!(o.maxDistance > 0.0)) usageError("--max-distance must be positive");
+    } else if (a == "--stats") {
+      o.statsPath = args.value(a);
     } else if (a == "--metric") {
       o.metric = args.value(a);
       if (o.metric != "isotropic" && o.metric != "curvature" && o.metric.rfind("field:", 0) != 0 &&
@@ -124,11 +163,12 @@ SurfaceOptions parse(int argc, char** argv) {
   }
   if (o.input.empty()) usageError("no input mesh given");
   if (!surface_io::isSurfaceMeshPath(o.input))
-    usageError(o.input + ": --seed-vertex needs a surface mesh input (.obj, .off or .ply)");
+    usageError(o.input + ": --seed-vertex needs a surface mesh input (.obj, .off, .ply or .stl)");
   if (o.output.empty()) usageError("no output given (-o FILE.ply, .vtk or .csv)");
   if (!surface_io::isSurfaceOutputPath(o.output))
     usageError(o.output + ": a surface distance is written as .ply, .vtk or .csv");
-  if (o.seeds.empty()) usageError("no seed given (--seed-vertex N)");
+  if (o.seeds.empty() && o.seedPoints.empty()) usageError("no seed given (--seed-vertex N or --seed-point X,Y,Z)");
+  if (o.seedAtPoint && o.seedPoints.empty()) usageError("--seed-at applies to --seed-point");
   const bool needsGamma = o.metric == "curvature" || o.metric.rfind("field:", 0) == 0;
   if (needsGamma && !o.anisotropyGiven) usageError("--metric " + o.metric + " needs --anisotropy G");
   if (!needsGamma && o.anisotropyGiven)
@@ -137,15 +177,88 @@ SurfaceOptions parse(int argc, char** argv) {
   return o;
 }
 
-RiemannianMetric buildMetric(const SurfaceOptions& o, const SurfaceDomain& surface) {
+/// The seeds as vertices of the mesh the propagation runs on, with the
+/// points inserted by --seed-at point.
+struct SurfaceSeeds {
+  std::vector<VertexId> vertices;
+  std::vector<std::string> givenAs;  // for the summary and --stats
+  /// Per inserted vertex (in order), the vertices it interpolates.
+  std::vector<std::vector<std::pair<VertexId, double>>> inserted;
+  /// For each face of the mesh, the face of the file it comes from.
+  std::vector<std::size_t> faceOrigin;
+};
+
+SurfaceSeeds resolveSeeds(const SurfaceOptions& o, surface_io::SurfaceMesh& mesh) {
+  SurfaceSeeds seeds;
+  seeds.faceOrigin.resize(mesh.faces.faceCount());
+  for (std::size_t f = 0; f < seeds.faceOrigin.size(); ++f) seeds.faceOrigin[f] = f;
+  const std::size_t fileVertices = mesh.points.size();
+  for (const long long s : o.seeds) {
+    if (s >= static_cast<long long>(fileVertices))
+      throw ToolError(kExitDomain, o.input + ": seed vertex " + std::to_string(s) + " does not exist (the mesh has " +
+                                       std::to_string(fileVertices) + " vertices)");
+    seeds.vertices.push_back(static_cast<VertexId>(s));
+    seeds.givenAs.push_back("vertex " + std::to_string(s));
+  }
+  for (const auto& given : o.seedPoints) {
+    const Vec3d point{given[0], given[1], given[2]};
+    const std::string text = "point " + pointText(point, 4);
+    if (!o.seedAtPoint) {
+      const VertexId v = nearestVertex(mesh, point);
+      seeds.vertices.push_back(v);
+      seeds.givenAs.push_back(text + ": nearest vertex " + std::to_string(v) + " at distance " +
+                              fixed(norm(mesh.points[v] - point), 4));
+      continue;
+    }
+    const SurfacePoint closest = closestSurfacePoint(mesh, point);
+    const std::size_t face = seeds.faceOrigin[closest.face], before = mesh.points.size();
+    const VertexId v = insertSurfacePoint(mesh, closest, seeds.faceOrigin);
+    if (mesh.points.size() > before) seeds.inserted.push_back(closest.weights);
+    seeds.vertices.push_back(v);
+    seeds.givenAs.push_back(text + ": " +
+                            (mesh.points.size() > before
+                                 ? std::string(closest.weights.size() == 2 ? "on an edge" : "inside") +
+                                       " of face " + std::to_string(face) + ", inserted as vertex " +
+                                       std::to_string(v)
+                                 : "on vertex " + std::to_string(v)) +
+                            " at distance " + fixed(closest.distance, 4) + " from the point");
+  }
+  return seeds;
+}
+
+RiemannianMetric buildMetric(const SurfaceOptions& o, const SurfaceDomain& surface, const SurfaceSeeds& seeds) {
   if (o.metric == "isotropic") return isotropicSurfaceMetric(surface);
   if (o.metric == "curvature") return curvatureMetric(surface, o.anisotropy);
   const bool field = o.metric.rfind("field:", 0) == 0;
   const bool perFace = o.metric.rfind("face-tensors:", 0) == 0;
   const std::string file = o.metric.substr(o.metric.find(':') + 1);
-  const auto table = surface_io::readVertexTable(file, field ? 3 : 6,
-                                                 perFace ? surface.faceCount() : surface.vertexCount(),
-                                                 perFace ? "face" : "vertex");
+  // The file has a row per vertex or face of the file's mesh.
+  const std::size_t fileRows =
+      perFace ? *std::max_element(seeds.faceOrigin.begin(), seeds.faceOrigin.end()) + 1
+              : surface.vertexCount() - seeds.inserted.size();
+  auto table = surface_io::readVertexTable(file, field ? 3 : 6, fileRows, perFace ? "face" : "vertex");
+  if (perFace) {
+    std::vector<std::vector<double>> perMeshFace;
+    for (const std::size_t origin : seeds.faceOrigin) perMeshFace.push_back(table[origin]);
+    table.swap(perMeshFace);
+  } else {
+    // Inserted vertices: the barycentric mean of their corners' rows;
+    // directions first turned to agree in sign with the first corner's.
+    for (const auto& weights : seeds.inserted) {
+      std::vector<double> row(table[0].size(), 0.0);
+      const std::vector<double>& reference = table[weights.front().first];
+      for (const auto& [v, w] : weights) {
+        double sign = 1.0;
+        if (field) {
+          double d = 0.0;
+          for (int c = 0; c < 3; ++c) d += table[v][c] * reference[c];
+          sign = d < 0.0 ? -1.0 : 1.0;
+        }
+        for (std::size_t c = 0; c < row.size(); ++c) row[c] += w * sign * table[v][c];
+      }
+      table.push_back(row);
+    }
+  }
   if (field) {
     std::vector<Vec3d> directions;
     for (const auto& r : table) directions.push_back({r[0], r[1], r[2]});
@@ -162,10 +275,77 @@ RiemannianMetric buildMetric(const SurfaceOptions& o, const SurfaceDomain& surfa
   }
 }
 
+std::string methodName(const SurfaceOptions& o) {
+  return o.lanthier ? "Lanthier M=" + std::to_string(o.steinerPoints)
+         : o.method == Method::Dijkstra ? std::string("Dijkstra")
+                                        : "STVD k=" + std::to_string(memoryDepthOf<SurfaceDomain>(o));
+}
+
+/// What --stats reports besides the options and the file's mesh.
+struct SurfaceRun {
+  std::size_t components = 0;
+  const SurfaceSeeds* seeds = nullptr;
+  const PropagationResult* result = nullptr;
+  std::vector<double> distance;  // the file's vertices
+  double read = 0, metric = 0, propagate = 0, write = 0, total = 0;
+  MemoryCheck memory;
+};
+
+std::string surfaceStatsJson(const SurfaceOptions& o, const surface_io::SurfaceMesh& file, const SurfaceRun& run) {
+  std::vector<double> reached;
+  for (const double d : run.distance)
+    if (std::isfinite(d)) reached.push_back(d);
+  std::sort(reached.begin(), reached.end());
+  std::ostringstream j;
+  j << "{\n  \"input\": " << jsonString(o.input) << ",\n  \"output\": " << jsonString(o.output) << ",\n";
+  j << "  \"parameters\": {\"method\": "
+    << jsonString(o.lanthier ? "lanthier" : o.method == Method::Dijkstra ? "dijkstra" : "stvd")
+    << ", \"k\": " << (o.lanthier ? std::string("null") : std::to_string(memoryDepthOf<SurfaceDomain>(o)))
+    << ", \"chain_measure\": "
+    << (o.lanthier ? std::string("null")
+                   : jsonString(chainMeasureName(o.chainMeasure)))
+    << ", \"steiner_points\": " << (o.lanthier ? std::to_string(o.steinerPoints) : std::string("null"))
+    << ", \"metric\": " << jsonString(o.metric)
+    << ", \"anisotropy\": " << (o.anisotropyGiven ? jsonNumber(o.anisotropy) : std::string("null"))
+    << ", \"max_distance\": " << jsonNumber(o.maxDistance)
+    << ", \"seed_at\": " << jsonString(o.seedAtPoint ? "point" : "vertex") << "},\n";
+  j << "  \"mesh\": {\"vertices\": " << file.points.size() << ", \"faces\": " << file.faces.faceCount()
+    << ", \"components\": " << run.components << ", \"welded_vertices\": " << file.weldedVertices
+    << ", \"degenerate_facets\": " << file.degenerateFacets
+    << ", \"coordinate_type\": " << jsonString(surface_io::plyTypeName(file.coordinateType))
+    << ", \"inserted_vertices\": " << run.seeds->inserted.size() << "},\n";
+  j << "  \"seeds\": [";
+  for (std::size_t s = 0; s < run.seeds->vertices.size(); ++s)
+    j << (s ? ", " : "") << "{\"vertex\": " << run.seeds->vertices[s]
+      << ", \"given_as\": " << jsonString(run.seeds->givenAs[s]) << "}";
+  j << "],\n";
+  j << "  \"distance\": {\"reached\": " << reached.size() << ", \"unreached\": "
+    << run.distance.size() - reached.size() << ", \"min\": "
+    << (reached.empty() ? "null" : jsonNumber(reached.front()))
+    << ", \"median\": " << (reached.empty() ? "null" : jsonNumber(reached[reached.size() / 2]))
+    << ", \"max\": " << (reached.empty() ? "null" : jsonNumber(reached.back())) << "},\n";
+  j << "  \"propagation\": {\"finalized_vertices\": " << run.result->finalizedVertices
+    << ", \"relaxed_edges\": " << run.result->relaxedEdges << "},\n";
+  j << "  \"seconds\": {\"read\": " << jsonNumber(run.read) << ", \"metric\": " << jsonNumber(run.metric)
+    << ", \"propagate\": " << jsonNumber(run.propagate) << ", \"write\": " << jsonNumber(run.write)
+    << ", \"total\": " << jsonNumber(run.total) << "},\n";
+  j << "  \"memory\": " << memoryCheckJson(run.memory) << ",\n";
+  j << "  \"peak_memory_bytes\": " << peakMemoryBytes() << "\n}\n";
+  return j.str();
+}
+
 }  // namespace
 
+std::string surfaceDistanceHelp() {
+  std::string help = kSurfaceDistanceHelp;
+  help.replace(help.find("%SURFACE%"), 9, "\n" + std::string(kSurfaceOptionsHelp));
+  return help;
+}
+
+std::string surfaceOptionsHelp() { return kSurfaceOptionsHelp; }
+
 bool isSurfaceDistanceCall(int argc, char** argv) {
-  // A volume command never names a .obj/.off/.ply file (its inputs are
+  // A volume command never names a .obj/.off/.ply/.stl file (its inputs are
   // images, its outputs images or .vdb), so any such argument other than
   // the output marks a surface call; so does --seed-vertex.
   for (int i = 2; i < argc; ++i) {
@@ -182,6 +362,7 @@ bool isSurfaceDistanceCall(int argc, char** argv) {
 int runSurfaceDistance(int argc, char** argv) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
+  const auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
   SurfaceOptions o;
   try {
     o = parse(argc, argv);
@@ -189,18 +370,26 @@ int runSurfaceDistance(int argc, char** argv) {
     if (e.exitCode() == kExitOk) return kExitOk;  // --help
     throw;
   }
-  try {
-    imaging::checkOutputPath(o.output);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
-  surface_io::SurfaceMesh mesh;
+  RunFiles files;
+  files.inputFile("surface mesh", o.input);
+  if (o.metric.find(':') != std::string::npos) files.inputFile("metric file", o.metric.substr(o.metric.find(':') + 1));
+  files.outputFile("distance output", o.output);
+  files.outputFile("statistics file", o.statsPath);
+  files.check();
+  SurfaceRun run;
+  Clock::time_point phase = Clock::now();
+  surface_io::SurfaceMesh file, mesh;
   std::optional<SurfaceDomain> surface;
   std::optional<RiemannianMetric> metric;
+  SurfaceSeeds seeds;
   try {
-    mesh = surface_io::readSurfaceMesh(o.input);
+    file = surface_io::readSurfaceMesh(o.input);
+    mesh = file;
+    seeds = resolveSeeds(o, mesh);
+    run.read = since(phase);
+    phase = Clock::now();
     surface.emplace(mesh.points, mesh.faces);
-    metric.emplace(buildMetric(o, *surface));
+    metric.emplace(buildMetric(o, *surface, seeds));
   } catch (const SurfaceError& e) {
     throw ToolError(kExitInput, o.input + ": " + e.what());
   } catch (const surface_io::MeshFileError& e) {
@@ -208,60 +397,93 @@ int runSurfaceDistance(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     throw ToolError(kExitInput, o.input + ": " + e.what());
   }
-  std::vector<VertexId> sources;
-  for (const long long s : o.seeds) {
-    if (s >= static_cast<long long>(surface->vertexCount()))
-      throw ToolError(kExitDomain, o.input + ": seed vertex " + std::to_string(s) +
-                                       " does not exist (the mesh has " +
-                                       std::to_string(surface->vertexCount()) + " vertices)");
-    sources.push_back(static_cast<VertexId>(s));
+  run.metric = since(phase);
+  std::vector<VertexId> sources = seeds.vertices;
+  std::sort(sources.begin(), sources.end());
+  sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
+  {
+    // The propagation or the Steiner graph (M points on each face edge), and the output.
+    const std::uint64_t v = surface->vertexCount(), corners = mesh.faces.faceVertex.size();
+    const std::uint64_t needed =
+        64 * v + (o.lanthier ? steinerMemoryEstimate(v + static_cast<std::uint64_t>(o.steinerPoints) * corners, v)
+                             : propagationMemoryEstimate(v, v));
+    run.memory = checkMemory(o.input, needed, withThousands(v) + " vertices", !o.memoryCheck);
   }
+
+  phase = Clock::now();
   PropagationResult result;
   if (o.lanthier) {
     SteinerOptions steiner;
     steiner.steinerPoints = o.steinerPoints;
+    steiner.maxDistance = o.maxDistance;
     try {
       result = steinerPropagate(*surface, *metric, sources, steiner);
     } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
       throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
     }
   } else {
-    result = propagate(*surface, *metric, sources, propagationOptions(o));
+    PropagationOptions options = propagationOptions(o);
+    options.maxDistance = o.maxDistance;
+    result = propagate(*surface, *metric, sources, options);
   }
+  run.propagate = since(phase);
+  // The outputs list the file's vertices: inserted seed points are left out.
+  run.distance.assign(result.distance.begin(), result.distance.begin() + file.points.size());
 
+  phase = Clock::now();
+  // The distances and the statistics appear together or not at all.
+  files::OutputTransaction outputs;
   try {
-    imaging::AtomicOutput out(o.output);
-    surface_io::writeSurfaceDistances(out.stagingPath(), o.output, mesh, result.distance);
-    out.commit();
-  } catch (const std::runtime_error& e) {
+    outputs.write(o.output, [&](const std::string& staging) {
+      surface_io::writeSurfaceDistances(staging, o.output, file, run.distance);
+    });
+    run.write = since(phase);
+    run.total = since(start);
+    run.seeds = &seeds;
+    run.result = &result;
+    run.components = surface->componentCount();
+    if (!o.statsPath.empty()) {
+      const std::string json = surfaceStatsJson(o, file, run);
+      outputs.write(o.statsPath, [&](const std::string& staging) { files::writeFileContents(staging, json); });
+    }
+    outputs.commit();
+  } catch (const files::OutputError& e) {
     throw ToolError(kExitOutput, e.what());
   }
 
   if (!o.quiet) {
-    // Vertices not reached lie in components without a seed (or are isolated).
+    // Vertices not reached lie in components without a seed (or are isolated)
+    // or beyond --max-distance.
     std::vector<std::uint8_t> seeded(surface->componentCount(), 0);
     for (const VertexId s : sources) seeded[surface->component()[s]] = 1;
     std::size_t unreached = 0, otherComponents = 0;
     for (std::uint32_t c = 0; c < surface->componentCount(); ++c) otherComponents += seeded[c] ? 0 : 1;
     double farthest = 0.0;
-    for (const double d : result.distance) {
+    for (const double d : run.distance) {
       if (std::isfinite(d)) farthest = std::max(farthest, d);
       else ++unreached;
     }
-    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    std::cout << o.input << ": " << withThousands(surface->vertexCount()) << " vertices, "
-              << withThousands(surface->faceCount()) << " faces, "
-              << surface->componentCount() << " component(s); metric " << o.metric
-              << (o.anisotropyGiven ? " (anisotropy " + fixed(o.anisotropy, 2) + ")" : "") << "; "
-              << (o.lanthier ? "Lanthier M=" + std::to_string(o.steinerPoints)
-                  : o.method == Method::Dijkstra ? std::string("Dijkstra")
-                                                 : "STVD k=" + std::to_string(o.k))
-              << ". Farthest reached distance " << fixed(farthest, 4) << "; "
-              << withThousands(unreached) << " vertices unreachable"
-              << (unreached ? " (in " + std::to_string(otherComponents) +
-                                  " component(s) without a seed, isolated vertices included)"
-                            : std::string())
-              << ". Wrote " << o.output << " in " << fixed(seconds, 2) << " s." << std::endl;
+    std::cout << o.input << ": " << withThousands(file.points.size()) << " vertices";
+    if (file.weldedVertices)
+      std::cout << " (" << withThousands(file.weldedVertices) << " duplicate facet corners welded"
+                << (file.degenerateFacets ? ", " + withThousands(file.degenerateFacets) + " degenerate facets left out"
+                                          : std::string())
+                << ")";
+    std::cout << ", " << withThousands(file.faces.faceCount()) << " faces, " << surface->componentCount()
+              << " component(s); metric " << o.metric
+              << (o.anisotropyGiven ? " (anisotropy " + fixed(o.anisotropy, 2) + ")" : "") << "; " << methodName(o);
+    if (std::isfinite(o.maxDistance)) std::cout << ", stopping at " << fixed(o.maxDistance, 4);
+    for (const std::string& s : seeds.givenAs)
+      if (s.rfind("point", 0) == 0) std::cout << "; seed " << s;
+    std::cout << ". Farthest reached distance " << fixed(farthest, 4) << "; " << withThousands(unreached)
+              << " vertices unreachable";
+    if (unreached && otherComponents)
+      std::cout << " (in " << otherComponents << " component(s) without a seed, isolated vertices included"
+                << (std::isfinite(o.maxDistance) ? ", or beyond the distance limit" : "") << ")";
+    else if (unreached && std::isfinite(o.maxDistance))
+      std::cout << " (beyond the distance limit)";
+    std::cout << ". Wrote " << o.output << (o.statsPath.empty() ? "" : " and " + o.statsPath) << " in "
+              << fixed(run.total, 2) << " s." << std::endl;
   }
   return kExitOk;
 }

@@ -9,6 +9,8 @@ namespace stvd::tool {
 
 /// Whether `stvd distance` should treat `input` as a tetrahedral mesh.
 bool isTetMeshInput(const std::string& input);
+/// The option sections of `stvd distance MESH.node --help`, for `stvd distance --help`.
+std::string tetMeshOptionsHelp();
 /// `stvd distance MESH.node ...`.
 int runTetMeshDistance(int argc, char** argv);
 /// `stvd tetrahedralize SURFACE -o MESH ...`.

@@ -10,12 +10,15 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
-#include "stvd/itk/atomic_output.hpp"
+#include "memory_check.hpp"
+#include "run_files.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/metric_sampling.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/tensor_frames.hpp"
 #include "stvd/propagation.hpp"
+#include "stvd/steiner_propagation.hpp"
 #include "stvd/tetmesh/grid_resampling.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
 #include "stvd/tetmesh/tet_mesh_propagation.hpp"
@@ -53,14 +56,15 @@ const char* kTetDistanceHelp =
     "  --tensors SOURCE        node: six .node point attributes per vertex; ele: six .ele\n"
     "                          attributes per tetrahedron, averaged at each vertex weighted by\n"
     "                          the volumes of its tetrahedra; or a tensor image (.nii, .nii.gz,\n"
-    "                          .nrrd, .nhdr) whose metric is sampled at the vertices by\n"
+    "                          .nrrd, .nhdr, .mif, .mif.gz) whose metric is sampled at the vertices by\n"
     "                          log-Euclidean trilinear interpolation.\n"
     "  --tensor-attribute A    0-based index of the first of the six attributes (default 0).\n"
     "  --tensor-order O        component order of attributes: fsl (default; xx,xy,xz,yy,yz,zz),\n"
     "                          lower (xx,xy,yy,xz,yz,zz) or mrtrix (xx,yy,zz,xy,xz,yz); for an\n"
     "                          image, as for grids. Attribute tensors are in mesh coordinates.\n"
     "  --tensor-kind K         diffusion (default: G = (D/MD)^-1) or metric (G itself).\n"
-    "  --diffusion-metric M, --max-anisotropy A, --fa-threshold T, --tensor-frame F, --mask FILE\n"
+    "  --diffusion-metric M, --max-anisotropy A, --fa-threshold T, --tensor-frame F, --mask FILE,\n"
+    "  --accept-implausible-tensors\n"
     "                          as for grids (docs/cli.md). Vertices whose tensor is unusable or\n"
     "                          below the FA threshold, and tetrahedra touching them, are left out.\n"
     "  --lps                   with an image: the mesh (and --seed-point) is in LPS coordinates;\n"
@@ -68,16 +72,17 @@ const char* kTetDistanceHelp =
     "  --outside-image P       with an image, for vertices beyond the image's extent: error\n"
     "                          (default; exit 3) or mask (left out of the domain).\n"
     "\n"
-    "Propagation: --method stvd|dijkstra|lanthier, --k N (default 8), --chain-measure\n"
+    "Propagation: --method stvd|dijkstra|lanthier, --k N (default 6), --chain-measure\n"
     "largest|projection, --max-distance D, as for grids. lanthier: Steiner points on the edges\n"
     "and faces of the tetrahedra, joined through each tetrahedron (--steiner M points per edge,\n"
-    "1..16, required; docs/steiner.md).\n"
+    "1..16, required; docs/steiner.md). --no-memory-check: run even when the estimate of the\n"
+    "memory needed exceeds the memory available.\n"
     "\n"
     "Output:\n"
     "  -o, --output FILE       .vtk (legacy VTK), .vtu (VTK XML) or .csv (vertex,distance with\n"
     "                          the input's vertex numbers). VTK files hold the mesh with the point\n"
     "                          arrays \"distance\" and \"vertex_number\". Written atomically.\n"
-    "                          Or .nii, .nii.gz, .nrrd, .nhdr with --reference: the distance\n"
+    "                          Or .nii, .nii.gz, .nrrd, .nhdr, .mif with --reference: the distance\n"
     "                          resampled onto the reference's grid (float32; linear inside each\n"
     "                          tetrahedron; voxels outside the mesh hold the unreachable value).\n"
     "  --reference IMAGE       scalar image (e.g. an FA map or a label image) whose grid an image\n"
@@ -88,7 +93,7 @@ const char* kTetDistanceHelp =
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
     "mesh or tensors (bad counts, indices out of range, inverted or degenerate tetrahedra);\n"
     "4 nothing to compute (seed out of range, outside the mesh or the domain); 5 output cannot\n"
-    "be written.\n";
+    "be written; 6 not enough memory for the run (--no-memory-check runs anyway).\n";
 
 /// --method, --steiner, --k and --chain-measure as in geodesic_options, with
 /// the tool's defaults (no --stencil).
@@ -104,7 +109,7 @@ struct TetDistanceOptions : PropagationChoice {
   std::string outsideImage = "error";
   double maxDistance = std::numeric_limits<double>::infinity();
   TensorInputOptions tensor;
-  double unreachableValue = kFrontEndUnreachableValue;
+  double unreachableValue = kDefaultUnreachableValue;
   std::string reference;
   bool quiet = false;
 };
@@ -160,7 +165,7 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
       o.reference = args.value(a);
     } else if (a == "--unreachable-value") {
       const std::string v = args.value(a);
-      o.unreachableValue = v == "nan" ? std::numeric_limits<double>::quiet_NaN() : parseNumber(a, v);
+      o.unreachableValue = parseUnreachableValue(a, v);
     } else if (a == "-q" || a == "--quiet") {
       args.noValue(a);
       o.quiet = true;
@@ -177,6 +182,7 @@ TetDistanceOptions parseOptions(int argc, char** argv) {
   checkMeshPropagationChoice(o, "tetrahedron edge", 2);
   tetmesh::TetMeshOutputFormat format;
   if (imaging::hasImageExtension(o.output)) {
+    checkImageOutputSpelling(o.output);
     if (o.reference.empty())
       usageError("-o " + o.output + ": an image output needs --reference IMAGE to take its grid from");
   } else if (!tetmesh::outputFormatOf(o.output, format)) {
@@ -255,9 +261,8 @@ VertexTensors tensorsFromAttributes(const TetDistanceOptions& o, const tetmesh::
 
 VertexTensors tensorsFromImage(const TetDistanceOptions& o, const tetmesh::TetMesh& mesh) {
   VertexTensors out;
-  const TensorInput input = readTensorInput(o.tensors, o.tensor);
-  const imaging::MetricFromTensors built =
-      imaging::buildMetric(input.read.volume.tensors, input.mask, o.tensor.metric);
+  const TensorInput input = readTensorInputNotingWarnings(o.tensors, o.tensor);
+  const imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.tensors, input, o.tensor);
   std::vector<Vec3d> lps(mesh.points);
   if (!o.lps)
     for (Vec3d& p : lps) p = {-p.x, -p.y, p.z};
@@ -285,6 +290,11 @@ VertexTensors tensorsFromImage(const TetDistanceOptions& o, const tetmesh::TetMe
 
 }  // namespace
 
+std::string tetMeshOptionsHelp() {
+  const std::string help = kTetDistanceHelp;
+  return help.substr(help.find("Seeds ("));
+}
+
 bool isTetMeshInput(const std::string& input) {
   auto ends = [&](const char* suffix) {
     const std::size_t n = std::char_traits<char>::length(suffix);
@@ -296,11 +306,16 @@ bool isTetMeshInput(const std::string& input) {
 int runTetMeshDistance(int argc, char** argv) {
   const Clock::time_point start = Clock::now();
   const TetDistanceOptions o = parseOptions(argc, argv);
-  try {
-    imaging::checkOutputPath(o.output);
-  } catch (const imaging::ImageIoError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  RunFiles files;
+  files.inputTetMesh("mesh", o.input);
+  if (o.tensors != "node" && o.tensors != "ele") files.inputImage("tensor image", o.tensors);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("reference image", o.reference);
+  if (o.reference.empty())
+    files.outputFile("distance output", o.output);
+  else
+    files.outputImage("distance output", o.output);
+  files.check();
 
   const std::string base = tetmesh::tetGenBaseName(o.input);
   const std::string nodeFile = base + ".node", eleFile = base + ".ele";
@@ -319,6 +334,7 @@ int runTetMeshDistance(int argc, char** argv) {
     } catch (const imaging::ImageIoError& e) {
       throw ToolError(kExitInput, e.what());
     }
+    noteInputWarnings(o.reference, reference.warnings);
   }
 
   // The metric per vertex and the vertices in the domain.
@@ -405,6 +421,20 @@ int runTetMeshDistance(int argc, char** argv) {
   std::sort(sources.begin(), sources.end());
   sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
 
+  {
+    // The renumbered copies, the domain's edges (built from six per
+    // tetrahedron), the propagation or the Steiner graph (at most six
+    // edges and four faces per tetrahedron carry points) and the output.
+    const std::uint64_t v = points.size(), t = tets.size(), m = static_cast<std::uint64_t>(o.steinerPoints);
+    constexpr std::uint64_t kMeshBytesPerVertex = 24 + 64, kDomainBytesPerTet = 16 + 160, kCellBytesPerTet = 160;
+    const std::uint64_t needed =
+        kMeshBytesPerVertex * v + kDomainBytesPerTet * t +
+        (o.lanthier ? kCellBytesPerTet * t + steinerMemoryEstimate(v + 6 * m * t + 2 * m * (m - 1) * t, v)
+                    : propagationMemoryEstimate(v, v));
+    checkMemory(o.input, needed, withThousands(v) + " vertices and " + withThousands(t) + " tetrahedra",
+                !o.memoryCheck);
+  }
+
   const double setupSeconds = secondsSince(start);
   const Clock::time_point propagationStart = Clock::now();
   const tetmesh::TetMeshPropagation propagation = tetmesh::propagateOverTetrahedra(
@@ -426,23 +456,19 @@ int runTetMeshDistance(int argc, char** argv) {
     }
   }
   tetmesh::TetMeshOutputFormat format;
-  if (!o.reference.empty()) {
-    const std::vector<double> resampled = tetmesh::resampleOntoGrid(
-        mesh, result.distance, reference.geometry, o.lps ? tetmesh::MeshFrame::Lps : tetmesh::MeshFrame::Ras,
-        o.unreachableValue);
-    try {
+  try {
+    if (!o.reference.empty()) {
+      const std::vector<double> resampled = tetmesh::resampleOntoGrid(
+          mesh, result.distance, reference.geometry, o.lps ? tetmesh::MeshFrame::Lps : tetmesh::MeshFrame::Ras,
+          o.unreachableValue);
       imaging::writeScalarImage(o.output, reference.geometry, std::vector<float>(resampled.begin(), resampled.end()));
-    } catch (const imaging::ImageIoError& e) {
-      throw ToolError(kExitOutput, e.what());
+    } else if (tetmesh::outputFormatOf(o.output, format)) {
+      files::writeAtomically(o.output, [&](const std::string& staging) {
+        tetmesh::writeTetMeshOutput(staging, format, mesh, {{"distance", std::move(values)}});
+      });
     }
-  } else if (tetmesh::outputFormatOf(o.output, format)) {
-    try {
-      imaging::AtomicOutput output(o.output);
-      tetmesh::writeTetMeshOutput(output.stagingPath(), format, mesh, {{"distance", std::move(values)}});
-      output.commit();
-    } catch (const std::runtime_error& e) {
-      throw ToolError(kExitOutput, e.what());
-    }
+  } catch (const std::runtime_error& e) {  // files::OutputError, imaging::ImageIoError
+    throw ToolError(kExitOutput, e.what());
   }
 
   if (!o.quiet) {
@@ -453,9 +479,11 @@ int runTetMeshDistance(int argc, char** argv) {
       << "Metric: " << vt.description << ".\n"
       << (o.lanthier ? "Lanthier Steiner points, M = " + std::to_string(o.steinerPoints) + " per edge"
           : o.method == Method::Dijkstra ? std::string("Dijkstra")
-                                       : "STVD k = " + std::to_string(o.k) + " (" +
-                                             (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? "largest edge norm"
-                                                                                              : "projection-weighted") +
+                                       : "STVD k = " + std::to_string(memoryDepthOf<CellMeshDomain>(o)) + " (" +
+                                             // the segment measure needs a domain that measures along
+                                             // paths; a cell mesh takes the largest edge norm for it
+                                             (o.chainMeasure == ChainMeasure::ProjectionWeighted ? "projection-weighted"
+                                                                                                 : "largest edge norm") +
                                              ")")
       << " from " << sources.size() << " seed vertex" << (sources.size() == 1 ? "" : "es") << ": reached "
       << withThousands(reached) << " of " << withThousands(mesh.vertexCount()) << " vertices, farthest "

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "command_line.hpp"
+#include "stvd/files/termination_signals.hpp"
 #include "tet_mesh_commands.hpp"
 
 extern char** environ;
@@ -41,18 +42,36 @@ int runTetrahedralize(int argc, char** argv) {
   for (int i = 2; i < argc; ++i) childArgv.push_back(argv[i]);
   childArgv.push_back(nullptr);
 
+  // This process blocks the termination signals for the thread that waits
+  // for them (files/termination_signals.hpp); the child starts with none
+  // blocked and handles them itself.
+  posix_spawnattr_t attributes;
+  ::posix_spawnattr_init(&attributes);
+  sigset_t none, termination;
+  sigemptyset(&none);
+  files::handledTerminationSignals(termination);
+  ::posix_spawnattr_setsigmask(&attributes, &none);
+  ::posix_spawnattr_setsigdefault(&attributes, &termination);
+  ::posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
   pid_t child = 0;
-  const int spawned = ::posix_spawn(&child, helper.c_str(), nullptr, nullptr, childArgv.data(), environ);
+  const int spawned = ::posix_spawn(&child, helper.c_str(), nullptr, &attributes, childArgv.data(), environ);
+  ::posix_spawnattr_destroy(&attributes);
   if (spawned != 0)
     throw ToolError(kExitInternal, "tetrahedralize: cannot run " + helper + ": " + std::strerror(spawned));
   int status = 0;
-  while (::waitpid(child, &status, 0) < 0) {
-    if (errno != EINTR) throw ToolError(kExitInternal, "tetrahedralize: lost the child process: " + std::string(std::strerror(errno)));
+  {
+    const files::ChildProcessGuard stopWithUs(child);
+    while (::waitpid(child, &status, 0) < 0) {
+      if (errno != EINTR) throw ToolError(kExitInternal, "tetrahedralize: lost the child process: " + std::string(std::strerror(errno)));
+    }
   }
   if (WIFEXITED(status)) {
     // The child already printed its one-line message; pass its code on.
     return WEXITSTATUS(status);
   }
+  // Told to stop (Ctrl-C reaches the whole process group): the child has
+  // removed what it staged; end the same way.
+  if (WIFSIGNALED(status) && sigismember(&termination, WTERMSIG(status))) files::endBySignal(WTERMSIG(status));
   if (WIFSIGNALED(status))
     throw ToolError(kExitInput, "tetrahedralize: TetGen crashed (" + signalName(WTERMSIG(status)) +
                                        "); the surface is probably degenerate or self-intersecting. "

@@ -349,13 +349,17 @@ double interpolateAtPoint(const VoxelGridDomain& domain, const std::vector<float
   CellSample cell;
   if (!locate(domain, domain.geometry().physicalPointToIndex(point), cell))
     return std::numeric_limits<double>::quiet_NaN();
-  double sum = 0.0;
+  // Corners outside the domain hold no value (a voxel outside a brain mask
+  // has no FA), so the weights are renormalised over the corners inside it:
+  // a path point next to the domain's edge, or a voxel centre whose
+  // neighbours get weights of 1e-16 from rounding, keeps a value.
+  double sum = 0.0, total = 0.0;
   for (int n = 0; n < 8; ++n) {
-    if (cell.weight[n] <= 0.0) continue;
-    if (!domain.contains(cell.corner[n])) return std::numeric_limits<double>::quiet_NaN();
+    if (cell.weight[n] <= 0.0 || !domain.contains(cell.corner[n])) continue;
     sum += cell.weight[n] * values[cell.corner[n]];
+    total += cell.weight[n];
   }
-  return sum;
+  return total > 0.0 ? sum / total : std::numeric_limits<double>::quiet_NaN();
 }
 
 TracedPath discreteGeodesicPath(const VoxelGridDomain& domain, const PropagationResult& result, VertexId target) {

@@ -5,23 +5,19 @@
 #include <stdexcept>
 
 #include "stvd/front_end_errors.hpp"
-#include "stvd/number_text.hpp"
 
 namespace stvd {
 
-std::vector<LabelRegion> labelRegions(const std::string& labelsName, const std::vector<float>& labels,
+std::vector<LabelRegion> labelRegions(const std::vector<std::int64_t>& labels,
                                       const std::vector<std::uint8_t>& inDomain) {
   if (labels.size() != inDomain.size())
     throw std::invalid_argument("the labels have " + std::to_string(labels.size()) + " voxels, the domain " +
                                 std::to_string(inDomain.size()));
-  std::map<long, LabelRegion> byLabel;
+  std::map<std::int64_t, LabelRegion> byLabel;
   for (std::size_t v = 0; v < labels.size(); ++v) {
-    const float value = labels[v];
-    if (value == 0.f || std::isnan(value)) continue;
-    if (value != std::round(value))
-      throw InputError(labelsName + ": label value " + text::fixed(value, 3) + " is not an integer");
-    LabelRegion& r = byLabel[std::lround(value)];
-    r.label = std::lround(value);
+    if (labels[v] == 0) continue;
+    LabelRegion& r = byLabel[labels[v]];
+    r.label = labels[v];
     if (inDomain[v]) r.voxels.push_back(static_cast<VertexId>(v));
   }
   std::vector<LabelRegion> regions;

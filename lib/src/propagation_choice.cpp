@@ -1,5 +1,8 @@
 #include "stvd/propagation_choice.hpp"
 
+#include <cmath>
+#include <limits>
+
 #include "stvd/stencil.hpp"
 #include "stvd/steiner_propagation.hpp"
 
@@ -23,18 +26,19 @@ void setSteinerPoints(PropagationChoice& o, int points) {
 
 void setMemoryDepth(PropagationChoice& o, int k) {
   o.k = k;
-  o.kGiven = true;
-  if (o.k < 1 || o.k > kMaxMemoryDepth)
+  if (k < 1 || k > kMaxMemoryDepth)
     throw OptionError("--k must be between 1 and " + std::to_string(kMaxMemoryDepth));
 }
 
 void setChainMeasure(PropagationChoice& o, const std::string& m) {
-  if (m == "projection")
+  if (m == "segment")
+    o.chainMeasure = ChainMeasure::Segment;
+  else if (m == "projection")
     o.chainMeasure = ChainMeasure::ProjectionWeighted;
   else if (m == "largest")
     o.chainMeasure = ChainMeasure::LargestEdgeNorm;
   else
-    throw OptionError("--chain-measure: '" + m + "' is not one of projection, largest");
+    throw OptionError("--chain-measure: '" + m + "' is not one of segment, projection, largest");
   o.chainMeasureGiven = true;
 }
 
@@ -56,7 +60,7 @@ namespace {
 void checkCommonChoice(const PropagationChoice& o, bool stvdOnly, const std::string& cellEdge,
                        int suggestedSteinerPoints) {
   const bool refuseStvdOptions = stvdOnly ? (o.lanthier || o.method != Method::ShortTermVectorDijkstra) : o.lanthier;
-  if (o.kGiven && refuseStvdOptions) throw OptionError("--k applies to --method stvd only");
+  if (o.k && refuseStvdOptions) throw OptionError("--k applies to --method stvd only");
   if (o.chainMeasureGiven && refuseStvdOptions) throw OptionError("--chain-measure applies to --method stvd only");
   if (o.lanthier && o.steinerPoints == 0)
     throw OptionError("--method lanthier needs --steiner M, the Steiner points per " + cellEdge + " (1.." +
@@ -81,26 +85,28 @@ void checkMeshPropagationChoice(const PropagationChoice& o, const std::string& c
 PropagationOptions propagationOptions(const PropagationChoice& o) {
   PropagationOptions options;
   options.method = o.method;
-  options.k = o.method == Method::Dijkstra ? 1 : o.k;
+  options.k = o.method == Method::Dijkstra ? std::optional<int>(1) : o.k;
   options.chainMeasure = o.chainMeasure;
   return options;
 }
 
-std::string methodText(const PropagationChoice& o) {
+std::string methodText(const PropagationChoice& o, int k) {
   if (o.lanthier)
     return "Lanthier Steiner-point propagation with M = " + std::to_string(o.steinerPoints) + " points per cube edge";
   if (o.method == Method::Dijkstra) return "Dijkstra";
-  return "STVD with k = " + std::to_string(o.k) +
-         (o.chainMeasure == ChainMeasure::LargestEdgeNorm ? " (largest-norm chain measure)"
-                                                          : " (projection chain measure)");
+  const char* measure = o.chainMeasure == ChainMeasure::Segment            ? " (segment measure)"
+                        : o.chainMeasure == ChainMeasure::LargestEdgeNorm ? " (largest-norm chain measure)"
+                                                                          : " (projection chain measure)";
+  return "STVD with k = " + std::to_string(k) + measure;
 }
 
 std::string methodName(const PropagationChoice& o) {
   return o.lanthier ? "lanthier" : o.method == Method::Dijkstra ? "dijkstra" : "stvd";
 }
 
-std::string chainMeasureName(ChainMeasure measure) {
-  return measure == ChainMeasure::LargestEdgeNorm ? "largest" : "projection";
+void checkUnreachableValue(double value, const std::string& given) {
+  if (!std::isnan(value) && !(std::abs(value) <= std::numeric_limits<float>::max()))
+    throw OptionError("--unreachable-value: '" + given + "' does not fit in a float32 map (magnitude at most 3.4e38)");
 }
 
 }  // namespace stvd

@@ -22,7 +22,7 @@ GridSteinerCells::GridSteinerCells(const VoxelGridDomain& domain, int steinerPoi
     if (g.size[a] < 2)
       throw std::invalid_argument("Steiner propagation needs at least 2 voxels along every grid axis (axis " +
                                   std::to_string(a) + " has " + std::to_string(g.size[a]) + ")");
-  const std::uint64_t slots = 1 + 3 * std::uint64_t(m_) + 3 * std::uint64_t(m_) * m_;
+  const std::uint64_t slots = steinerGridPointCount(1, m_);
   if (domain.domainVertexCount() < domain.vertexCount()) {
     numberOfVoxel_.assign(domain.vertexCount(), kNoVertex);
     voxelOfNumber_.reserve(domain.domainVertexCount());
@@ -383,5 +383,15 @@ template SteinerPropagationResult steinerPropagate(const TetrahedralCells&, cons
                                                    const std::vector<VertexId>&, const SteinerOptions&);
 template SteinerPropagationResult steinerPropagate(const TetrahedralCells&, const RandersMetric&,
                                                    const std::vector<VertexId>&, const SteinerOptions&);
+
+std::uint64_t steinerGridPointCount(std::uint64_t domainVoxelCount, int steinerPoints) {
+  const std::uint64_t m = static_cast<std::uint64_t>(steinerPoints);
+  return (1 + 3 * m + 3 * m * m) * domainVoxelCount;
+}
+
+std::uint64_t steinerMemoryEstimate(std::uint64_t graphPoints, std::uint64_t vertexCount) {
+  constexpr std::uint64_t kPerPoint = 24, kResult = sizeof(double) + sizeof(VertexId);
+  return kPerPoint * graphPoints + kResult * vertexCount + (std::uint64_t{1} << 20);
+}
 
 }  // namespace stvd

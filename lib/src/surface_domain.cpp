@@ -218,12 +218,14 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
       ringNeighbor_.push_back(nextOf(c));
       angles.push_back(angle);
       const double alpha = cornerAngle(c);
+      ringCorner_.push_back({std::cos(alpha), std::sin(alpha), 0.0, nextOf(c), cornerFace[c]});
       angle += alpha;
       normal = normal + alpha * faceNormal[cornerFace[c]];
       const std::int64_t following = cornerOfHalfEdge(v, prevOf(c));
       if (following < 0) {  // boundary: the fan ends with the edge to prev
         ringNeighbor_.push_back(prevOf(c));
         angles.push_back(angle);
+        ringCorner_.push_back({1.0, 0.0, 0.0, prevOf(c), kNoFace});
         break;
       }
       c = static_cast<std::uint32_t>(following);
@@ -251,13 +253,12 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
   for (VertexId v = 0; v < n; ++v)
     for (std::uint32_t i = ringStart_[v]; i < ringStart_[v + 1]; ++i) {
       ringLength_[i] = norm(points_[ringNeighbor_[i]] - points_[v]);
+      ringCorner_[i].length = ringLength_[i];
       ringDirectionX_[i] = std::cos(static_cast<double>(ringAngle_[i]));
       ringDirectionY_[i] = std::sin(static_cast<double>(ringAngle_[i]));
       ringEdgeX_[i] = static_cast<float>(ringLength_[i] * ringDirectionX_[i]);
       ringEdgeY_[i] = static_cast<float>(ringLength_[i] * ringDirectionY_[i]);
     }
-  unitNormals_.resize(n);
-  for (VertexId v = 0; v < n; ++v) unitNormals_[v] = toFloat(normals_[v]);
 
   // Components through edges.
   component_.assign(n, kNoVertex);
@@ -279,6 +280,64 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
     }
     ++componentCount_;
   }
+}
+
+std::vector<SymTensor3> SurfaceDomain::faceTensors(const RiemannianMetric& metric) const {
+  std::vector<SymTensor3> tensor(faces_.faceCount());
+  for (std::size_t f = 0; f < faces_.faceCount(); ++f) {
+    double sum[6] = {0, 0, 0, 0, 0, 0};
+    const std::uint32_t begin = faces_.faceStart[f], end = faces_.faceStart[f + 1];
+    for (std::uint32_t c = begin; c < end; ++c) {
+      const SymTensor3& g = metric[faces_.faceVertex[c]];
+      const float component[6] = {g.xx, g.xy, g.xz, g.yy, g.yz, g.zz};
+      for (int k = 0; k < 6; ++k) sum[k] += component[k];
+    }
+    const double w = 1.0 / (end - begin);
+    tensor[f] = SymTensor3{float(w * sum[0]), float(w * sum[1]), float(w * sum[2]),
+                           float(w * sum[3]), float(w * sum[4]), float(w * sum[5])};
+  }
+  return tensor;
+}
+
+std::vector<float> SurfaceDomain::edgeTensors(const RiemannianMetric& metric, EdgeTensorRule rule) const {
+  const std::vector<SymTensor3> face =
+      rule == EdgeTensorRule::CheaperFace ? faceTensors(metric) : std::vector<SymTensor3>();
+  auto unit = [](Vec3f v) {
+    const float n2 = dot(v, v);
+    return n2 > 0.f ? (1.f / std::sqrt(n2)) * v : Vec3f{};
+  };
+  std::vector<Vec3f> normal(points_.size());
+  for (std::size_t v = 0; v < points_.size(); ++v) normal[v] = toFloat(normals_[v]);
+  std::vector<float> tensor(3 * ringNeighbor_.size());
+  for (VertexId v = 0; v < vertexCount(); ++v) {
+    const std::uint32_t begin = ringStart_[v], end = ringStart_[v + 1];
+    for (std::uint32_t i = begin; i < end; ++i) {
+      // Single precision, as the chain rules always measured: the same
+      // expression whichever way the edge is walked, so both directions get
+      // the same bits.
+      const VertexId w = ringNeighbor_[i];
+      const Vec3f d = unit(toFloat(points_[w] - points_[v]));
+      const Vec3f nE = unit(normal[v] + normal[w]);
+      const Vec3f p = unit(Vec3f{nE.y * d.z - nE.z * d.y, nE.z * d.x - nE.x * d.z, nE.x * d.y - nE.y * d.x});
+      SymTensor3 g = RiemannianNorm::edgeParams(metric[v], metric[w]);
+      if (rule == EdgeTensorRule::CheaperFace) {
+        // The faces on either side: the one after entry i and the one
+        // before it (around a full ring, the last entry's; at the start of
+        // a boundary fan that entry has none).
+        const std::uint32_t before = i > begin ? i - 1 : end - 1;
+        const std::uint32_t after = ringCorner_[i].face, other = ringCorner_[before].face;
+        const std::uint32_t first = after != kNoFace ? after : other;
+        g = face[first];
+        if (after != kNoFace && other != kNoFace && face[other].quadraticForm(d) < g.quadraticForm(d))
+          g = face[other];
+      }
+      const Vec3f gd = g.apply(d);
+      tensor[3 * i] = dot(d, gd);
+      tensor[3 * i + 1] = dot(p, gd);
+      tensor[3 * i + 2] = g.quadraticForm(p);
+    }
+  }
+  return tensor;
 }
 
 }  // namespace stvd

@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <sstream>
+#include <type_traits>
+
+#include "stvd/itk/label_values.hpp"
 
 namespace stvd::python {
 
@@ -47,8 +50,10 @@ void requireFloatingPoint(const py::array& array, const std::string& name) {
 
 namespace {
 
-template <class T>
-void copyVoxels(const py::array& array, std::vector<float>& out) {
+/// out[v] = convert(element, v) for the elements of a 3D array in the
+/// library's voxel order, through the array's strides, without the GIL.
+template <class T, class Out, class Convert>
+void copyVoxels(const py::array& array, std::vector<Out>& out, Convert convert) {
   const T* data = static_cast<const T*>(array.data());
   const py::ssize_t s0 = array.strides(0) / array.itemsize(), s1 = array.strides(1) / array.itemsize(),
                     s2 = array.strides(2) / array.itemsize();
@@ -57,26 +62,48 @@ void copyVoxels(const py::array& array, std::vector<float>& out) {
   std::size_t v = 0;
   for (py::ssize_t k = 0; k < n2; ++k)
     for (py::ssize_t j = 0; j < n1; ++j)
-      for (py::ssize_t i = 0; i < n0; ++i, ++v) out[v] = static_cast<float>(data[i * s0 + j * s1 + k * s2]);
+      for (py::ssize_t i = 0; i < n0; ++i, ++v) out[v] = convert(data[i * s0 + j * s1 + k * s2], v);
+}
+
+/// Calls f(T{}) with T the element type of a numeric array.
+template <class F>
+void withElementType(const py::array& array, F&& f) {
+  const char kind = array.dtype().kind();
+  const auto size = array.itemsize();
+  if (kind == 'f')
+    size == 4 ? f(float{}) : f(double{});
+  else if (kind == 'b' || (kind == 'u' && size == 1))
+    f(std::uint8_t{});
+  else if (kind == 'u')
+    size == 2 ? f(std::uint16_t{}) : size == 4 ? f(std::uint32_t{}) : f(std::uint64_t{});
+  else
+    size == 1 ? f(std::int8_t{}) : size == 2 ? f(std::int16_t{}) : size == 4 ? f(std::int32_t{}) : f(std::int64_t{});
 }
 
 }  // namespace
 
 std::vector<float> voxelValues(const py::array& array) {
   std::vector<float> out(static_cast<std::size_t>(array.size()));
-  const char kind = array.dtype().kind();
-  const auto size = array.itemsize();
-  if (kind == 'f')
-    size == 4 ? copyVoxels<float>(array, out) : copyVoxels<double>(array, out);
-  else if (kind == 'b' || (kind == 'u' && size == 1))
-    copyVoxels<std::uint8_t>(array, out);
-  else if (kind == 'u')
-    size == 2 ? copyVoxels<std::uint16_t>(array, out)
-              : size == 4 ? copyVoxels<std::uint32_t>(array, out) : copyVoxels<std::uint64_t>(array, out);
-  else
-    size == 1 ? copyVoxels<std::int8_t>(array, out)
-              : size == 2 ? copyVoxels<std::int16_t>(array, out)
-                          : size == 4 ? copyVoxels<std::int32_t>(array, out) : copyVoxels<std::int64_t>(array, out);
+  withElementType(array, [&](auto type) {
+    using T = decltype(type);
+    copyVoxels<T>(array, out, [](T x, std::size_t) { return static_cast<float>(x); });
+  });
+  return out;
+}
+
+std::vector<std::int64_t> voxelLabels(const py::array& array, const std::string& name, const GridGeometry& geometry) {
+  std::vector<std::int64_t> out(static_cast<std::size_t>(array.size()));
+  withElementType(array, [&](auto type) {
+    using T = decltype(type);
+    copyVoxels<T>(array, out, [&](T x, std::size_t v) -> std::int64_t {
+      if constexpr (std::is_floating_point_v<T>)
+        return imaging::labelOfReal(static_cast<double>(x), name, geometry, v);
+      else if constexpr (std::is_same_v<T, std::uint64_t>)
+        return imaging::labelOfUnsigned64(x, name, geometry, v);
+      else
+        return static_cast<std::int64_t>(x);
+    });
+  });
   return out;
 }
 

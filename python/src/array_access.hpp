@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "stvd/grid_geometry.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd::python {
@@ -68,6 +69,12 @@ decltype(auto) withFloatView(const py::array& array, F&& f) {
 /// library's voxel order (linear index i + nx*(j + ny*k)). Releases the GIL
 /// while it copies.
 std::vector<float> voxelValues(const py::array& array);
+
+/// The values of a 3D numeric array as labels, by the rules of the label
+/// image reader (stvd/itk/label_values.hpp): integers exactly, floating-point
+/// values only when they are integers (NaN: no label). ImageIoError naming
+/// `name` and the voxel of `geometry` otherwise. Releases the GIL.
+std::vector<std::int64_t> voxelLabels(const py::array& array, const std::string& name, const GridGeometry& geometry);
 
 /// An (N, 3) float array as points (any float or integer type).
 std::vector<Vec3d> pointRows(const py::handle& object, const std::string& name);

@@ -10,5 +10,7 @@ namespace stvd::python {
 void bindVolumes(pybind11::module_& m);
 /// tet_mesh_propagate and surface_propagate.
 void bindMeshes(pybind11::module_& m);
+/// RunFiles and OutputTransaction: what a call writes, checked and atomic.
+void bindFiles(pybind11::module_& m);
 
 }  // namespace stvd::python

@@ -217,7 +217,7 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
                           const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
                           const std::optional<int>& steiner, const std::optional<double>& maxDistance,
                           const py::object& progress) {
-  const PropagationChoice choice = choiceOf(method, k, chainMeasure, std::nullopt, steiner, kSurfaceChainMeasure);
+  const PropagationChoice choice = choiceOf(method, k, chainMeasure, std::nullopt, steiner);
   checkMeshPropagationChoice(choice, "face edge", 4);
   const double limit = maxDistanceOf(maxDistance);
   std::vector<Vec3d> points = pointRows(verticesObject, "vertices");

@@ -2,20 +2,26 @@
 // Python exceptions, and the bindings of volumes and meshes. The public API
 // is the pure-Python package around it (python/stvd/).
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
 #include "bindings.hpp"
+#include "stvd/cell_mesh_domain.hpp"
 #include "stvd/geodesic_path.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/tensor_input.hpp"
 #include "stvd/propagation_choice.hpp"
 #include "stvd/steiner_propagation.hpp"
+#include "stvd/surface_domain.hpp"
+#include "stvd/voxel_grid_domain.hpp"
 
 namespace py = pybind11;
 
 namespace {
 
 /// Every default the Python API has, from the library's own constants and
-/// default-constructed options, so that the package follows the library.
+/// default-constructed options, so that the package follows the library:
+/// the k a propagation runs with when none is given is its kind of
+/// domain's (defaultMemoryDepth), as in the tool.
 py::dict defaults() {
   using namespace stvd;
   const PropagationChoice choice;
@@ -23,14 +29,19 @@ py::dict defaults() {
   const PathTracingOptions tracing;
   py::dict d;
   d["method"] = methodName(choice);
-  d["k"] = choice.k;
+  d["k"] = memoryDepthOf<VoxelGridDomain>(choice);
+  d["surface_k"] = memoryDepthOf<SurfaceDomain>(choice);
+  d["tet_mesh_k"] = memoryDepthOf<CellMeshDomain>(choice);
   d["chain_measure"] = chainMeasureName(choice.chainMeasure);
-  d["surface_chain_measure"] = chainMeasureName(kSurfaceChainMeasure);
+  // One chain measure for every kind of domain; the key stays for scripts
+  // written when surfaces had their own.
+  d["surface_chain_measure"] = chainMeasureName(choice.chainMeasure);
   d["stencil"] = choice.stencil;
   d["tensor_kind"] = imaging::tensorKindName(tensor.metric.kind);
   d["diffusion_metric"] = imaging::diffusionMetricName(tensor.metric.diffusionMetric);
   d["max_anisotropy"] = tensor.metric.maxAnisotropy;
-  d["unreachable_value"] = kFrontEndUnreachableValue;
+  d["accept_implausible_tensors"] = tensor.acceptImplausible;
+  d["unreachable_value"] = kDefaultUnreachableValue;
   d["step"] = tracing.stepFraction;
   d["smooth"] = tracing.smoothingPasses;
   d["refine"] = tracing.refine;
@@ -59,6 +70,7 @@ PYBIND11_MODULE(_core, m) {
     }
   });
 
+  stvd::python::bindFiles(m);
   stvd::python::bindVolumes(m);
   stvd::python::bindMeshes(m);
 }

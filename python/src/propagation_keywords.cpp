@@ -6,9 +6,8 @@ namespace stvd::python {
 
 PropagationChoice choiceOf(const std::optional<std::string>& method, const std::optional<int>& k,
                            const std::optional<std::string>& chainMeasure, const std::optional<std::string>& stencil,
-                           const std::optional<int>& steiner, ChainMeasure defaultMeasure) {
+                           const std::optional<int>& steiner) {
   PropagationChoice choice;
-  choice.chainMeasure = defaultMeasure;
   if (method) setMethod(choice, *method);
   if (steiner) setSteinerPoints(choice, *steiner);
   if (k) setMemoryDepth(choice, *k);

@@ -10,12 +10,11 @@
 
 namespace stvd::python {
 
-/// The choice from the keywords; None keeps the default (`defaultMeasure`
-/// for the chain measure: the front ends' own, or the surfaces').
+/// The choice from the keywords; None keeps the library's default (k: the
+/// default of the kind of domain the choice runs on).
 PropagationChoice choiceOf(const std::optional<std::string>& method, const std::optional<int>& k,
                            const std::optional<std::string>& chainMeasure, const std::optional<std::string>& stencil,
-                           const std::optional<int>& steiner,
-                           ChainMeasure defaultMeasure = PropagationChoice{}.chainMeasure);
+                           const std::optional<int>& steiner);
 
 /// max_distance: infinity for None; OptionError unless positive.
 double maxDistanceOf(const std::optional<double>& maxDistance);

@@ -22,8 +22,9 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
                                           const std::optional<std::string>& kind,
                                           const std::optional<std::string>& diffusionMetric,
                                           const std::optional<double>& maxAnisotropy,
-                                          const std::optional<double>& faThreshold) {
+                                          const std::optional<double>& faThreshold, bool acceptImplausible) {
   imaging::TensorInputOptions o;
+  o.acceptImplausible = acceptImplausible;
   if (order) imaging::setTensorOrder(o, *order);
   if (frame) imaging::setTensorFrame(o, *frame);
   if (kind) imaging::setTensorKind(o, *kind);
@@ -38,33 +39,58 @@ std::string scalarImageName(const py::handle& spec) {
   return py::isinstance<py::str>(spec) ? spec.cast<std::string>() : spec.cast<py::tuple>()[3].cast<std::string>();
 }
 
-imaging::ScalarImage scalarImageOf(const py::handle& spec, const GridGeometry& grid) {
-  const std::string name = scalarImageName(spec);
-  if (py::isinstance<py::str>(spec)) {
-    const std::string path = spec.cast<std::string>();
-    py::gil_scoped_release release;
-    return imaging::readScalarImage(path);
-  }
-  const py::tuple given = spec.cast<py::tuple>();
-  const py::array values = numericArray(given[0], name);
+namespace {
+
+/// The grid of an image given as a tuple (array, affine or None, zooms or
+/// None, name): the affine's, or `grid` with the array's size when there is
+/// none (reported as another grid when the sizes differ).
+GridGeometry arrayGeometry(const py::tuple& given, const py::array& values, const GridGeometry& grid,
+                           const std::string& name) {
   requireDimensions(values, 3, name, "(X, Y, Z)");
   const std::array<std::size_t, 3> size{static_cast<std::size_t>(values.shape(0)),
                                         static_cast<std::size_t>(values.shape(1)),
                                         static_cast<std::size_t>(values.shape(2))};
-  imaging::ScalarImage image;
   if (given[1].is_none()) {
-    image.geometry = grid;
-    image.geometry.size = size;
-  } else {
-    std::optional<std::array<double, 3>> zooms;
-    if (!given[2].is_none()) zooms = given[2].cast<std::array<double, 3>>();
-    try {
-      image.geometry = imaging::gridGeometryFromRasAffine(affineOf(given[1], name + " affine"), size, zooms);
-    } catch (const std::invalid_argument& e) {
-      throw py::value_error(name + ": " + e.what());
-    }
+    GridGeometry g = grid;
+    g.size = size;
+    return g;
   }
+  std::optional<std::array<double, 3>> zooms;
+  if (!given[2].is_none()) zooms = given[2].cast<std::array<double, 3>>();
+  try {
+    return imaging::gridGeometryFromRasAffine(affineOf(given[1], name + " affine"), size, zooms);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(name + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+imaging::ScalarImage scalarImageOf(const py::handle& spec, const GridGeometry& grid) {
+  const std::string name = scalarImageName(spec);
+  if (py::isinstance<py::str>(spec)) {
+    py::gil_scoped_release release;
+    return imaging::readScalarImage(name);
+  }
+  const py::tuple given = spec.cast<py::tuple>();
+  const py::array values = numericArray(given[0], name);
+  imaging::ScalarImage image;
+  image.geometry = arrayGeometry(given, values, grid, name);
   image.values = voxelValues(values);
+  return image;
+}
+
+imaging::LabelImage labelImageOf(const py::handle& spec, const GridGeometry& grid) {
+  const std::string name = scalarImageName(spec);
+  if (py::isinstance<py::str>(spec)) {
+    py::gil_scoped_release release;
+    return imaging::readLabelImage(name);
+  }
+  const py::tuple given = spec.cast<py::tuple>();
+  const py::array values = numericArray(given[0], name);
+  imaging::LabelImage image;
+  image.geometry = arrayGeometry(given, values, grid, name);
+  image.labels = voxelLabels(values, name, image.geometry);
   return image;
 }
 
@@ -100,8 +126,7 @@ std::shared_ptr<TensorField> finishField(std::shared_ptr<TensorField> field, con
   if (!mask.is_none())
     imaging::addMask(field->input, scalarImageOf(mask, field->geometry()), scalarImageName(mask), field->name);
   py::gil_scoped_release release;
-  imaging::MetricFromTensors built =
-      imaging::buildMetric(field->input.read.volume.tensors, field->input.mask, field->options.metric);
+  imaging::MetricFromTensors built = imaging::buildCheckedMetric(field->name, field->input, field->options);
   imaging::requireNonEmptyDomain(field->name, built.counts, !field->input.mask.empty(), field->options.metric);
   field->counts = built.counts;
   field->inDomain = std::move(built.inDomain);
@@ -118,10 +143,8 @@ std::shared_ptr<TensorField> fieldFromFile(const std::string& path, imaging::Ten
   field->options = options;
   {
     py::gil_scoped_release release;
-    field->input.read = imaging::readTensorVolume(path, {options.order, options.frame});
+    field->input = imaging::tensorInputOf(imaging::readTensorVolume(path, {options.order, options.frame}), path);
   }
-  field->input.mask = field->input.read.volume.mask;
-  if (!field->input.mask.empty()) field->input.maskDescription = "the file's confidence channel";
   return finishField(std::move(field), mask);
 }
 

@@ -44,13 +44,16 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
                                           const std::optional<std::string>& kind,
                                           const std::optional<std::string>& diffusionMetric,
                                           const std::optional<double>& maxAnisotropy,
-                                          const std::optional<double>& faThreshold);
+                                          const std::optional<double>& faThreshold, bool acceptImplausible = false);
 
 /// A scalar image given from Python: a path (read through ITK), or a tuple
 /// (array, affine or None, zooms or None, name). Without an affine the
 /// array is taken to be on `grid` when its shape is the grid's size (and is
 /// reported on another grid otherwise).
 imaging::ScalarImage scalarImageOf(const py::handle& spec, const GridGeometry& grid);
+/// The same for a label image: a path read by imaging::readLabelImage, or
+/// an array whose values follow the same rules (integers exactly).
+imaging::LabelImage labelImageOf(const py::handle& spec, const GridGeometry& grid);
 /// How such an image is named in messages: its path, or the name in the tuple.
 std::string scalarImageName(const py::handle& spec);
 

@@ -17,7 +17,9 @@
 #include "bindings.hpp"
 #include "progress_relay.hpp"
 #include "propagation_keywords.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/geodesic_path.hpp"
+#include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/seed_voxels.hpp"
 #include "stvd/itk/streamline_io.hpp"
 #include "stvd/label_regions.hpp"
@@ -155,10 +157,10 @@ py::list tracePaths(const std::shared_ptr<VolumePropagation>& p, const std::vect
   if (targetVoxels.empty() && targetPoints.empty() && targetLabels.is_none())
     throw OptionError("no target: add --target-voxel I,J,K, --target-point X,Y,Z or --targets LABELS");
   const TensorField& field = *p->field;
-  std::optional<imaging::ScalarImage> labels;
+  std::optional<imaging::LabelImage> labels;
   std::string labelsName;
   if (!targetLabels.is_none()) {
-    labels = scalarImageOf(targetLabels, field.geometry());
+    labels = labelImageOf(targetLabels, field.geometry());
     labelsName = scalarImageName(targetLabels);
   }
 
@@ -231,7 +233,7 @@ py::list tracePaths(const std::shared_ptr<VolumePropagation>& p, const std::vect
 py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py::handle& labelsSpec,
                       PropagationChoice choice, unsigned threads, const py::handle& progress) {
   checkPropagationChoice(choice, /*lanthierAllowed=*/false);
-  const imaging::ScalarImage labels = scalarImageOf(labelsSpec, field->geometry());
+  const imaging::LabelImage labels = labelImageOf(labelsSpec, field->geometry());
   const std::string labelsName = scalarImageName(labelsSpec);
   ProgressRelay relay(progress);
   std::vector<LabelRegion> regions;
@@ -240,7 +242,7 @@ py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py:
   {
     py::gil_scoped_release release;
     imaging::requireSameGrid(labels.geometry, field->geometry(), labelsName, "the labels are", field->name);
-    regions = regionsInDomain(labelRegions(labelsName, labels.values, field->inDomain), labelsName, field->name,
+    regions = regionsInDomain(labelRegions(labels.labels, field->inDomain), labelsName, field->name,
                               leftOut);
     std::vector<std::vector<VertexId>> voxels;
     for (const LabelRegion& r : regions) voxels.push_back(r.voxels);
@@ -289,14 +291,17 @@ void bindVolumes(py::module_& m) {
           "from_file",
           [](const std::string& path, const py::object& mask, const std::optional<std::string>& order, const std::optional<std::string>& frame,
              const std::optional<std::string>& kind, const std::optional<std::string>& diffusionMetric,
-             const std::optional<double>& maxAnisotropy, const std::optional<double>& faThreshold) {
-            return fieldFromFile(path, tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold),
-                                 mask);
+             const std::optional<double>& maxAnisotropy, const std::optional<double>& faThreshold,
+             bool acceptImplausible) {
+            return fieldFromFile(
+                path, tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold, acceptImplausible),
+                mask);
           },
           py::arg("path"), py::arg("mask") = py::none(),
           py::arg("tensor_order") = py::none(), py::arg("tensor_frame") = py::none(),
           py::arg("tensor_kind") = py::none(), py::arg("diffusion_metric") = py::none(),
-          py::arg("max_anisotropy") = py::none(), py::arg("fa_threshold") = py::none())
+          py::arg("max_anisotropy") = py::none(), py::arg("fa_threshold") = py::none(),
+          py::arg("accept_implausible_tensors") = false)
       .def_static(
           "from_array",
           [](const py::object& tensors, const py::object& affine, const std::optional<std::array<double, 3>>& zooms,
@@ -304,15 +309,18 @@ void bindVolumes(py::module_& m) {
              const std::optional<std::string>& order,
              const std::optional<std::string>& frame, const std::optional<std::string>& kind,
              const std::optional<std::string>& diffusionMetric, const std::optional<double>& maxAnisotropy,
-             const std::optional<double>& faThreshold) {
-            return fieldFromArray(tensors, affine, zooms, niftiIntent, name,
-                                  tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold), mask);
+             const std::optional<double>& faThreshold, bool acceptImplausible) {
+            return fieldFromArray(
+                tensors, affine, zooms, niftiIntent, name,
+                tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold, acceptImplausible),
+                mask);
           },
           py::arg("tensors"), py::arg("affine"), py::arg("zooms") = py::none(), py::arg("nifti_intent") = py::none(),
           py::arg("name") = "tensors", py::arg("mask") = py::none(),
           py::arg("tensor_order") = py::none(), py::arg("tensor_frame") = py::none(),
           py::arg("tensor_kind") = py::none(), py::arg("diffusion_metric") = py::none(),
-          py::arg("max_anisotropy") = py::none(), py::arg("fa_threshold") = py::none())
+          py::arg("max_anisotropy") = py::none(), py::arg("fa_threshold") = py::none(),
+          py::arg("accept_implausible_tensors") = false)
       .def_property_readonly("name", [](const TensorField& f) { return f.name; })
       .def_property_readonly("shape", [](const TensorField& f) { return py::tuple(py::cast(gridShape(f.geometry()))); })
       .def_property_readonly("affine", [](const TensorField& f) { return affineArray(f.geometry()); },
@@ -324,6 +332,8 @@ void bindVolumes(py::module_& m) {
                              })
       .def_property_readonly("axis_codes", [](const TensorField& f) { return imaging::rasAxisCodes(f.geometry()); })
       .def_property_readonly("voxel_counts", [](const TensorField& f) { return voxelCounts(f.counts); })
+      .def_property_readonly("warnings", [](const TensorField& f) { return f.input.warnings; },
+                             "What the readers noted about the tensor and mask files, each 'FILE: text'.")
       .def_property_readonly(
           "in_domain",
           [](py::object self) {
@@ -406,6 +416,7 @@ void bindVolumes(py::module_& m) {
       .def(
           "distance_map",
           [](const VolumePropagation& p, double unreachable) {
+            checkUnreachableValue(unreachable, py::str(py::float_(unreachable)));
             py::array_t<float> map = newFortranFloatArray(p.field->geometry().size);
             float* out = map.mutable_data();
             const float value = static_cast<float>(unreachable);
@@ -415,6 +426,51 @@ void bindVolumes(py::module_& m) {
             return map;
           },
           py::arg("unreachable_value"), "float32 distances as `stvd distance` writes them.")
+      .def(
+          "write_distance_map",
+          [](const VolumePropagation& p, files::OutputTransaction& outputs, const std::string& path,
+             double unreachable) {
+            checkUnreachableValue(unreachable, py::str(py::float_(unreachable)));
+            // The values and the writer of `stvd distance`: the same bytes.
+            const float value = static_cast<float>(unreachable);
+            py::gil_scoped_release release;
+            const std::vector<double>& d = p.result.distance;
+            std::vector<float> values(d.size());
+            for (std::size_t v = 0; v < d.size(); ++v) values[v] = std::isfinite(d[v]) ? static_cast<float>(d[v]) : value;
+            imaging::writeScalarImage(outputs, path, p.field->geometry(), values);
+          },
+          py::arg("outputs"), py::arg("path"), py::arg("unreachable_value"),
+          "Stages the float32 distance map in `outputs` as `stvd distance` writes it.")
+      .def(
+          "write_paths",
+          [](const VolumePropagation& p, files::OutputTransaction& outputs, const std::string& path,
+             const py::list& lines, const std::vector<double>& geodesic, const std::vector<double>& euclidean,
+             const std::optional<std::vector<double>>& meanFa, const py::object& fa) {
+            // The streamline set of `stvd path` (stvd/itk/streamline_io.hpp).
+            imaging::StreamlineSet set;
+            set.geometry = p.field->geometry();
+            for (const py::handle& line : lines) {
+              std::vector<Vec3d> lps;
+              // The flip between RAS and LPS is its own inverse.
+              for (const Vec3d& ras : pointRows(line, "paths")) lps.push_back(imaging::lpsToRas(ras));
+              set.lines.push_back(std::move(lps));
+            }
+            set.lineValueNames = {"geodesic_mm", "euclidean_mm"};
+            set.lineValues = {std::vector<float>(geodesic.begin(), geodesic.end()),
+                              std::vector<float>(euclidean.begin(), euclidean.end())};
+            if (meanFa) {
+              set.lineValueNames.push_back("mean_fa");
+              set.lineValues.emplace_back(meanFa->begin(), meanFa->end());
+              set.pointValueNames = {"fa"};
+              set.pointValues.resize(1);
+              for (const py::handle& values : fa) set.pointValues[0].push_back(values.cast<std::vector<float>>());
+            }
+            py::gil_scoped_release release;
+            imaging::writeStreamlines(outputs, path, set);
+          },
+          py::arg("outputs"), py::arg("path"), py::arg("lines"), py::arg("geodesic_mm"), py::arg("euclidean_mm"),
+          py::arg("mean_fa") = py::none(), py::arg("fa") = py::none(),
+          "Stages the paths (RAS millimetres) in `outputs` as `stvd path` writes them.")
       .def_property_readonly("termination", [](const VolumePropagation& p) { return terminationName(p.result.termination); })
       .def_property_readonly("finalized_vertices", [](const VolumePropagation& p) { return p.result.finalizedVertices; })
       .def_property_readonly("relaxed_edges", [](const VolumePropagation& p) { return p.result.relaxedEdges; })
@@ -432,9 +488,9 @@ void bindVolumes(py::module_& m) {
                              })
       .def_property_readonly("label_seeds_left_out", [](const VolumePropagation& p) { return p.labelSeedsLeftOut; })
       .def_property_readonly("method", [](const VolumePropagation& p) { return methodName(p.choice); })
-      .def_property_readonly("method_text", [](const VolumePropagation& p) { return methodText(p.choice); })
+      .def_property_readonly("method_text", [](const VolumePropagation& p) { return methodText(p.choice, memoryDepthOf<VoxelGridDomain>(p.choice)); })
       .def_property_readonly("k", [](const VolumePropagation& p) {
-        return p.choice.lanthier ? py::object(py::none()) : py::object(py::int_(propagationOptions(p.choice).k));
+        return p.choice.lanthier ? py::object(py::none()) : py::object(py::int_(memoryDepthOf<VoxelGridDomain>(p.choice)));
       })
       .def_property_readonly("chain_measure", [](const VolumePropagation& p) { return chainMeasureName(p.choice.chainMeasure); })
       .def_property_readonly("stencil", [](const VolumePropagation& p) { return p.choice.stencil; })

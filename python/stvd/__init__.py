@@ -14,6 +14,7 @@ import numpy as np
 
 from . import _core
 from ._inputs import index_list, is_image, is_path, point_list, scalar_image_spec, tensor_field, voxel_list
+from ._outputs import FileConflictError, OutputError, OutputFiles, input_file_of
 from ._paths import Paths, tractogram
 from ._progress import progress_reporter
 
@@ -21,15 +22,19 @@ __version__ = _core.__version__
 NO_VERTEX = _core.NO_VERTEX
 
 __all__ = ["defaults", "distance", "propagate", "Propagation", "trace_paths", "Paths", "tractogram",
-           "connectivity", "Connectivity", "tet_mesh_distance", "surface_distance", "NO_VERTEX"]
+           "connectivity", "Connectivity", "tet_mesh_distance", "surface_distance", "NO_VERTEX", "OutputFiles",
+           "FileConflictError", "OutputError"]
 
 
 class _Defaults:
     """The library's defaults, read-only: ``stvd.defaults.k``, ...
 
-    method, k, chain_measure, stencil (propagation on images and meshes),
-    surface_chain_measure, tensor_kind, diffusion_metric, max_anisotropy,
-    unreachable_value, step, smooth, refine (paths), max_k, max_steiner.
+    method, k (on volumes), surface_k, tet_mesh_k (the k of each kind of
+    domain when none is given), chain_measure, stencil, surface_chain_measure
+    (the same measure), tensor_kind, diffusion_metric, max_anisotropy (None:
+    the metric as given), accept_implausible_tensors, unreachable_value,
+    step, smooth, refine (paths), max_k, max_steiner. The values are the
+    library's, the ones the ``stvd`` tool uses.
     """
 
     def __init__(self, values):
@@ -57,9 +62,11 @@ class _Defaults:
 defaults = _Defaults(_core.defaults())
 
 
-def _tensor_options(tensor_order, tensor_frame, tensor_kind, diffusion_metric, max_anisotropy, fa_threshold):
+def _tensor_options(tensor_order, tensor_frame, tensor_kind, diffusion_metric, max_anisotropy, fa_threshold,
+                    accept_implausible_tensors=False):
     return dict(tensor_order=tensor_order, tensor_frame=tensor_frame, tensor_kind=tensor_kind,
-                diffusion_metric=diffusion_metric, max_anisotropy=max_anisotropy, fa_threshold=fa_threshold)
+                diffusion_metric=diffusion_metric, max_anisotropy=max_anisotropy, fa_threshold=fa_threshold,
+                accept_implausible_tensors=bool(accept_implausible_tensors))
 
 
 class Propagation:
@@ -75,11 +82,15 @@ class Propagation:
     grid: ``shape``, ``affine`` (voxel index to RAS millimetres), ``zooms``,
     ``in_domain``. Paths (``stvd.trace_paths``) and connectivity
     (``stvd.connectivity``) use it without propagating again.
+    ``input_files``: (role, path) of the files it read (tensors, mask, seed
+    labels; NiBabel images by the files they came from), which ``save``
+    never writes over.
     """
 
-    def __init__(self, result, template):
+    def __init__(self, result, template, input_files=()):
         self._result = result
         self._template = template
+        self.input_files = [(role, path) for role, path in input_files if path]
 
     def __getattr__(self, name):
         if name in ("distance", "predecessor", "termination", "finalized_vertices", "relaxed_edges",
@@ -99,6 +110,22 @@ class Propagation:
             unreachable_value = defaults.unreachable_value
         data = self._result.distance_map(float(unreachable_value))
         return self._template(data) if self._template else data
+
+    def save(self, path, unreachable_value=None, *, outputs=None):
+        """Writes the distance map to ``path`` (NIfTI, NRRD or MRtrix by the
+        extension) as ``stvd distance -o path`` writes it, byte for byte, with
+        the tool's promises: never over one of ``input_files``, atomically.
+        Within ``outputs`` (a ``stvd.OutputFiles`` that declares ``path`` and
+        these input files) it is staged there and appears at its commit."""
+        if unreachable_value is None:
+            unreachable_value = defaults.unreachable_value
+        if outputs is None:
+            with OutputFiles({"distance map": path}, inputs=self.input_files) as files:
+                self.save(path, unreachable_value, outputs=files)
+            return
+        outputs._require_inputs(self.input_files, "the propagation")
+        self._result.write_distance_map(outputs._transaction, outputs._declared_output(path),
+                                        float(unreachable_value))
 
     def __repr__(self):
         return (f"<stvd.Propagation {self.method_text} on {self.shape}: {self.finalized_vertices} of "
@@ -144,12 +171,13 @@ def _image_template(tensors, field):
 def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=None, lps=False, mask=None,
               tensor_order=None, tensor_frame=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None,
               fa_threshold=None, method=None, k=None, chain_measure=None, stencil=None, steiner=None,
-              max_distance=None, progress=None):
+              max_distance=None, progress=None, accept_implausible_tensors=False):
     """Propagates the geodesic distance from seeds over a tensor volume and
     returns the whole result (``stvd.Propagation``): distances, predecessors
     and statistics. The arguments are those of ``stvd.distance``."""
     field = tensor_field(tensors, affine, mask, _tensor_options(tensor_order, tensor_frame, tensor_kind,
-                                                                diffusion_metric, max_anisotropy, fa_threshold))
+                                                                diffusion_metric, max_anisotropy, fa_threshold,
+                                                                accept_implausible_tensors))
     labels = scalar_image_spec(seed_labels, "seed_labels")
     with progress_reporter(progress) as reporter:
         result = field.propagate(voxel_list(seeds, "seeds"), point_list(seed_points, "seed_points"), bool(lps),
@@ -157,13 +185,15 @@ def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels
                                  steiner=steiner, max_distance=max_distance, progress=reporter.callback)
         reporter.finish(result.finalized_vertices)
     template = _image_template(tensors, field) if (is_image(tensors) or is_path(tensors)) else None
-    return Propagation(result, template)
+    return Propagation(result, template,
+                       [("tensor input", input_file_of(tensors)), ("mask", input_file_of(mask)),
+                        ("seed labels", input_file_of(seed_labels))])
 
 
 def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=None, lps=False, mask=None,
              tensor_order=None, tensor_frame=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None,
              fa_threshold=None, method=None, k=None, chain_measure=None, stencil=None, steiner=None,
-             max_distance=None, unreachable_value=None, progress=None):
+             max_distance=None, unreachable_value=None, progress=None, accept_implausible_tensors=False):
     """The anisotropic geodesic distance (millimetres) from seeds over a
     diffusion or metric tensor volume, as ``stvd distance`` computes it.
 
@@ -178,7 +208,8 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
         ``seed_labels=``: every non-zero voxel of a label image (path, image
         or array on the tensors' grid) inside the domain.
     mask, fa_threshold, tensor_frame, tensor_kind, diffusion_metric,
-        max_anisotropy: the domain and the metric, as the tool's options.
+        max_anisotropy, accept_implausible_tensors: the domain and the
+        metric, as the tool's options.
     method, k, chain_measure, stencil, steiner, max_distance: the
         propagation, as the tool's options.
     unreachable_value: the value of voxels not reached.
@@ -193,7 +224,8 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
                        mask=mask, tensor_order=tensor_order, tensor_frame=tensor_frame, tensor_kind=tensor_kind,
                        diffusion_metric=diffusion_metric, max_anisotropy=max_anisotropy, fa_threshold=fa_threshold,
                        method=method, k=k, chain_measure=chain_measure, stencil=stencil, steiner=steiner,
-                       max_distance=max_distance, progress=progress)
+                       max_distance=max_distance, progress=progress,
+                       accept_implausible_tensors=accept_implausible_tensors)
     return result.distance_map(unreachable_value)
 
 
@@ -212,7 +244,8 @@ def trace_paths(result, targets=None, *, target_points=None, target_labels=None,
                                          bool(lps), labels, step=step, smooth=smooth, refine=refine,
                                          discrete=bool(discrete))
     field = result._result.field
-    return Paths(records, field.affine, field.shape, field.zooms, field.axis_codes)
+    return Paths(records, field.affine, field.shape, field.zooms, field.axis_codes, result,
+                 result.input_files + [("target labels", input_file_of(target_labels))])
 
 
 class Connectivity:
@@ -235,7 +268,7 @@ class Connectivity:
 
 def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tensor_order=None, tensor_frame=None,
                  tensor_kind=None, diffusion_metric=None, max_anisotropy=None, fa_threshold=None, method=None, k=None,
-                 chain_measure=None, stencil=None, progress=None):
+                 chain_measure=None, stencil=None, progress=None, accept_implausible_tensors=False):
     """Region-to-region connectivity as ``stvd connectivity`` computes it: one
     propagation from each region of ``labels`` (a path, image or array on the
     tensors' grid; each distinct non-zero integer is a region), ``threads`` at
@@ -243,8 +276,9 @@ def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tenso
     ``tensors`` is what ``stvd.distance`` takes, or a ``stvd.Propagation``,
     whose field and method are reused. Returns ``stvd.Connectivity``."""
     if isinstance(tensors, Propagation):
-        if any(v is not None for v in (affine, mask, tensor_order, tensor_frame, tensor_kind, diffusion_metric,
-                                       max_anisotropy, fa_threshold, method, k, chain_measure, stencil)):
+        if accept_implausible_tensors or any(
+                v is not None for v in (affine, mask, tensor_order, tensor_frame, tensor_kind, diffusion_metric,
+                                        max_anisotropy, fa_threshold, method, k, chain_measure, stencil)):
             raise ValueError("tensor and method options come from the stvd.Propagation given")
         field = tensors._result.field
         given = tensors._result
@@ -252,7 +286,8 @@ def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tenso
                        chain_measure=given.chain_measure if given.method == "stvd" else None, stencil=given.stencil)
     else:
         field = tensor_field(tensors, affine, mask, _tensor_options(tensor_order, tensor_frame, tensor_kind,
-                                                                    diffusion_metric, max_anisotropy, fa_threshold))
+                                                                    diffusion_metric, max_anisotropy, fa_threshold,
+                                                                    accept_implausible_tensors))
         options = dict(method=method, k=k, chain_measure=chain_measure, stencil=stencil)
     spec = scalar_image_spec(labels, "labels")
     with progress_reporter(progress) as reporter:

@@ -2,6 +2,7 @@
 lists), turned into what the extension module takes."""
 
 import os
+import warnings
 
 import numpy as np
 
@@ -48,7 +49,16 @@ def scalar_image_spec(value, name):
 
 
 def tensor_field(tensors, affine, mask, options):
-    """The extension's TensorField for a path, a NiBabel image or an array."""
+    """The extension's TensorField for a path, a NiBabel image or an array;
+    what the readers noted about the files becomes a warning, as the tool
+    prints it."""
+    field = _tensor_field(tensors, affine, mask, options)
+    for line in field.warnings:
+        warnings.warn("stvd: " + line, stacklevel=4)
+    return field
+
+
+def _tensor_field(tensors, affine, mask, options):
     mask_spec = scalar_image_spec(mask, "mask")
     if is_path(tensors):
         if affine is not None:

@@ -1,112 +1,142 @@
-"""Output files of a cohort run: written whole or not at all, never over an
-input.
+"""Files written from Python as the ``stvd`` tool writes its own: every
+output is compared with every input and with the other outputs by identity
+(the same device and inode, or the same canonical path for a file yet to be
+written; so ``./x``, ``../dir/x`` and symbolic links are caught) before
+anything is written, and the outputs appear together, complete, or not at
+all (staged next to their final paths, flushed, then renamed). The checks
+and the staging are the library's (``stvd/itk/run_files.hpp``,
+``stvd/files/output_transaction.hpp``)."""
 
-Each file is written under a partial name in its own folder, flushed to disk
-and renamed over its final name, so a reader (or a re-run) sees the old file
-or the new one, never a piece. A process killed while writing leaves only a
-partial file, which the run that owns the folder removes
-(``remove_partial_files``).
-"""
-
-import contextlib
-import glob
-import hashlib
 import os
-import secrets
 
-PARTIAL_PREFIX = ".partial-"
+from . import _core
 
-
-def _fsync_folder(folder):
-    descriptor = os.open(folder, os.O_RDONLY | os.O_DIRECTORY)
-    try:
-        os.fsync(descriptor)
-    finally:
-        os.close(descriptor)
+FileConflictError = _core.FileConflictError
+OutputError = _core.OutputError
 
 
-@contextlib.contextmanager
-def atomic_path(path):
-    """A partial path to write ``path`` through: yields it, then flushes the
-    written file and renames it over ``path``; on any exception the partial
-    file is removed and ``path`` is left as it was. The partial name keeps
-    the final name's ending, so writers that choose a format by the
-    extension (NiBabel) write the right one."""
-    folder, name = os.path.split(os.path.abspath(path))
-    partial = os.path.join(folder, f"{PARTIAL_PREFIX}{secrets.token_hex(6)}-{name}")
-    try:
-        yield partial
-        descriptor = os.open(partial, os.O_RDONLY)
+def input_file_of(value):
+    """The file behind an input: a path, the file a NiBabel image was loaded
+    from, or None (an array, an image made in memory)."""
+    if value is None:
+        return None
+    if isinstance(value, (str, os.PathLike)):
+        return os.fspath(value)
+    get_filename = getattr(value, "get_filename", None)
+    return get_filename() if get_filename is not None else None
+
+
+def _pairs(files, name):
+    if files is None:
+        return []
+    items = files.items() if hasattr(files, "items") else files
+    pairs = []
+    for item in items:
         try:
-            os.fsync(descriptor)
-        finally:
-            os.close(descriptor)
-        os.replace(partial, path)
-        _fsync_folder(folder)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.remove(partial)
-        raise
+            role, value = item
+        except (TypeError, ValueError):
+            raise TypeError(f"{name}: expected a mapping of role to file, or (role, file) pairs") from None
+        pairs.append((str(role), value))
+    return pairs
 
 
-def write_text(path, text):
-    """Writes ``text`` (UTF-8) to ``path`` atomically."""
-    with atomic_path(path) as partial:
-        with open(partial, "w", encoding="utf-8", newline="\n") as file:
-            file.write(text)
+class OutputFiles:
+    """The outputs of one step, checked against its inputs and written all or
+    nothing::
 
+        with stvd.OutputFiles({"distance map": "d.nii.gz", "table": "t.csv"},
+                              inputs={"tensor input": "dti.nii.gz"}) as out:
+            out.write("t.csv", lambda staging: frame.to_csv(staging))
+            result.save("d.nii.gz", outputs=out)
 
-def remove_partial_files(folder):
-    """Removes what writers killed mid-write left in ``folder``; returns how
-    many. Only for a folder that no other process of the run writes into."""
-    removed = 0
-    for partial in glob.glob(os.path.join(glob.escape(folder), PARTIAL_PREFIX + "*")):
-        with contextlib.suppress(FileNotFoundError):
-            os.remove(partial)
-            removed += 1
-    return removed
+    ``outputs`` and ``inputs`` map a role (named in messages) to a file: a
+    path, or for inputs a NiBabel image (its file) or None. Creating it
+    raises ``stvd.FileConflictError`` (a ValueError) when an output is an
+    input or another output, in one line naming both roles ("d.nii.gz: the
+    distance map is the tensor input (dti.nii.gz)"), and ``stvd.OutputError``
+    (an OSError) when an output's folder is missing or not writable; nothing
+    is written then. ``write(path, writer)`` calls ``writer(staging_path)``,
+    which must write the file there. Leaving the ``with`` block normally
+    moves every output into place; an exception (or ``discard()``) removes
+    them all and leaves any file that was at an output path as it was.
+    """
 
+    def __init__(self, outputs, inputs=None):
+        self._files = _core.RunFiles()
+        for role, value in _pairs(inputs, "inputs"):
+            path = input_file_of(value)
+            if path:
+                self._files.input_image(role, path)
+        self._declared = []
+        for role, value in _pairs(outputs, "outputs"):
+            if not isinstance(value, (str, os.PathLike)):
+                raise TypeError(f"outputs: the {role} must be a path, got {type(value).__name__}")
+            path = os.fspath(value)
+            if _core.is_image_path(path):
+                self._files.output_image(role, path)
+            else:
+                self._files.output_file(role, path)
+            self._declared.append(path)
+        self._files.check()
+        self._transaction = _core.OutputTransaction()
+        self._open = True
 
-def file_record(path):
-    """The size and SHA-256 of a written file, as the statistics keep them."""
-    digest = hashlib.sha256()
-    with open(path, "rb") as file:
-        for block in iter(lambda: file.read(1 << 20), b""):
-            digest.update(block)
-    return {"bytes": os.path.getsize(path), "sha256": digest.hexdigest()}
+    @property
+    def inputs(self):
+        """(role, path) of every input file, companions included."""
+        return self._files.inputs
 
+    @property
+    def outputs(self):
+        """(role, path) of every output file, companions included."""
+        return self._files.outputs
 
-def file_identity(path):
-    """What makes two spellings the same file: the device and inode of an
-    existing file, the canonical path (symlinks resolved) of one that does
-    not exist yet."""
-    try:
-        status = os.stat(path)
-        return ("inode", status.st_dev, status.st_ino)
-    except FileNotFoundError:
-        return ("path", os.path.realpath(path))
+    def _declared_output(self, path):
+        if not self._open:
+            raise ValueError("the outputs were committed or discarded already")
+        path = os.fspath(path)
+        if path not in self._declared:
+            raise ValueError(f"{path}: not one of the outputs declared ({', '.join(self._declared)})")
+        return path
 
+    def _require_inputs(self, inputs, what):
+        """ValueError unless every (role, file) of ``inputs`` was declared, so
+        that the outputs were checked against the files ``what`` read."""
+        declared = {path for _, path in self._files.inputs}
+        for role, value in inputs:
+            path = input_file_of(value)
+            if path and path not in declared:
+                raise ValueError(f"{path}: the {role} of {what} is not among the inputs of these outputs; "
+                                 f"declare them with inputs={what}.input_files")
 
-def check_outputs_are_not_inputs(outputs, inputs, context):
-    """Raises ValueError when an output is one of the inputs, however it is
-    spelled (``./x``, ``../dir/x``, a symlink, a hard link), or when two
-    outputs are the same file. ``outputs`` and ``inputs`` map a role (for
-    the message: "output x", "tensors input of y") to a path; ``context``
-    starts the message."""
-    by_identity = {}
-    for role, path in inputs.items():
-        by_identity.setdefault(file_identity(path), (role, path))
-        # An input that does not exist is compared by its canonical path too.
-        by_identity.setdefault(("path", os.path.realpath(path)), (role, path))
-    seen = {}
-    for role, path in outputs.items():
-        identities = {file_identity(path), ("path", os.path.realpath(path))}
-        for identity in identities:
-            if identity in by_identity:
-                input_role, input_path = by_identity[identity]
-                raise ValueError(f"{context}: the {role} ({path}) is the {input_role} ({input_path}); "
-                                 "nothing was written")
-            if identity in seen:
-                raise ValueError(f"{context}: the {seen[identity]} and the {role} are the same file ({path})")
-        for identity in identities:
-            seen[identity] = role
+    def write(self, path, writer):
+        """Stages one declared output: ``writer(staging_path)`` writes it."""
+        self._transaction.write(self._declared_output(path), writer)
+
+    def commit(self):
+        """Moves every staged output into place."""
+        self._staging_done()
+        self._transaction.commit()
+
+    def discard(self):
+        """Removes every staged output; nothing appears."""
+        self._staging_done()
+        self._transaction = None
+
+    def _staging_done(self):
+        if not self._open:
+            raise ValueError("the outputs were committed or discarded already")
+        self._open = False
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, value, traceback):
+        if not self._open:
+            return False
+        if kind is None:
+            self.commit()
+        else:
+            self.discard()
+        return False
+

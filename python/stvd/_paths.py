@@ -22,10 +22,11 @@ class Paths(list):
       ``refine_iterations``.
 
     ``affine``, ``shape``, ``zooms`` and ``axis_codes`` describe the grid of
-    the tensors, for a ``.trk`` header (see ``trk_header``).
+    the tensors, for a ``.trk`` header (see ``trk_header``). ``save`` writes
+    them as ``stvd path`` does; ``input_files`` are the files they come from.
     """
 
-    def __init__(self, records, affine, shape, zooms, axis_codes):
+    def __init__(self, records, affine, shape, zooms, axis_codes, propagation=None, input_files=()):
         super().__init__(r["points"] for r in records)
         self.targets = [r["target"] for r in records]
         self.target_voxels = np.array([r["target_voxel"] for r in records], dtype=np.int64).reshape(-1, 3)
@@ -41,6 +42,28 @@ class Paths(list):
         self.shape = shape
         self.zooms = zooms
         self.axis_codes = axis_codes
+        self._propagation = propagation
+        self.input_files = [(role, path) for role, path in input_files if path]
+
+    def save(self, path, *, outputs=None):
+        """Writes the paths to ``path`` (``.tck``, ``.trk`` or ``.vtk``) as
+        ``stvd path -o path`` writes them, byte for byte: RAS millimetres,
+        ``geodesic_mm``, ``euclidean_mm`` and ``mean_fa`` per path, ``fa``
+        per point, a ``.trk`` header on the tensors' grid. Never over one of
+        ``input_files``, atomically; within ``outputs`` (a
+        ``stvd.OutputFiles``) it appears at the commit."""
+        from ._outputs import OutputFiles
+
+        if outputs is None:
+            with OutputFiles({"paths file": path}, inputs=self.input_files) as files:
+                self.save(path, outputs=files)
+            return
+        outputs._require_inputs(self.input_files, "the paths")
+        with_fa = len(self) > 0 and all(fa is not None for fa in self.fa)
+        self._propagation._result.write_paths(
+            outputs._transaction, outputs._declared_output(path), list(self), self.geodesic_mm.tolist(),
+            self.euclidean_mm.tolist(), mean_fa=self.mean_fa.tolist() if with_fa else None,
+            fa=self.fa if with_fa else None)
 
     def trk_header(self):
         """The header that places a ``.trk`` file on the tensors' grid, as

@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from ._outputs import atomic_path, file_record, write_text
+from ._cohort_files import atomic_path, file_record, write_text
 
 CONNECTIVITY = "connectivity"
 CONNECTIVITY_FILE = "connectivity.tsv"

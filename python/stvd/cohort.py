@@ -36,7 +36,7 @@ import sys
 import time
 
 from ._manifest import ManifestError, read_manifest, read_seed_sets
-from ._outputs import check_outputs_are_not_inputs, remove_partial_files, write_text
+from ._cohort_files import check_outputs_are_not_inputs, remove_partial_files, write_text
 from ._subject import CONNECTIVITY, CONNECTIVITY_FILE, compute_parts, map_file, one_line
 
 STATISTICS_FILE = "statistics.json"

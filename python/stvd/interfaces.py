@@ -19,7 +19,7 @@ import os
 
 from nipype.interfaces.base import BaseInterface, BaseInterfaceInputSpec, File, TraitedSpec, isdefined, traits
 
-from ._outputs import atomic_path, check_outputs_are_not_inputs, write_text
+from ._cohort_files import atomic_path, check_outputs_are_not_inputs, write_text
 
 __all__ = ["Distance", "Path", "Connectivity"]
 

@@ -3,12 +3,14 @@
 // regions of a label image.
 #include <gtest/gtest.h>
 
-#include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "stvd/label_regions.hpp"
 #include "stvd/propagation_choice.hpp"
+#include "stvd/surface_domain.hpp"
+#include "stvd/voxel_grid_domain.hpp"
 
 namespace stvd {
 namespace {
@@ -23,17 +25,25 @@ std::string optionMessage(void (*set)(PropagationChoice&, const std::string&), c
   return "";
 }
 
-TEST(PropagationChoice, DefaultsAreTheFrontEndsOnes) {
+TEST(PropagationChoice, DefaultsAreTheLibrarysPerKindOfDomain) {
   const PropagationChoice choice;
   EXPECT_EQ(choice.method, Method::ShortTermVectorDijkstra);
   EXPECT_FALSE(choice.lanthier);
-  EXPECT_EQ(choice.k, kFrontEndMemoryDepth);
-  EXPECT_EQ(choice.chainMeasure, kFrontEndChainMeasure);
+  EXPECT_FALSE(choice.k.has_value());  // the domain's default, decided by the propagation
+  EXPECT_EQ(choice.chainMeasure, kDefaultChainMeasure);
   EXPECT_EQ(choice.stencil, "26");
   const PropagationOptions options = propagationOptions(choice);
-  EXPECT_EQ(options.k, kFrontEndMemoryDepth);
-  EXPECT_EQ(options.chainMeasure, kFrontEndChainMeasure);
+  EXPECT_FALSE(options.k.has_value());
+  EXPECT_EQ(options.chainMeasure, kDefaultChainMeasure);
+  EXPECT_EQ(memoryDepthOf<VoxelGridDomain>(choice), kDefaultMemoryDepth);
+  EXPECT_EQ(memoryDepthOf<SurfaceDomain>(choice), kDefaultSurfaceMemoryDepth);
   EXPECT_EQ(methodName(choice), "stvd");
+  EXPECT_EQ(methodText(choice, memoryDepthOf<VoxelGridDomain>(choice)), "STVD with k = 6 (segment measure)");
+
+  PropagationChoice stated;
+  setMemoryDepth(stated, 3);
+  EXPECT_EQ(memoryDepthOf<VoxelGridDomain>(stated), 3);
+  EXPECT_EQ(memoryDepthOf<SurfaceDomain>(stated), 3);
 }
 
 TEST(PropagationChoice, DijkstraRunsWithMemoryDepthOne) {
@@ -41,19 +51,21 @@ TEST(PropagationChoice, DijkstraRunsWithMemoryDepthOne) {
   setMethod(choice, "dijkstra");
   EXPECT_EQ(propagationOptions(choice).method, Method::Dijkstra);
   EXPECT_EQ(propagationOptions(choice).k, 1);
-  EXPECT_EQ(methodText(choice), "Dijkstra");
+  EXPECT_EQ(memoryDepthOf<SurfaceDomain>(choice), 1);
+  EXPECT_EQ(methodText(choice, 1), "Dijkstra");
 }
 
 TEST(PropagationChoice, ValuesOutsideTheAcceptedOnesGiveTheToolsMessages) {
   EXPECT_EQ(optionMessage(setMethod, "fast"), "--method: 'fast' is not one of stvd, dijkstra, lanthier");
-  EXPECT_EQ(optionMessage(setChainMeasure, "mean"), "--chain-measure: 'mean' is not one of projection, largest");
+  EXPECT_EQ(optionMessage(setChainMeasure, "mean"), "--chain-measure: 'mean' is not one of segment, projection, largest");
   EXPECT_EQ(optionMessage(setStencil, "27"), "--stencil: '27' is not one of 6, 18, 26, 98, 290");
   PropagationChoice choice;
   EXPECT_THROW(setMemoryDepth(choice, kMaxMemoryDepth + 1), OptionError);
   EXPECT_THROW(setMemoryDepth(choice, 0), OptionError);
   EXPECT_THROW(setSteinerPoints(choice, 0), OptionError);
   setMemoryDepth(choice, 3);
-  EXPECT_EQ(methodText(choice), "STVD with k = 3 (largest-norm chain measure)");
+  setChainMeasure(choice, "largest");
+  EXPECT_EQ(methodText(choice, memoryDepthOf<VoxelGridDomain>(choice)), "STVD with k = 3 (largest-norm chain measure)");
 }
 
 TEST(PropagationChoice, CombinationsThatMakeNoSenseAreRefused) {
@@ -80,10 +92,9 @@ TEST(PropagationChoice, CombinationsThatMakeNoSenseAreRefused) {
 }
 
 TEST(LabelRegions, OneRegionPerLabelInIncreasingOrderWithItsVoxelsInTheDomain) {
-  const float nan = std::nanf("");
-  const std::vector<float> labels{0, 7, 2, 7, nan, 2, 9};
+  const std::vector<std::int64_t> labels{0, 7, 2, 7, 0, 2, 9};
   const std::vector<std::uint8_t> inDomain{1, 1, 0, 1, 1, 1, 0};
-  const std::vector<LabelRegion> regions = labelRegions("labels", labels, inDomain);
+  const std::vector<LabelRegion> regions = labelRegions(labels, inDomain);
   ASSERT_EQ(regions.size(), 3u);
   EXPECT_EQ(regions[0].label, 2);
   EXPECT_EQ(regions[0].voxels, (std::vector<VertexId>{5}));
@@ -98,15 +109,6 @@ TEST(LabelRegions, OneRegionPerLabelInIncreasingOrderWithItsVoxelsInTheDomain) {
   EXPECT_EQ(leftOut, 1u);
   leftOut = 0;
   EXPECT_THROW(regionsInDomain({regions[0], regions[2]}, "labels", "tensors", leftOut), NothingToCompute);
-}
-
-TEST(LabelRegions, ALabelThatIsNotAnIntegerIsAnInputError) {
-  try {
-    labelRegions("regions.nii.gz", {0, 1, 2.5f}, {1, 1, 1});
-    ADD_FAILURE() << "2.5 was taken as a label";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "regions.nii.gz: label value 2.500 is not an integer");
-  }
 }
 
 TEST(LabelRegions, TheNearestReachedVertexIsTheFirstOfTheSmallestFiniteDistances) {

@@ -17,6 +17,7 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 #include "exact_metrics.hpp"
@@ -577,6 +578,39 @@ TEST(InterpolateAtPoint, IsTrilinearBetweenVoxelCentresAndNanOutside) {
               1.0 + 3.0 - 1.125 + 0.1875, 1e-6);
   EXPECT_NEAR(interpolateAtPoint(domain, values, g.indexToPhysicalPoint(3, 3, 3)), 1.0 + 6.0 - 1.5 + 0.75, 1e-6);
   EXPECT_TRUE(std::isnan(interpolateAtPoint(domain, values, g.indexToPhysicalPoint(3.2, 1, 1))));
+}
+
+}  // namespace
+}  // namespace stvd
+
+namespace stvd {
+namespace {
+
+// A value is sampled only from corners inside the domain: next to a masked
+// voxel the weights are renormalised over the others, so a point of a path
+// along the domain's edge (FA along a path that ends at the brain's edge)
+// never gets NaN from a voxel that has no value.
+TEST(InterpolateAtPoint, RenormalisesOverTheCornersInsideTheDomain) {
+  const GridGeometry g = test::obliqueGrid({4, 4, 4});
+  std::vector<std::uint8_t> mask(64, 1);
+  const auto at = [](int i, int j, int k) { return static_cast<std::size_t>(i + 4 * (j + 4 * k)); };
+  mask[at(2, 1, 1)] = 0;
+  const VoxelGridDomain domain(g, Stencil::full26(), mask);
+  std::vector<float> values(64, 0.f);
+  for (VertexId v = 0; v < 64; ++v) {
+    const VoxelIndex c = domain.indexOf(v);
+    values[v] = static_cast<float>(1.0 + c.i + 10.0 * c.j + 100.0 * c.k);
+  }
+  values[at(2, 1, 1)] = std::numeric_limits<float>::quiet_NaN();  // no value outside the domain
+  // Halfway between (1,1,1) (value 111) and the masked (2,1,1): all weight on (1,1,1).
+  EXPECT_NEAR(interpolateAtPoint(domain, values, g.indexToPhysicalPoint(1.5, 1, 1)), 112.0, 1e-9);
+  // A quarter of the way towards j = 2: the in-domain corners (1,1,1), (1,2,1)
+  // and (2,2,1) have the weights 0.375, 0.125 and 0.125, renormalised to 1.
+  const double expected = (0.375 * 112.0 + 0.125 * 122.0 + 0.125 * 123.0) / 0.625;
+  EXPECT_NEAR(interpolateAtPoint(domain, values, g.indexToPhysicalPoint(1.5, 1.25, 1)), expected, 1e-9);
+  // The voxel centre of a neighbour of the masked voxel, reached through
+  // the oblique geometry's rounding, gives its own value.
+  EXPECT_NEAR(interpolateAtPoint(domain, values, g.indexToPhysicalPoint(1, 1, 1)), 112.0, 1e-6);
 }
 
 }  // namespace

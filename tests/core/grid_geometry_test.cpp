@@ -122,7 +122,7 @@ TEST(VoxelGridDomain, IndexOfIsExactOnLargeGrids) {
       }
 }
 
-TEST(VoxelGridDomain, NeighboursAreStencilOffsetsInsideImageAndMask) {
+TEST(VoxelGridDomain, NeighboursAreStencilOffsetsInsideImageAndMaskWhoseStepStaysInTheDomain) {
   const GridGeometry geometry = test::obliqueGrid({6, 5, 4});
   std::vector<std::uint8_t> mask(geometry.voxelCount(), 1);
   const VoxelGridDomain full(geometry, Stencil::full26());
@@ -133,13 +133,26 @@ TEST(VoxelGridDomain, NeighboursAreStencilOffsetsInsideImageAndMask) {
   const Stencil stencil = Stencil::full26();
   for (const VoxelGridDomain* domain : {&full, &masked}) {
     for (VertexId v = 0; v < domain->vertexCount(); ++v) {
+      if (!domain->contains(v)) continue;  // the propagation never asks
       const VoxelIndex c = domain->indexOf(v);
       std::set<VertexId> expected;
       for (const auto& o : stencil.offsets()) {
         const int i = c.i + o[0], j = c.j + o[1], k = c.k + o[2];
         if (!domain->isInsideImage(i, j, k)) continue;
         const VertexId w = domain->vertexAt(i, j, k);
-        if (domain->contains(w)) expected.insert(w);
+        if (!domain->contains(w)) continue;
+        // A diagonal step passes through the square (two non-zero
+        // components) or cube (three) that it crosses: every voxel of it
+        // must be in the domain (the default connectivity, 6).
+        bool stepInDomain = true;
+        for (int a = 0; a <= 1; ++a)
+          for (int b = 0; b <= 1; ++b)
+            for (int d = 0; d <= 1; ++d) {
+              const int ci = c.i + (o[0] != 0 ? a * o[0] : 0), cj = c.j + (o[1] != 0 ? b * o[1] : 0),
+                        ck = c.k + (o[2] != 0 ? d * o[2] : 0);
+              stepInDomain = stepInDomain && domain->contains(domain->vertexAt(ci, cj, ck));
+            }
+        if (stepInDomain) expected.insert(w);
       }
       std::set<VertexId> seen;
       domain->forEachNeighbor(v, [&](VertexId w, Vec3f e) {

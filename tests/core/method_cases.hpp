@@ -24,14 +24,20 @@ struct MethodCase {
   const char* name;
   Method method;
   int k;
+  ChainMeasure measure;
 
-  PropagationOptions options() const { return withMethod(method, k); }
+  PropagationOptions options() const { return withMethod(method, k, measure); }
 };
 
-inline const MethodCase kMethodCases[] = {{"Dijkstra", Method::Dijkstra, 1},
-                                          {"StvdK4", Method::ShortTermVectorDijkstra, 4},
-                                          {"StvdK8", Method::ShortTermVectorDijkstra, 8},
-                                          {"StvdK16", Method::ShortTermVectorDijkstra, 16}};
+/// Dijkstra, STVD with the default segment measure at three depths, and
+/// the two chain rules at k = 8.
+inline const MethodCase kMethodCases[] = {
+    {"Dijkstra", Method::Dijkstra, 1, kDefaultChainMeasure},
+    {"StvdK4", Method::ShortTermVectorDijkstra, 4, ChainMeasure::Segment},
+    {"StvdK8", Method::ShortTermVectorDijkstra, 8, ChainMeasure::Segment},
+    {"StvdK16", Method::ShortTermVectorDijkstra, 16, ChainMeasure::Segment},
+    {"StvdK8Paper", Method::ShortTermVectorDijkstra, 8, ChainMeasure::ProjectionWeighted},
+    {"StvdK8Largest", Method::ShortTermVectorDijkstra, 8, ChainMeasure::LargestEdgeNorm}};
 
 inline std::string methodCaseName(const ::testing::TestParamInfo<MethodCase>& info) {
   return info.param.name;

@@ -4,7 +4,6 @@
 
 #include <fstream>
 
-#include "stvd/itk/atomic_output.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "test_support.hpp"
@@ -72,15 +71,6 @@ TEST_F(ScalarImages, AnOutputInAMissingFolderIsAnErrorNamingTheFile) {
   } catch (const ImageIoError& e) {
     EXPECT_EQ(std::string(e.what()).rfind(file + ": ", 0), 0u) << e.what();
     EXPECT_NE(std::string(e.what()).find("does not exist"), std::string::npos);
-  }
-  EXPECT_THROW(checkOutputPath(folder().string()), ImageIoError);
-  EXPECT_NO_THROW(checkOutputPath(path("fine.nrrd")));
-}
-
-TEST_F(ScalarImages, AnAbandonedStagingFolderIsRemoved) {
-  {
-    AtomicOutput output(path("never.nii"));
-    std::ofstream(output.stagingPath()) << "half";
   }
   EXPECT_TRUE(listFolder(folder()).empty());
 }

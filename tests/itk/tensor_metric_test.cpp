@@ -61,6 +61,31 @@ TEST(MetricKind, TakesTheTensorAsTheMetric) {
   EXPECT_EQ(m.counts.repaired(), 0u);
 }
 
+TEST(MetricKind, IsTakenAsGivenWithoutACap) {
+  // An anisotropy of 400 (eigenvalue ratio): a diffusion tensor would be
+  // capped at 100 by default, a metric is not, and nothing is counted as
+  // repaired.
+  MetricOptions options;
+  options.kind = TensorKind::Metric;
+  const SymTensor3 g = diagonal(4, 1, 0.01);
+  const MetricFromTensors m = build({g}, options);
+  EXPECT_LT(relativeDifference(m.metric[0], g), 1e-6);
+  EXPECT_EQ(m.counts.repaired(), 0u);
+  EXPECT_FALSE(anisotropyCap(options).has_value());
+  options.kind = TensorKind::Diffusion;
+  EXPECT_EQ(anisotropyCap(options), kDefaultMaxAnisotropy);
+}
+
+TEST(MetricKind, WithoutACapOnlyNonPositiveEigenvaluesAreRaised) {
+  MetricOptions options;
+  options.kind = TensorKind::Metric;
+  const MetricFromTensors m = build({diagonal(2, -1, 0.001), diagonal(2, 0.001, 1)}, options);
+  EXPECT_LT(relativeDifference(m.metric[0], diagonal(2, 0.02, 0.001)), 1e-5);
+  EXPECT_LT(relativeDifference(m.metric[1], diagonal(2, 0.001, 1)), 1e-6);
+  EXPECT_EQ(m.counts.repairedNonPositive, 1u);
+  EXPECT_EQ(m.counts.repairedAnisotropy, 0u);
+}
+
 TEST(Repairs, RaiseSmallEigenvaluesToTheAnisotropyFloor) {
   MetricOptions options;
   options.kind = TensorKind::Metric;

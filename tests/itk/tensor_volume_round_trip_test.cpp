@@ -57,7 +57,8 @@ TEST_P(TensorRoundTrip, ReadsBackTheSameTensorsOnTheSameGrid) {
 
   TensorReadOptions options;
   options.frame = frame;
-  if (layout == TensorFileLayout::NiftiSixVolumes) options.order = order;
+  if (layout == TensorFileLayout::NiftiSixVolumes || layout == TensorFileLayout::MrtrixSixVolumes)
+    options.order = order;
   const TensorReadResult read = readTensorVolume(file, options);
   EXPECT_EQ(read.info.layout, layout);
   EXPECT_EQ(read.info.frame, frame);
@@ -74,9 +75,15 @@ TEST_P(TensorRoundTrip, ReadsBackTheSameTensorsOnTheSameGrid) {
 
 std::string roundTripName(const ::testing::TestParamInfo<RoundTrip>& info) {
   const auto& [extension, layout, order, frame] = info.param;
-  std::string name = extension == ".nrrd" ? "Nrrd" : extension == ".nii" ? "Nii" : "NiiGz";
-  name += layout == TensorFileLayout::NiftiSixVolumes ? "SixVolumes" : layout == TensorFileLayout::NiftiSymMatrix5D ? "SymMatrix5D" : "SymMatrix";
-  if (layout == TensorFileLayout::NiftiSixVolumes) name += "_" + tensorOrderName(order);
+  std::string name = extension == ".nrrd"    ? "Nrrd"
+                     : extension == ".nii"   ? "Nii"
+                     : extension == ".mif"   ? "Mif"
+                     : extension == ".mif.gz" ? "MifGz"
+                                              : "NiiGz";
+  const bool sixVolumes =
+      layout == TensorFileLayout::NiftiSixVolumes || layout == TensorFileLayout::MrtrixSixVolumes;
+  name += sixVolumes ? "SixVolumes" : layout == TensorFileLayout::NiftiSymMatrix5D ? "SymMatrix5D" : "SymMatrix";
+  if (sixVolumes) name += "_" + tensorOrderName(order);
   return name + "_" + tensorFrameName(frame);
 }
 
@@ -93,7 +100,10 @@ INSTANTIATE_TEST_SUITE_P(
         RoundTrip{".nii", TensorFileLayout::NiftiSixVolumes, TensorOrder::Lower, TensorFrame::Voxel},
         RoundTrip{".nii", TensorFileLayout::NiftiSixVolumes, TensorOrder::Lower, TensorFrame::World},
         RoundTrip{".nrrd", TensorFileLayout::NrrdSymMatrix, TensorOrder::Fsl, TensorFrame::Voxel},
-        RoundTrip{".nrrd", TensorFileLayout::NrrdSymMatrix, TensorOrder::Fsl, TensorFrame::World}),
+        RoundTrip{".nrrd", TensorFileLayout::NrrdSymMatrix, TensorOrder::Fsl, TensorFrame::World},
+        RoundTrip{".mif", TensorFileLayout::MrtrixSixVolumes, TensorOrder::Mrtrix, TensorFrame::World},
+        RoundTrip{".mif", TensorFileLayout::MrtrixSixVolumes, TensorOrder::Fsl, TensorFrame::Voxel},
+        RoundTrip{".mif.gz", TensorFileLayout::MrtrixSixVolumes, TensorOrder::Mrtrix, TensorFrame::World}),
     roundTripName);
 
 class TensorFiles : public stvd::testing::ScratchFolderTest {};

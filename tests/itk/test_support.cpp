@@ -275,11 +275,16 @@ std::string slurp(const fs::path& file) {
 }
 }  // namespace
 
-ToolRun runTool(const std::vector<std::string>& arguments) {
+std::string toolExecutable() {
+  const char* other = std::getenv("STVD_TEST_EXECUTABLE");
+  return other && *other ? other : STVD_EXECUTABLE;
+}
+
+namespace {
+
+ToolRun runShellCommand(std::string command) {
   const fs::path capture = uniqueTempPath("stvd_tool_run");
   const fs::path outFile = capture.string() + ".out", errFile = capture.string() + ".err";
-  std::string command = shellQuote(STVD_EXECUTABLE);
-  for (const std::string& a : arguments) command += " " + shellQuote(a);
   command += " >" + shellQuote(outFile.string()) + " 2>" + shellQuote(errFile.string()) + " </dev/null";
   const int status = std::system(command.c_str());
   ToolRun run;
@@ -290,6 +295,23 @@ ToolRun runTool(const std::vector<std::string>& arguments) {
   fs::remove(outFile, ec);
   fs::remove(errFile, ec);
   return run;
+}
+
+}  // namespace
+
+// A hang fails the test after two minutes instead of stalling the suite.
+constexpr const char* kTimeout = "timeout -k 5 120 ";
+
+ToolRun runTool(const std::vector<std::string>& arguments) {
+  std::string command = kTimeout + shellQuote(toolExecutable());
+  for (const std::string& a : arguments) command += " " + shellQuote(a);
+  return runShellCommand(command);
+}
+
+ToolRun runToolInBash(const std::string& script, const std::vector<std::string>& arguments) {
+  std::string command = std::string(kTimeout) + "bash -c " + shellQuote(script) + " " + shellQuote(toolExecutable());
+  for (const std::string& a : arguments) command += " " + shellQuote(a);
+  return runShellCommand(command);
 }
 
 }  // namespace stvd::testing

@@ -92,8 +92,22 @@ struct ToolRun {
   std::string err;
 };
 
-/// Runs the built `stvd` with these arguments (each passed as one word),
-/// capturing stdout and stderr.
+/// The `stvd` under test: the one built with the tests, or the program the
+/// environment variable STVD_TEST_EXECUTABLE names (to run the tool
+/// specifications against another build, e.g. an older release).
+std::string toolExecutable();
+
+/// Runs `stvd` with these arguments (each passed as one word), capturing
+/// stdout and stderr. A run ended by a signal has the exit code the shell
+/// reports, 128 + the signal's number; a run still going after 120 s is
+/// ended (exit code 124).
 ToolRun runTool(const std::vector<std::string>& arguments);
+
+/// Runs a bash script in which "$0" is `stvd` and "$@" these arguments, for
+/// example one that runs the tool under "ulimit -f 0; trap '' XFSZ", which
+/// makes every write beyond the limit fail with EFBIG instead of ending the
+/// tool. The exit code is the script's (124 after 120 s); stdout and stderr
+/// are captured.
+ToolRun runToolInBash(const std::string& script, const std::vector<std::string>& arguments);
 
 }  // namespace stvd::testing

@@ -59,7 +59,7 @@ TEST_F(ToolDistance, TheDemoCallWritesADistanceMapOnTheInputGridAndSummarisesItI
   for (const std::string& expected : {sampleFile(kDipy), std::string("112 x 112 x 32"), std::string("voxel frame"),
                                      std::string("G = (D/MD)^-1"), std::string("132,892 voxels in the domain"),
                                      std::string("873 were repaired"), std::string("voxel (55, 54, 15)"),
-                                     std::string("RAS (6.4, 11.6, 76.3) mm"), std::string("STVD with k = 8 (largest-norm chain measure)"),
+                                     std::string("RAS (6.4, 11.6, 76.3) mm"), std::string("STVD with k = 6 (segment measure)"),
                                      std::string("26-neighbour"), std::string("Reached 132,892"),
                                      std::string("median"), path("cc_body_distance.nii.gz"),
                                      std::string("unreachable voxels = -1")})

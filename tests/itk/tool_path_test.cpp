@@ -203,6 +203,30 @@ TEST_F(ToolPath, TheCorticospinalPathRunsMainlyAlongTheSuperiorAxis) {
   EXPECT_GT(l.lines[0].back().z - l.lines[0].front().z, 30.0);  // CST_L_high is 36.85 mm above CST_L_low
 }
 
+// A path that ends at the brain's edge passes next to voxels outside the
+// domain, which have no FA: the FA along it is interpolated over the
+// domain's voxels only, so every point and the mean have a value in every
+// file (the .tck header, the .vtk cell and point data, the table).
+TEST_F(ToolPath, FaAlongAPathToTheBrainsEdgeIsAlwaysANumber) {
+  for (const std::string name : {"edge.tck", "edge.vtk"}) {
+    const ToolRun run = pathRun({"--seed-voxel", "55,54,15", "--target-voxel", "89,45,13", "-o", path(name), "-q"});
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    const LoadedStreamlines l = name == "edge.tck" ? loadWithNibabel(path(name)) : loadLegacyVtk(path(name));
+    ASSERT_EQ(l.error, "");
+    ASSERT_EQ(l.lines.size(), 1u);
+    // .tck keeps per-path values as header entries, .vtk as cell data.
+    const double meanFa =
+        name == "edge.tck" ? std::stod(l.header.at("mean_fa")) : l.perLine.at("mean_fa")[0];
+    EXPECT_TRUE(std::isfinite(meanFa)) << name;
+    EXPECT_GT(meanFa, 0.0) << name;
+    EXPECT_LT(meanFa, 1.0) << name;
+    if (name == "edge.vtk") {
+      for (const double fa : l.perPoint.at("fa")[0]) EXPECT_TRUE(std::isfinite(fa)) << name;
+    }
+    EXPECT_NE(readTsv(path("edge.tsv")).at(0).at("mean_fa"), "n/a");
+  }
+}
+
 TEST_F(ToolPath, LabelTargetsEndAtEachRegionsVoxelNearestToTheSeeds) {
   const auto seeds = seedTable();
   imaging::ScalarImage labels = imaging::readScalarImage(sampleFile("dti_FA.nii.gz"));
@@ -371,6 +395,47 @@ TEST_F(ToolConnectivity, TheTableDoesNotDependOnTheNumberOfThreads) {
   ASSERT_EQ(connectivityRun({"--labels", labels, "-o", path("three.tsv"), "--threads", "3", "-q"}).exitCode, 0);
   EXPECT_EQ(readTsv(path("one.tsv")).size(), voxels.size() * (voxels.size() - 1));
   EXPECT_EQ(slurpFile(path("one.tsv")), slurpFile(path("three.tsv")));
+}
+
+// --matrix and --matrix-index: the table's values as square matrices in
+// label order (labels deliberately not 1..n), as tck2connectome users load
+// them: '#' header lines, then N rows of N comma-separated numbers.
+TEST_F(ToolConnectivity, MatricesHoldTheTablesValuesInLabelOrder) {
+  const auto seeds = seedTable();
+  const std::vector<std::array<int, 3>> voxels{seeds.at("CC_genu").index, seeds.at("CST_L").index,
+                                               seeds.at("CST_R").index};
+  const std::string labels = writeLabels(voxels, "regions.nii.gz", 7.f);  // labels 7, 8, 9
+  const ToolRun run = connectivityRun({"--labels", labels, "-o", path("table.tsv"), "--matrix", path("d.csv"),
+                                       "--matrix-index", path("ci.csv"), "-q"});
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const auto rows = readTsv(path("table.tsv"));
+  for (const auto& [file, column] :
+       std::vector<std::pair<std::string, std::string>>{{"d.csv", "geodesic_mm"}, {"ci.csv", "connectivity"}}) {
+    std::ifstream in(path(file));
+    std::string line, labelLine;
+    std::vector<std::vector<double>> matrix;
+    while (std::getline(in, line)) {
+      if (line.rfind("# labels: ", 0) == 0) labelLine = line.substr(10);
+      if (line.empty() || line[0] == '#') continue;
+      std::istringstream cells(line);
+      std::string cell;
+      matrix.emplace_back();
+      while (std::getline(cells, cell, ',')) matrix.back().push_back(std::stod(cell));
+    }
+    EXPECT_EQ(labelLine, "7,8,9") << file;
+    ASSERT_EQ(matrix.size(), 3u) << file;
+    for (std::size_t a = 0; a < 3; ++a) {
+      ASSERT_EQ(matrix[a].size(), 3u) << file;
+      EXPECT_EQ(matrix[a][a], 0.0) << file;
+      for (std::size_t b = 0; b < 3; ++b) {
+        if (a == b) continue;
+        const auto& row = rows.at(a * 2 + (b < a ? b : b - 1));
+        ASSERT_EQ(row.at("region_a"), std::to_string(7 + a));
+        ASSERT_EQ(row.at("region_b"), std::to_string(7 + b));
+        EXPECT_NEAR(matrix[a][b], std::stod(row.at(column)), 1e-4) << file << " " << a << "," << b;
+      }
+    }
+  }
 }
 
 TEST_F(ToolConnectivity, BadLabelsFailWithTheirExitCodeAndLeaveNoTable) {

@@ -38,6 +38,7 @@ def message_of(error_type, call):
     (["--seed-voxel", "55,54,15", "--fa-threshold", "0.99"], dict(seeds=CC_BODY, fa_threshold=0.99)),
     (["--seed-voxel", "55,54,15", "--mask", FSL_6], dict(seeds=CC_BODY, mask=str(FSL_6))),
     (["--seed-voxel", "55,54,15", "--max-distance", "-3"], dict(seeds=CC_BODY, max_distance=-3)),
+    (["--seed-voxel", "55,54,15", "--unreachable-value", "1e+300"], dict(seeds=CC_BODY, unreachable_value=1e300)),
 ])
 def test_messages_are_the_tools(tmp_path, tool_options, keywords):
     expected = tool_message("distance", DIPY_5D, "-o", tmp_path / "d.nii.gz", *tool_options)
@@ -113,8 +114,9 @@ def test_paths_and_connectivity_refuse_what_the_tool_refuses(tmp_path, dipy_imag
         "no target: add --target-voxel I,J,K, --target-point X,Y,Z or --targets LABELS")
     labels = np.zeros(dipy_image.shape[:3], np.float32)
     labels[55, 54, 15] = 1.5
+    # The rule and words of the tool's label reader (stvd/itk/label_values.hpp).
     assert message_of(ValueError, lambda: stvd.connectivity(result, labels)) == (
-        "labels: label value 1.500 is not an integer")
+        "labels: voxel (55, 54, 15) holds 1.5, which is not an integer (a label image holds integer labels)")
     labels[55, 54, 15] = 1
     assert message_of(ValueError, lambda: stvd.connectivity(result, labels)) == (
         f"labels: fewer than two regions have voxels inside the domain of {DIPY_5D}")

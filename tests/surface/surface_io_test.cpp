@@ -2,8 +2,12 @@
 // written byte by byte here, read into the same mesh; errors name the file
 // and the line or element; the distance writers' .ply, .vtk and .csv.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -13,6 +17,15 @@
 #include <string>
 
 #include "stvd/surface_io/surface_mesh_io.hpp"
+
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define STVD_HAS_ASAN 1
+#endif
+#endif
+#ifndef STVD_HAS_ASAN
+#define STVD_HAS_ASAN 0
+#endif
 
 namespace stvd::surface_io {
 namespace {
@@ -164,6 +177,58 @@ TEST_F(SurfaceFiles, PlyErrorsNameTheElement) {
   EXPECT_EQ(errorOf(path("missing.ply")).rfind(path("missing.ply") + ": cannot open the file", 0), 0u);
 }
 
+// Hostile sizes: a count the file cannot hold is refused, or read until the
+// file ends, without anything allocated or looped over for it. The reader
+// runs in a child process that an alarm ends after 20 s (a hang fails the
+// test instead of stalling it) and, outside AddressSanitizer builds, with
+// 1 GB of address space.
+[[noreturn]] void readInALimitedChild(const std::string& p, const std::string& expectedError) {
+  alarm(20);
+#if !defined(__SANITIZE_ADDRESS__) && !STVD_HAS_ASAN
+  rlimit limit{};
+  limit.rlim_cur = limit.rlim_max = rlim_t{1} << 30;
+  setrlimit(RLIMIT_AS, &limit);
+#endif
+  std::string error;
+  try {
+    readSurfaceMesh(p);
+  } catch (const MeshFileError& e) {
+    error = e.what();
+  }
+  if (error != expectedError) std::fprintf(stderr, "the error was \"%s\"\n", error.c_str());
+  std::_Exit(error == expectedError ? 0 : 1);
+}
+
+void expectReadEndsWithin20SecondsIn1GB(const std::string& p, const std::string& expectedError) {
+  EXPECT_EXIT(readInALimitedChild(p, expectedError), ::testing::ExitedWithCode(0), "")
+      << "expected the error \"" << expectedError << "\"";
+}
+
+TEST_F(SurfaceFiles, PlyElementOfBillionsOfEmptyRecordsIsNotLoopedOver) {
+  std::string ply = kPlyAscii;
+  ply.insert(ply.find("end_header"), "element padding 9223372036854775807\n");
+  expectReadEndsWithin20SecondsIn1GB(write("p.ply", ply), "");
+}
+
+TEST_F(SurfaceFiles, PlyCountsBeyondTheFileAreRefusedUpFront) {
+  expectReadEndsWithin20SecondsIn1GB(
+      write("v.ply",
+            "ply\nformat binary_little_endian 1.0\nelement vertex 10000000000\nproperty float x\n"
+            "property float y\nproperty float z\nend_header\n0123456789AB"),
+      path("v.ply") + ": the header announces 10000000000 vertex records, more than the 12 bytes left in the "
+                      "file can hold");
+}
+
+TEST_F(SurfaceFiles, OffCountsBeyondTheFileReserveNothingForThem) {
+  expectReadEndsWithin20SecondsIn1GB(write("v.off", "OFF\n67108864 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+                                     path("v.off") + ": the file ends after 4 of 67108864 vertices");
+  expectReadEndsWithin20SecondsIn1GB(write("w.off", "OFF\n10000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n"),
+                                     path("w.off") + ": the file ends after 3 of 10000000000 vertices");
+  expectReadEndsWithin20SecondsIn1GB(
+      write("f.off", "OFF\n3 9223372036854775807 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+      path("f.off") + ": the file ends after 1 of 9223372036854775807 faces");
+}
+
 TEST_F(SurfaceFiles, DistancesAreWrittenAsPlyVtkAndCsv) {
   const SurfaceMesh m = readSurfaceMesh(write("m.ply", kPlyAscii));
   const std::vector<double> d{0.0, 1.0, 1.5, 1.0, std::numeric_limits<double>::infinity()};
@@ -183,17 +248,87 @@ TEST_F(SurfaceFiles, DistancesAreWrittenAsPlyVtkAndCsv) {
             std::string::npos);
 
   // The .ply reads back as the same mesh; its distance column is checked
-  // from the bytes (x y z float, distance double, little-endian).
+  // from the bytes (x y z float as in the input, distance float,
+  // little-endian).
   writeSurfaceDistances(path("d.ply"), path("d.ply"), m, d);
   expectReferenceMesh(readSurfaceMesh(path("d.ply")));
   std::ifstream ply(path("d.ply"), std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(ply)), std::istreambuf_iterator<char>());
+  EXPECT_NE(bytes.find("property float x\nproperty float y\nproperty float z\nproperty float distance\n"),
+            std::string::npos);
   const std::size_t body = bytes.find("end_header\n") + 11;
   for (std::size_t v2 = 0; v2 < 5; ++v2) {
-    double value;
-    std::memcpy(&value, bytes.data() + body + v2 * 20 + 12, 8);
-    EXPECT_EQ(value, d[v2]);
+    float value;
+    std::memcpy(&value, bytes.data() + body + v2 * 16 + 12, 4);
+    EXPECT_EQ(value, static_cast<float>(d[v2]));
   }
+}
+
+// Vertices are written back exactly as they were read: in the input's
+// coordinate type (double coordinates are not rounded to float), and the
+// distance in the type the header declares.
+TEST_F(SurfaceFiles, PlyOutputKeepsTheCoordinateTypeAndDeclaresItsDistanceType) {
+  const std::string text =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      "0.12345678912345678 0 0\n1 0.98765432198765432 0\n0 1 1e-7\n3 0 1 2\n";
+  const SurfaceMesh m = readSurfaceMesh(write("double.ply", text));
+  EXPECT_EQ(m.coordinateType, ScalarType::Float64);
+  writeSurfaceDistances(path("out.ply"), path("out.ply"), m, {0.0, std::sqrt(2.0), 1.0});
+  const SurfaceMesh back = readSurfaceMesh(path("out.ply"));
+  for (std::size_t v = 0; v < 3; ++v) {
+    EXPECT_EQ(back.points[v].x, m.points[v].x) << v;
+    EXPECT_EQ(back.points[v].y, m.points[v].y) << v;
+    EXPECT_EQ(back.points[v].z, m.points[v].z) << v;
+  }
+  std::ifstream ply(path("out.ply"), std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(ply)), std::istreambuf_iterator<char>());
+  ASSERT_NE(bytes.find("property double z\nproperty float distance\n"), std::string::npos);
+  float root2;
+  std::memcpy(&root2, bytes.data() + bytes.find("end_header\n") + 11 + 28 + 24, 4);
+  EXPECT_EQ(root2, static_cast<float>(std::sqrt(2.0)));
+}
+
+// STL lists three corners per facet: equal corners become one vertex.
+TEST_F(SurfaceFiles, StlInAsciiAndBinaryIsWeldedIntoTheReferenceMesh) {
+  // Two triangles sharing an edge, and a facet with two equal corners.
+  const std::string ascii =
+      "solid two\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 1 1 0\n"
+      "  endloop\n endfacet\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 1 0\n"
+      "   vertex 0 1 0\n  endloop\n endfacet\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n"
+      " vertex 0 0 0\n vertex 0 1 0\n endloop\n endfacet\nendsolid two\n";
+  SurfaceMesh m = readSurfaceMesh(write("a.stl", ascii));
+  EXPECT_EQ(m.points.size(), 4u);
+  EXPECT_EQ(m.faces.faceCount(), 2u);
+  EXPECT_EQ(m.weldedVertices, 5u);  // 9 corners, 4 vertices
+  EXPECT_EQ(m.degenerateFacets, 1u);
+  EXPECT_EQ(m.coordinateType, ScalarType::Float64);
+  // Binary, its header starting with "solid" as some exporters write it.
+  std::string binary = "solid but binary";
+  binary.resize(80, ' ');
+  const std::uint32_t count = 2;
+  binary.append(reinterpret_cast<const char*>(&count), 4);
+  const float facets[2][12] = {{0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 1, 0}, {0, 0, 1, 0, 0, 0, 1, 1, 0, 0, 1, 0}};
+  for (const auto& f : facets) {
+    binary.append(reinterpret_cast<const char*>(f), 48);
+    binary.append(2, '\0');
+  }
+  m = readSurfaceMesh(write("b.stl", binary));
+  EXPECT_EQ(m.points.size(), 4u);
+  EXPECT_EQ(m.faces.faceCount(), 2u);
+  EXPECT_EQ(m.weldedVertices, 2u);
+  EXPECT_EQ(m.coordinateType, ScalarType::Float32);
+  EXPECT_EQ(m.points[2].x, 1.0);
+  EXPECT_EQ(m.points[3].y, 1.0);
+  // A binary count that the file does not hold is no STL, without allocating for it.
+  std::string hostile = binary.substr(0, 80);
+  const std::uint32_t absurd = 4000000000u;
+  hostile.append(reinterpret_cast<const char*>(&absurd), 4);
+  hostile.append(100, '\0');
+  hostile[0] = 'x';
+  EXPECT_NE(errorOf(write("h.stl", hostile)).find("not an STL file"), std::string::npos);
+  EXPECT_NE(errorOf(write("t.stl", "solid t\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n")).find("ends inside a facet"),
+            std::string::npos);
 }
 
 TEST_F(SurfaceFiles, VertexTablesSkipAHeaderAndNameBadRows) {

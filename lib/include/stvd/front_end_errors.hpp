@@ -16,8 +16,8 @@ class OptionError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
-/// An input that cannot be used as given: a label that is not an integer,
-/// a mesh whose cells do not fit together (tool: exit code 3).
+/// An input that cannot be used as given: a mesh whose cells do not fit
+/// together, tensors that look read in the wrong layout (tool: exit code 3).
 class InputError : public std::invalid_argument {
  public:
   using std::invalid_argument::invalid_argument;

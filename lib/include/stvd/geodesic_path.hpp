@@ -111,8 +111,10 @@ TracedPath traceGeodesicPath(const VoxelGridDomain& domain, const RiemannianMetr
                              const PathTracingOptions& options = {});
 
 /// Trilinear interpolation of a per-voxel scalar (e.g. FA) at a physical
-/// point; NaN outside the box of voxel centres or where a corner with a
-/// non-zero weight is outside the domain.
+/// point, with the weights renormalised over the corners of its cell that
+/// are in the domain (values outside the domain are never used). NaN only
+/// outside the box of voxel centres or where no corner with a non-zero
+/// weight is in the domain, i.e. never for a point of a path.
 double interpolateAtPoint(const VoxelGridDomain& domain, const std::vector<float>& values, Vec3d point);
 
 /// The discrete path of `target` in the form of a traced one: the voxel

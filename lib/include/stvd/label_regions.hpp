@@ -14,16 +14,15 @@ namespace stvd {
 /// A region: its label value and its voxels inside the domain (linear
 /// indices, increasing; possibly none).
 struct LabelRegion {
-  long label = 0;
+  std::int64_t label = 0;
   std::vector<VertexId> voxels;
 };
 
-/// One region per distinct non-zero value of `labels` (one value per voxel;
-/// NaN counts as zero), in increasing label order. Throws InputError
-/// ("<labelsName>: label value 2.500 is not an integer") at the first value
-/// that is not an integer, and std::invalid_argument when `labels` and
-/// `inDomain` differ in size.
-std::vector<LabelRegion> labelRegions(const std::string& labelsName, const std::vector<float>& labels,
+/// One region per distinct non-zero label of `labels` (one label per voxel,
+/// as imaging::readLabelImage reads them: exact integers), in increasing
+/// label order. Throws std::invalid_argument when `labels` and `inDomain`
+/// differ in size.
+std::vector<LabelRegion> labelRegions(const std::vector<std::int64_t>& labels,
                                       const std::vector<std::uint8_t>& inDomain);
 
 /// The regions with at least one voxel in the domain, to be connected

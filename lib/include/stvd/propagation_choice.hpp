@@ -1,9 +1,12 @@
 // How stvd's front ends (the command-line tool and the Python package) name,
 // check and default a propagation: the method, Lanthier's Steiner points,
 // STVD's memory depth and chain measure, and the grid stencil. Both go
-// through this one place, so that their defaults and their messages agree.
+// through this one place, so that their defaults (the library's own:
+// kDefaultChainMeasure, and per kind of domain defaultMemoryDepth) and their
+// messages agree.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "stvd/front_end_errors.hpp"
@@ -11,37 +14,30 @@
 
 namespace stvd {
 
-/// The front ends measure STVD's chain sums with the largest edge norm on the
-/// chain, not with the paper's projection-weighted rule (the core's
-/// default): real DTI tensor fields vary strongly from voxel to voxel, and
-/// there the paper's rule lets backward portions cancel forward ones, so
-/// distances collapse as k grows (on the shipped brain, k = 8 puts 44,000
-/// to 70,000 voxels below the bound |x - seed|/sqrt(3) that G = (D/MD)^-1
-/// guarantees). The largest-norm rule cannot cancel; with it the median
-/// difference to Dijkstra on the 290-offset stencil settles at +1.7 to
-/// +2.2 % from k = 8 on (docs/cli.md, "Chain measure and k").
-inline constexpr ChainMeasure kFrontEndChainMeasure = ChainMeasure::LargestEdgeNorm;
-inline constexpr int kFrontEndMemoryDepth = 8;
-/// Surfaces keep the paper's rule by default (docs/surfaces.md).
-inline constexpr ChainMeasure kSurfaceChainMeasure = ChainMeasure::ProjectionWeighted;
-
-/// What the front ends' distance maps hold where no distance was reached
-/// (-1, which no distance can take; --unreachable-value changes it).
-inline constexpr double kFrontEndUnreachableValue = -1.0;
+/// What the front ends' distance maps hold where no distance was reached,
+/// unless told otherwise (the tool's --unreachable-value, the Python
+/// package's unreachable_value=): -1, which no distance can take. The
+/// library itself leaves such vertices at kUnreachable (+infinity).
+inline constexpr double kDefaultUnreachableValue = -1.0;
 
 /// A propagation as a front end's user chose it (--method, --steiner, --k,
-/// --chain-measure, --stencil), with the front ends' defaults; the *Given
-/// flags record what was stated, for the checks below.
+/// --chain-measure, --stencil, --no-memory-check), with the library's
+/// defaults; what was stated is kept apart from the defaults, for the checks
+/// below.
 struct PropagationChoice {
   Method method = Method::ShortTermVectorDijkstra;
   bool lanthier = false;  // Steiner-point propagation instead of `method`
   int steinerPoints = 0;  // 0: not given
-  int k = kFrontEndMemoryDepth;
-  bool kGiven = false;
-  ChainMeasure chainMeasure = kFrontEndChainMeasure;
+  /// Unset: the domain's default (defaultMemoryDepth<Domain>()), which the
+  /// propagation takes itself.
+  std::optional<int> k;
+  ChainMeasure chainMeasure = kDefaultChainMeasure;
   bool chainMeasureGiven = false;
   std::string stencil = "26";
   bool stencilGiven = false;
+  /// Whether the memory the run needs is compared with the memory available
+  /// before it starts (stvd/system_memory.hpp; --no-memory-check: false).
+  bool memoryCheck = true;
 };
 
 // The setters take a value as the user gave it and throw OptionError with
@@ -53,7 +49,7 @@ void setMethod(PropagationChoice& choice, const std::string& name);
 void setSteinerPoints(PropagationChoice& choice, int points);
 /// 1..kMaxMemoryDepth.
 void setMemoryDepth(PropagationChoice& choice, int k);
-/// "largest" or "projection".
+/// "segment", "projection" or "largest" (chainMeasureName).
 void setChainMeasure(PropagationChoice& choice, const std::string& name);
 /// "6", "18", "26", "98" or "290" (Stencil::byName).
 void setStencil(PropagationChoice& choice, const std::string& name);
@@ -70,14 +66,24 @@ void checkPropagationChoice(const PropagationChoice& choice, bool lanthierAllowe
 void checkMeshPropagationChoice(const PropagationChoice& choice, const std::string& cellEdge,
                                 int suggestedSteinerPoints);
 
-/// The propagation options of the choice (k = 1 for Dijkstra; not lanthier).
+/// The propagation options of the choice (k = 1 for Dijkstra, the stated k
+/// or none for STVD; not lanthier).
 PropagationOptions propagationOptions(const PropagationChoice& choice);
-/// "STVD with k = 8 (largest-norm chain measure)", "Dijkstra" or the
-/// Steiner-point method with its M.
-std::string methodText(const PropagationChoice& choice);
+/// The memory depth a propagation of the choice runs with over a Domain: 1
+/// for Dijkstra, the stated k or the domain's default for STVD.
+template <class Domain>
+int memoryDepthOf(const PropagationChoice& choice) {
+  return memoryDepth<Domain>(propagationOptions(choice));
+}
+/// "STVD with k = 6 (segment measure)", "Dijkstra" or the Steiner-point
+/// method with its M on a voxel grid; `k` is memoryDepthOf the domain.
+std::string methodText(const PropagationChoice& choice, int k);
 /// "stvd", "dijkstra" or "lanthier".
 std::string methodName(const PropagationChoice& choice);
-/// "largest" or "projection".
-std::string chainMeasureName(ChainMeasure measure);
+
+/// OptionError ("--unreachable-value: '1e+300' does not fit in a float32
+/// map ...") unless `value` is NaN or a number a float32 map can hold (1e300
+/// would become infinity there); `given` is the value as the user wrote it.
+void checkUnreachableValue(double value, const std::string& given);
 
 }  // namespace stvd

@@ -70,6 +70,19 @@ struct SteinerPropagationResult : PropagationResult {
   std::vector<double> pointDistance;
 };
 
+/// Points of the Steiner graph over a grid whose domain holds
+/// `domainVoxelCount` voxels: each voxel owns 1 + 3M + 3M^2 of them (itself,
+/// M on each of three cube edges, M x M on each of three cube faces).
+std::uint64_t steinerGridPointCount(std::uint64_t domainVoxelCount, int steinerPoints);
+
+/// An upper estimate of the memory steinerPropagate allocates for a graph of
+/// `graphPoints` points over `vertexCount` original vertices (the cells,
+/// domain and metric not included): 24 bytes per graph point (its distance,
+/// queue slot and entries; 15.6 measured on the sample brain with M = 2),
+/// the result's 12 bytes per vertex and 1 MiB. For checking a run against
+/// the memory available before it starts.
+std::uint64_t steinerMemoryEstimate(std::uint64_t graphPoints, std::uint64_t vertexCount);
+
 /// Grid version. Cells are the cubes whose eight corners are voxel centres
 /// inside the domain (image and mask): a cube with a corner outside the mask
 /// is not a cell, so paths never pass through it, which is what makes masked

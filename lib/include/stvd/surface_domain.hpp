@@ -100,6 +100,24 @@ class SurfaceDomain {
   double ringLength(std::uint32_t i) const { return ringLength_[i]; }
   double ringDirectionX(std::uint32_t i) const { return ringDirectionX_[i]; }
   double ringDirectionY(std::uint32_t i) const { return ringDirectionY_[i]; }
+  /// Ring entry i as a walk across the faces around v reads it: the
+  /// neighbour and the edge's length, and the face between entry i and the
+  /// next one counter-clockwise with its corner angle at v as it is on the
+  /// surface (not scaled to a full turn), as cosine and sine, so that
+  /// turning by it is one complex product. The last entry of a boundary fan
+  /// has no face after it (kNoFace, angle 0). The true angles unfold faces
+  /// isometrically, as the STVD candidates' paths need them
+  /// (CandidatePath<SurfaceDomain, ...>); one record per entry, so that a
+  /// fan is read from one or two cache lines.
+  struct RingCorner {
+    double cos, sin, length;
+    VertexId neighbor;
+    std::uint32_t face;
+  };
+  const RingCorner& ringCorner(std::uint32_t i) const { return ringCorner_[i]; }
+  std::uint32_t ringFace(std::uint32_t i) const { return ringCorner_[i].face; }
+  static constexpr std::uint32_t kNoFace = 0xffffffffu;
+
   /// Index of w in v's ring; throws std::logic_error when w is no neighbour.
   std::uint32_t ringIndex(VertexId v, VertexId w) const {
     for (std::uint32_t i = ringStart_[v]; i < ringStart_[v + 1]; ++i)
@@ -115,27 +133,28 @@ class SurfaceDomain {
       f(ringNeighbor_[i], Vec3f{ringEdgeX_[i], ringEdgeY_[i], 0.f});
   }
 
-  /// A world-space tensor restricted to the edge from -> to: the 2x2 tensor
-  /// in the edge's own frame (d, n_e x d), d the unit edge direction and
-  /// n_e the mean normal of the two end points, returned as {dd, dp, pp}.
-  /// Reversing the edge flips both axes, which leaves the tensor unchanged:
-  /// an edge has one tensor, whichever way it is walked.
-  /// Single precision and inline: it runs for every measured edge.
-  STVD_ALWAYS_INLINE void edgeFrameTensor(const SymTensor3& g, VertexId from, VertexId to,
-                                          float& dd, float& dp, float& pp) const {
-    auto unit = [](Vec3f v) {
-      const float n2 = dot(v, v);
-      return n2 > 0.f ? (1.f / std::sqrt(n2)) * v : Vec3f{};
-    };
-    const Vec3f d = unit(toFloat(points_[to] - points_[from]));
-    const Vec3f nE = unit(unitNormals_[from] + unitNormals_[to]);
-    const Vec3f p = unit(Vec3f{nE.y * d.z - nE.z * d.y, nE.z * d.x - nE.x * d.z,
-                               nE.x * d.y - nE.y * d.x});
-    const Vec3f gd = g.apply(d);
-    dd = dot(d, gd);
-    dp = dot(p, gd);
-    pp = g.quadraticForm(p);
-  }
+  /// Per face (in faces() order), the mean of its corners' tensors: the
+  /// face-wise metric that Lanthier's method uses, with which a path
+  /// inside a face is measured.
+  std::vector<SymTensor3> faceTensors(const RiemannianMetric& metric) const;
+
+  /// Which tensor measures an edge.
+  enum class EdgeTensorRule {
+    /// The mean of the end points' tensors (the paper's per-edge norm).
+    EndpointMean,
+    /// The tensor of the edge's cheaper face, the one that measures the
+    /// edge shorter: the edge is a path in either face, so under the
+    /// face-wise metric its length is the smaller of the two, and no edge
+    /// undercuts a path through a face.
+    CheaperFace,
+  };
+
+  /// Per ring entry (v, w), three floats {dd, dp, pp}: the edge's tensor
+  /// restricted to the edge's own frame (d, n_e x d), d the unit edge
+  /// direction and n_e the mean normal of the two end points. Reversing the
+  /// edge flips both axes, which leaves the tensor unchanged: an edge has
+  /// one tensor, whichever way it is walked.
+  std::vector<float> edgeTensors(const RiemannianMetric& metric, EdgeTensorRule rule) const;
 
  private:
   std::vector<Vec3d> points_;
@@ -149,7 +168,7 @@ class SurfaceDomain {
   std::vector<VertexId> ringNeighbor_;
   std::vector<float> ringAngle_, ringEdgeX_, ringEdgeY_;
   std::vector<double> ringLength_, ringDirectionX_, ringDirectionY_;
-  std::vector<Vec3f> unitNormals_;  // normals_ in single precision, for edgeFrameTensor
+  std::vector<RingCorner> ringCorner_;
 };
 
 /// The STVD chain on a surface: unfolded edge by edge into v's frame. At
@@ -159,7 +178,19 @@ class SurfaceDomain {
 /// (paper, figure 8). Nothing of the surface's embedding beyond lengths and
 /// corner angles is used.
 template <>
+constexpr int defaultMemoryDepth<SurfaceDomain>() {
+  return kDefaultSurfaceMemoryDepth;
+}
+
+template <>
 struct ChainUnfolding<SurfaceDomain> {
+  /// Edge norms are carried into the unfolded frame, not plain means.
+  static constexpr bool kEdgeNormIsMean = false;
+  /// The edge v -> w in v's frame, as forEachNeighbor(v, ...) reports it.
+  static Vec3f neighborEdge(const SurfaceDomain& domain, VertexId v, VertexId w) {
+    const std::uint32_t i = domain.ringIndex(v, w);
+    return Vec3f{domain.ringEdgeX(i), domain.ringEdgeY(i), 0.f};
+  }
   static void place(const SurfaceDomain& domain, const VertexId* chain, int count, Vec3f* p) {
     p[0] = Vec3f{};
     if (count < 2) return;
@@ -188,17 +219,36 @@ struct ChainUnfolding<SurfaceDomain> {
     }
   }
 
-  /// The edge's tensor in the frame where the edge is `e`: the metric of the
-  /// two end points (world tensors, their mean) restricted to the edge's own
-  /// frame, then turned so that the edge direction becomes e / |e|. Only the
-  /// xx, xy, yy entries are set (vectors in the frame have z = 0).
+  /// The tensor of each edge in its own frame (SurfaceDomain::edgeTensors),
+  /// made once per propagation: Dijkstra and the segment measure take the
+  /// cheaper face's, so that no edge undercuts a path through a face under
+  /// the face-wise metric; the chain rules keep the paper's mean of the end
+  /// points (their documented figures).
+  struct EdgeMetric {
+    std::vector<float> tensor;  // {dd, dp, pp} per ring entry
+  };
   template <class Norm>
-  static SymTensor3 edgeNorm(const SurfaceDomain& domain, const SymTensor3& from,
-                             const SymTensor3& to, VertexId a, VertexId b, Vec3f e) {
+  static EdgeMetric edgeMetric(const SurfaceDomain& domain, const MetricField<Norm>& metric,
+                               const PropagationOptions& options) {
     static_assert(std::is_same_v<Norm, RiemannianNorm>,
                   "surfaces are measured with RiemannianNorm (world tensors per vertex)");
-    float dd, dp, pp;
-    domain.edgeFrameTensor(RiemannianNorm::edgeParams(from, to), a, b, dd, dp, pp);
+    const bool faceWise =
+        options.method == Method::Dijkstra || options.chainMeasure == ChainMeasure::Segment;
+    return {domain.edgeTensors(metric, faceWise ? SurfaceDomain::EdgeTensorRule::CheaperFace
+                                                : SurfaceDomain::EdgeTensorRule::EndpointMean)};
+  }
+
+  /// The edge's tensor in the frame where the edge is `e`: its tensor in its
+  /// own frame (edgeMetric), turned so that the edge direction becomes
+  /// e / |e|. Only the xx, xy, yy entries are set (vectors in the frame have
+  /// z = 0).
+  template <class Norm>
+  static SymTensor3 edgeNorm(const SurfaceDomain& domain, const EdgeMetric& edges, const SymTensor3&,
+                             const SymTensor3&, VertexId a, VertexId b, Vec3f e) {
+    static_assert(std::is_same_v<Norm, RiemannianNorm>,
+                  "surfaces are measured with RiemannianNorm (world tensors per vertex)");
+    const float* t = &edges.tensor[3 * std::size_t(domain.ringIndex(a, b))];
+    const float dd = t[0], dp = t[1], pp = t[2];
     const float inv = 1.f / std::sqrt(std::max(e.x * e.x + e.y * e.y, 1e-30f));
     const float ux = e.x * inv, uy = e.y * inv;  // edge direction
     const float wx = -uy, wy = ux;               // its left normal in the frame
@@ -215,3 +265,7 @@ extern template PropagationResult propagate(const SurfaceDomain&, const Riemanni
                                             const PropagationOptions&);
 
 }  // namespace stvd
+
+// The candidate paths of STVD on surfaces: wherever the propagation is
+// instantiated for a SurfaceDomain, this specialisation must be seen.
+#include "stvd/surface_candidate_path.hpp"

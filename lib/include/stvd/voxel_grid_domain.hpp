@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <vector>
 
 #include "stvd/grid_geometry.hpp"
@@ -39,6 +40,28 @@ struct VoxelIndex {
   std::int32_t i = 0, j = 0, k = 0;
 };
 
+/// Which voxels of a masked grid touch: whether two domain voxels that meet
+/// only along an edge or at a corner of their cubes, with the voxels around
+/// that contact outside the domain, are joined.
+///
+/// The domain of a masked grid is a region of space, not only a set of
+/// voxels: the union of the closed cells (segments, squares and cubes
+/// between neighbouring voxel centres) whose corners all lie in the domain.
+/// A path may only run inside it, and every edge, stencil step and STVD
+/// candidate is used only when its straight segment does (see
+/// VoxelGridDomain::segmentInDomain). With `Faces` that region is all there
+/// is: a diagonal line of excluded voxels is a wall, and no path passes
+/// through a gap of zero width. `Edges` also joins two domain voxels that
+/// are diagonal neighbours in a square of voxels whose other two are
+/// outside (the 18-neighbourhood's contacts), by the straight step between
+/// their centres; `Corners` also joins diagonal neighbours across a cube
+/// (the 26-neighbourhood's contacts).
+enum class VoxelConnectivity {
+  Faces = 6,     ///< only through cells whose corners are all in the domain (default)
+  Edges = 18,    ///< and across edge contacts
+  Corners = 26,  ///< and across edge and corner contacts
+};
+
 /// A voxel grid seen as a graph: one vertex per voxel (linear index
 /// i + nx*(j + ny*k)), one edge per stencil offset that stays inside the
 /// image and the mask. Edge vectors are the physical displacements of the
@@ -47,15 +70,19 @@ struct VoxelIndex {
 class VoxelGridDomain {
  public:
   /// `mask`, when not empty, holds one byte per voxel in linear order;
-  /// voxels with a zero byte are outside the domain. Throws
-  /// std::invalid_argument for an invalid geometry or a mask of the wrong size.
+  /// voxels with a zero byte are outside the domain, and `connectivity`
+  /// says which contacts between domain voxels paths may pass through (see
+  /// VoxelConnectivity). Throws std::invalid_argument for an invalid
+  /// geometry or a mask of the wrong size.
   VoxelGridDomain(const GridGeometry& geometry, Stencil stencil,
-                  std::vector<std::uint8_t> mask = {});
+                  std::vector<std::uint8_t> mask = {},
+                  VoxelConnectivity connectivity = VoxelConnectivity::Faces);
 
   const GridGeometry& geometry() const { return geometry_; }
   const Stencil& stencil() const { return stencil_; }
   bool hasMask() const { return !mask_.empty(); }
   const std::vector<std::uint8_t>& mask() const { return mask_; }
+  VoxelConnectivity connectivity() const { return connectivity_; }
 
   VertexId vertexCount() const { return vertexCount_; }
   /// Number of vertices inside the domain (all voxels, or the mask's ones).
@@ -88,6 +115,24 @@ class VoxelGridDomain {
     return toFloat(geometry_.indexToPhysicalOffset(b.i - a.i, b.j - a.j, b.k - a.k));
   }
 
+  /// x(chain[c]) - x(chain[0]) for c < count: displacement() for a whole
+  /// predecessor chain, with the first voxel's index found once and single
+  /// precision products of the (small) index differences.
+  void placeChain(const VertexId* chain, int count, Vec3f* p) const {
+    const VoxelIndex o = indexOf(chain[0]);
+    p[0] = Vec3f{};
+    for (int c = 1; c < count; ++c) {
+      const VoxelIndex q = indexOf(chain[c]);
+      p[c] = indexOffsetVector(q.i - o.i, q.j - o.j, q.k - o.k);
+    }
+  }
+  /// The physical vector of a (small) index offset, in single precision.
+  Vec3f indexOffsetVector(int di, int dj, int dk) const {
+    const float a = static_cast<float>(di), b = static_cast<float>(dj), c = static_cast<float>(dk);
+    return Vec3f{axisI_.x * a + axisJ_.x * b + axisK_.x * c, axisI_.y * a + axisJ_.y * b + axisK_.y * c,
+                 axisI_.z * a + axisJ_.z * b + axisK_.z * c};
+  }
+
   /// Calls f(first, last) for every run of consecutive vertex numbers that
   /// holds neighbours of v: the rows of the stencil's bounding block, cut
   /// to the image (they may include masked voxels and v itself).
@@ -106,9 +151,11 @@ class VoxelGridDomain {
   /// the stencil, which stays in cache.
   void prefetchNeighborGeometry(VertexId) const {}
 
-  /// Calls f(w, e) for every neighbour w of v inside the domain, with e the
+  /// Calls f(w, e) for every neighbour w of the domain vertex v inside the
+  /// domain whose stencil step from v lies in the domain (segmentInDomain), with e the
   /// physical edge vector x(w) - x(v). The interior of the image takes a
-  /// path without bounds checks.
+  /// path without bounds checks, and a voxel farther from every excluded
+  /// voxel than the stencil reaches takes one without the steps' checks.
   template <class F>
   STVD_ALWAYS_INLINE void forEachNeighbor(VertexId v, F&& f) const {
     const VoxelIndex c = indexOf(v);
@@ -117,6 +164,8 @@ class VoxelGridDomain {
                           c.j + r < static_cast<int>(ny_) && c.k + r < static_cast<int>(nz_);
     const int n = stencil_.size();
     const std::uint8_t* mask = mask_.empty() ? nullptr : mask_.data();
+    // Near an excluded voxel a step must also keep to the domain's cells.
+    const bool checkSteps = mask && clearance_[v] <= r;
     for (int s = 0; s < n; ++s) {
       if (!interior) {
         const auto& o = stencil_.offsets()[s];
@@ -124,18 +173,56 @@ class VoxelGridDomain {
       }
       const VertexId w = static_cast<VertexId>(static_cast<std::int64_t>(v) + linearOffset_[s]);
       if (mask && mask[w] == 0) continue;
+      if (checkSteps && !stepSupportInDomain(v, s)) continue;
       f(w, edgeVector_[s]);
     }
   }
 
+  /// Whether the straight segment between the centres of domain voxels a
+  /// and b lies in the domain's region (see VoxelConnectivity): every point
+  /// of it lies in a cell whose corners are all in the domain, i.e. every
+  /// voxel that a trilinear interpolation at any point of the segment gives
+  /// a non-zero weight is in the domain, or the piece passes through a
+  /// contact that the connectivity joins. This is stricter than asking for
+  /// every voxel whose cube the segment crosses. Always true without a mask;
+  /// cheap when no excluded voxel lies within the segment's reach.
+  bool segmentInDomain(VertexId a, VertexId b) const {
+    if (mask_.empty()) return true;
+    const VoxelIndex p = indexOf(a), q = indexOf(b);
+    const int span = std::max({std::abs(q.i - p.i), std::abs(q.j - p.j), std::abs(q.k - p.k)});
+    if (std::max(clearance_[a], clearance_[b]) > span) return true;
+    return traceSegmentSupport(p, q);
+  }
+
+  /// Chebyshev distance, in voxels, from v to the nearest voxel of the
+  /// image outside the domain, saturated at 255 (every voxel without a
+  /// mask: empty). 0 for a voxel outside the domain.
+  const std::vector<std::uint8_t>& clearance() const { return clearance_; }
+
  private:
+  bool stepSupportInDomain(VertexId v, int s) const {
+    for (std::uint32_t m = supportStart_[s]; m < supportStart_[s + 1]; ++m)
+      if (mask_[static_cast<VertexId>(static_cast<std::int64_t>(v) + supportOffset_[m])] == 0) return false;
+    return true;
+  }
+  bool traceSegmentSupport(const VoxelIndex& a, const VoxelIndex& b) const;
+  void computeClearance();
+
   GridGeometry geometry_;
   Stencil stencil_;
   std::vector<std::uint8_t> mask_;
+  VoxelConnectivity connectivity_ = VoxelConnectivity::Faces;
+  std::vector<std::uint8_t> clearance_;
+  // Per stencil offset s, the linear offsets (from v) of the voxels besides
+  // v and w that its step needs in the domain:
+  // supportOffset_[supportStart_[s] .. supportStart_[s + 1]).
+  std::vector<std::uint32_t> supportStart_;
+  std::vector<std::int64_t> supportOffset_;
   VertexId nx_ = 1, ny_ = 1, nz_ = 1, nxy_ = 1, vertexCount_ = 0, domainVertexCount_ = 0;
   detail::FixedDivisor rowDivisor_, sliceDivisor_;
   std::vector<std::int64_t> linearOffset_;
   std::vector<Vec3f> edgeVector_;
+  Vec3f axisI_, axisJ_, axisK_;  // the physical vector of one index step along i, j, k
 };
 
 }  // namespace stvd

@@ -5,7 +5,12 @@
 #include <itkNiftiImageIOFactory.h>
 #include <itkNrrdImageIOFactory.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
@@ -16,9 +21,9 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "library_messages.hpp"
 #include "stvd/itk/image_io_error.hpp"
 
-#include <zlib.h>
 
 namespace stvd::imaging::detail {
 
@@ -64,64 +69,7 @@ std::string conciseItkMessage(const std::exception& e) {
   return line;
 }
 
-namespace {
-
-bool endsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-/// Bytes of a gzip file once decompressed, or -1 when the stream is damaged
-/// or cut short.
-long long gzipContentSize(const std::string& path) {
-  gzFile file = gzopen(path.c_str(), "rb");
-  if (!file) return -1;
-  std::vector<char> buffer(1 << 20);
-  long long total = 0;
-  int n;
-  while ((n = gzread(file, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0) total += n;
-  int error = Z_OK;
-  gzerror(file, &error);
-  gzclose(file);
-  return (n < 0 || (error != Z_OK && error != Z_STREAM_END)) ? -1 : total;
-}
-
-/// ITK's NIfTI reader fills the missing part of a cut-short file silently,
-/// so single-file NIfTI (.nii, .nii.gz) is checked here: the data must
-/// reach vox_offset + voxels * bytes per voxel.
-void checkNiftiDataIsComplete(itk::ImageIOBase& io, const std::string& path) {
-  std::string lower = path;
-  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  const bool gzip = endsWith(lower, ".nii.gz");
-  if (!gzip && !endsWith(lower, ".nii")) return;
-  const itk::MetaDataDictionary& dict = io.GetMetaDataDictionary();
-  auto number = [&](const std::string& key) {
-    std::string text;
-    if (!itk::ExposeMetaData<std::string>(dict, key, text)) return -1.0;
-    return std::atof(text.c_str());
-  };
-  const double dims = number("dim[0]"), bitpix = number("bitpix"), offset = number("vox_offset");
-  if (dims < 1 || bitpix <= 0 || offset < 0) return;
-  double voxels = 1;
-  for (int d = 1; d <= static_cast<int>(dims) && d <= 7; ++d) voxels *= std::max(1.0, number("dim[" + std::to_string(d) + "]"));
-  const double expected = offset + voxels * bitpix / 8.0;
-  double actual;
-  if (gzip) {
-    const long long size = gzipContentSize(path);
-    if (size < 0) throw ImageIoError(path, "the compressed data are damaged or cut short");
-    actual = static_cast<double>(size);
-  } else {
-    std::error_code ec;
-    actual = static_cast<double>(std::filesystem::file_size(path, ec));
-  }
-  if (actual < expected)
-    throw ImageIoError(path, "the file is truncated: " + std::to_string(static_cast<long long>(actual)) +
-                                 " bytes where header and data need " +
-                                 std::to_string(static_cast<long long>(expected)));
-}
-
-}  // namespace
-
-itk::ImageIOBase::Pointer openImageForReading(const std::string& path) {
+OpenedImage openImageForReading(const std::string& path) {
   registerImageIoFactories();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw ImageIoError(path, "no such file");
@@ -131,22 +79,25 @@ itk::ImageIOBase::Pointer openImageForReading(const std::string& path) {
     if (!probe) throw ImageIoError(path, std::string("cannot open: ") + std::strerror(errno));
     if (probe.peek() == std::ifstream::traits_type::eof()) throw ImageIoError(path, "the file is empty");
   }
-  itk::ImageIOBase::Pointer io =
-      itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::IOFileModeEnum::ReadMode);
-  if (!io)
+  OpenedImage image;
+  image.screened = screenImageFile(path);
+  LibraryMessageCapture quiet;
+  image.io = itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::IOFileModeEnum::ReadMode);
+  if (!image.io)
     throw ImageIoError(path, "not a readable NIfTI (.nii, .nii.gz) or NRRD (.nrrd, .nhdr) image "
                              "(unknown format, or a damaged header)");
-  io->SetFileName(path);
+  image.io->SetFileName(path);
   try {
-    io->ReadImageInformation();
+    image.io->ReadImageInformation();
   } catch (const std::exception& e) {
     throw ImageIoError(path, "cannot read the header: " + conciseItkMessage(e));
   }
-  if (std::string(io->GetNameOfClass()) == "NiftiImageIO") checkNiftiDataIsComplete(*io, path);
-  return io;
+  return image;
 }
 
-GridGeometry geometryOf(itk::ImageIOBase& io, const std::string& path) {
+namespace {
+
+GridGeometry geometryOfAxes(itk::ImageIOBase& io, const std::string& path) {
   GridGeometry g;
   const unsigned dims = io.GetNumberOfDimensions();
   for (unsigned a = 0; a < 3; ++a) {
@@ -168,7 +119,64 @@ GridGeometry geometryOf(itk::ImageIOBase& io, const std::string& path) {
   } catch (const std::invalid_argument& e) {
     throw ImageIoError(path, std::string("unusable image geometry: ") + e.what());
   }
+  // Positions far from the origin of the scanner lose the precision that
+  // paths and seeds need; the header screening refuses them already for
+  // NIfTI and NRRD headers, this catches whatever ITK derives.
+  for (int a = 0; a < 3; ++a)
+    if (!(std::abs(g.origin[a]) <= kMaxCoordinateMm))
+      throw ImageIoError(path, "the origin lies beyond the " + std::to_string(static_cast<long>(kMaxCoordinateMm)) +
+                                   " mm that stvd accepts");
   return g;
+}
+
+/// The geometry ITK reads from `header` as a 3D file: a scratch .nii of the
+/// header alone, read for its information only.
+GridGeometry threeDimensionalGeometry(const std::vector<unsigned char>& header, const std::string& path) {
+  static std::atomic<unsigned> serial{0};
+  const std::filesystem::path scratch =
+      std::filesystem::temp_directory_path() /
+      ("stvd-header-" + std::to_string(::getpid()) + "-" + std::to_string(serial++) + ".nii");
+  struct Remove {
+    std::filesystem::path p;
+    ~Remove() {
+      std::error_code ec;
+      std::filesystem::remove(p, ec);
+    }
+  } remove{scratch};
+  {
+    std::ofstream out(scratch, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(header.data()), static_cast<std::streamsize>(header.size()));
+    const char noExtension[4] = {0, 0, 0, 0};
+    out.write(noExtension, 4);
+    if (!out) throw ImageIoError(path, "cannot write a scratch file in " + scratch.parent_path().string());
+  }
+  LibraryMessageCapture quiet;
+  itk::ImageIOBase::Pointer io = itk::ImageIOFactory::CreateImageIO(scratch.c_str(), itk::IOFileModeEnum::ReadMode);
+  if (!io) throw ImageIoError(path, "cannot read the geometry of the header");
+  io->SetFileName(scratch.string());
+  try {
+    io->ReadImageInformation();
+  } catch (const std::exception& e) {
+    throw ImageIoError(path, "cannot read the geometry of the header: " + conciseItkMessage(e));
+  }
+  if (io->GetNumberOfDimensions() != 3) throw ImageIoError(path, "cannot read the geometry of the header");
+  return geometryOfAxes(*io, path);
+}
+
+}  // namespace
+
+GridGeometry geometryOf(const OpenedImage& image, const std::string& path) {
+  itk::ImageIOBase& io = *image.io;
+  // ITK drops the third axis of a 5D tensor NIfTI of one slice, its
+  // spacing and origin with it; a 3D copy of the header keeps them.
+  if (image.isNifti() && image.screened.niftiVersion > 0 && io.GetNumberOfDimensions() < 3 &&
+      image.screened.niftiDim[0] >= 3) {
+    const GridGeometry g = threeDimensionalGeometry(threeDimensionalNiftiHeader(image.screened), path);
+    for (unsigned a = 0; a < io.GetNumberOfDimensions(); ++a)
+      if (g.size[a] != io.GetDimensions(a)) throw ImageIoError(path, "cannot read the geometry of the header");
+    return g;
+  }
+  return geometryOfAxes(io, path);
 }
 
 namespace {
@@ -183,9 +191,28 @@ void convertComponents(const char* raw, std::size_t count, std::vector<float>& o
   }
 }
 
+/// Puts back the values (a float or double buffer in ITK's order) that the
+/// file holds as NaN or infinity and niftilib replaced by 0. With several
+/// components per pixel (interleaved by ITK, one volume per component in
+/// the file), the whole pixel becomes NaN.
+template <class T>
+void restoreNonFinite(RawComponents& raw, const std::vector<NonFiniteValue>& values, std::size_t components) {
+  const std::size_t pixels = raw.count / components;
+  T* buffer = reinterpret_cast<T*>(raw.bytes.data());
+  for (const NonFiniteValue& v : values) {
+    if (components == 1) {
+      if (v.index < raw.count) buffer[v.index] = static_cast<T>(v.value);
+      continue;
+    }
+    const std::size_t pixel = static_cast<std::size_t>(v.index % pixels);
+    for (std::size_t c = 0; c < components; ++c) buffer[pixel * components + c] = std::numeric_limits<T>::quiet_NaN();
+  }
+}
+
 }  // namespace
 
-std::vector<float> readAllComponents(itk::ImageIOBase& io, const std::string& path) {
+RawComponents readRawComponents(OpenedImage& image, const std::string& path) {
+  itk::ImageIOBase& io = *image.io;
   const unsigned dims = io.GetNumberOfDimensions();
   itk::ImageIORegion region(dims);
   std::size_t pixels = 1;
@@ -195,32 +222,49 @@ std::vector<float> readAllComponents(itk::ImageIOBase& io, const std::string& pa
     pixels *= io.GetDimensions(d);
   }
   io.SetIORegion(region);
-  const std::size_t count = pixels * io.GetNumberOfComponents();
-  std::vector<char> raw(count * io.GetComponentSize());
+  RawComponents raw;
+  raw.type = io.GetComponentType();
+  raw.count = pixels * io.GetNumberOfComponents();
+  raw.bytes.resize(raw.count * io.GetComponentSize());
   try {
-    io.Read(raw.data());
+    LibraryMessageCapture quiet;
+    io.Read(raw.bytes.data());
   } catch (const std::exception& e) {
     throw ImageIoError(path, "cannot read the image data (truncated or damaged file?): " +
                                  conciseItkMessage(e));
   }
+  if (image.isNifti() && (raw.type == itk::IOComponentEnum::FLOAT || raw.type == itk::IOComponentEnum::DOUBLE)) {
+    const std::vector<NonFiniteValue> nonFinite = nonFiniteNiftiValues(image.screened, path);
+    const std::size_t components = io.GetNumberOfComponents();
+    if (raw.type == itk::IOComponentEnum::FLOAT)
+      restoreNonFinite<float>(raw, nonFinite, components);
+    else
+      restoreNonFinite<double>(raw, nonFinite, components);
+  }
+  return raw;
+}
+
+std::vector<float> readAllComponents(OpenedImage& image, const std::string& path) {
+  const RawComponents raw = readRawComponents(image, path);
+  const std::size_t count = raw.count;
+  const char* bytes = raw.bytes.data();
   std::vector<float> out;
   using C = itk::IOComponentEnum;
-  switch (io.GetComponentType()) {
-    case C::UCHAR: convertComponents<std::uint8_t>(raw.data(), count, out); break;
-    case C::CHAR: convertComponents<std::int8_t>(raw.data(), count, out); break;
-    case C::USHORT: convertComponents<std::uint16_t>(raw.data(), count, out); break;
-    case C::SHORT: convertComponents<std::int16_t>(raw.data(), count, out); break;
-    case C::UINT: convertComponents<std::uint32_t>(raw.data(), count, out); break;
-    case C::INT: convertComponents<std::int32_t>(raw.data(), count, out); break;
-    case C::ULONG: convertComponents<unsigned long>(raw.data(), count, out); break;
-    case C::LONG: convertComponents<long>(raw.data(), count, out); break;
-    case C::ULONGLONG: convertComponents<unsigned long long>(raw.data(), count, out); break;
-    case C::LONGLONG: convertComponents<long long>(raw.data(), count, out); break;
-    case C::FLOAT: convertComponents<float>(raw.data(), count, out); break;
-    case C::DOUBLE: convertComponents<double>(raw.data(), count, out); break;
+  switch (raw.type) {
+    case C::UCHAR: convertComponents<std::uint8_t>(bytes, count, out); break;
+    case C::CHAR: convertComponents<std::int8_t>(bytes, count, out); break;
+    case C::USHORT: convertComponents<std::uint16_t>(bytes, count, out); break;
+    case C::SHORT: convertComponents<std::int16_t>(bytes, count, out); break;
+    case C::UINT: convertComponents<std::uint32_t>(bytes, count, out); break;
+    case C::INT: convertComponents<std::int32_t>(bytes, count, out); break;
+    case C::ULONG: convertComponents<unsigned long>(bytes, count, out); break;
+    case C::LONG: convertComponents<long>(bytes, count, out); break;
+    case C::ULONGLONG: convertComponents<unsigned long long>(bytes, count, out); break;
+    case C::LONGLONG: convertComponents<long long>(bytes, count, out); break;
+    case C::FLOAT: convertComponents<float>(bytes, count, out); break;
+    case C::DOUBLE: convertComponents<double>(bytes, count, out); break;
     default:
-      throw ImageIoError(path, "unsupported component type " +
-                                   itk::ImageIOBase::GetComponentTypeAsString(io.GetComponentType()));
+      throw ImageIoError(path, "unsupported component type " + itk::ImageIOBase::GetComponentTypeAsString(raw.type));
   }
   return out;
 }
@@ -265,11 +309,17 @@ itk::ImageIOBase::Pointer createFloatWriter(const std::string& path, const std::
 }
 
 void writeFloatData(itk::ImageIOBase& io, const std::string& reportedPath, const float* data) {
+  LibraryMessageCapture quiet;
   try {
     io.Write(data);
   } catch (const std::exception& e) {
     throw ImageIoError(reportedPath, "cannot write: " + conciseItkMessage(e));
   }
+  // niftilib reports a failed write ("** ERROR: NWAD: wrote only 0 of ...
+  // bytes") on standard error without ITK throwing.
+  const std::string said = quiet.text();
+  if (said.find("ERROR") != std::string::npos)
+    throw ImageIoError(reportedPath, "cannot write: " + (said.size() > 200 ? said.substr(0, 197) + "..." : said));
 }
 
 }  // namespace stvd::imaging::detail

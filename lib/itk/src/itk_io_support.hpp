@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "image_header_screening.hpp"
 #include "stvd/grid_geometry.hpp"
 
 namespace stvd::imaging::detail {
@@ -18,19 +19,39 @@ void registerImageIoFactories();
 /// locations and line breaks taken out.
 std::string conciseItkMessage(const std::exception& e);
 
-/// Opens `path`, picks the ITK reader for it and reads its header. Throws
-/// ImageIoError: missing or unreadable file, unknown format, bad header.
-itk::ImageIOBase::Pointer openImageForReading(const std::string& path);
+/// An image file opened for reading: ITK's reader with the header read, and
+/// what our own screening of the header found.
+struct OpenedImage {
+  itk::ImageIOBase::Pointer io;
+  ScreenedImage screened;
+  bool isNifti() const { return screened.format == ImageFileFormat::Nifti; }
+};
+
+/// Screens the header (image_header_screening.hpp), then opens `path` with
+/// the ITK reader for it and reads the header. Throws ImageIoError: missing
+/// or unreadable file, unknown format, bad or hostile header.
+OpenedImage openImageForReading(const std::string& path);
 
 /// The geometry of the first three axes, in LPS as ITK reports it. A 2D
-/// image gets a third axis of size 1. Throws ImageIoError when the geometry
-/// is unusable (e.g. degenerate direction cosines).
-GridGeometry geometryOf(itk::ImageIOBase& io, const std::string& path);
+/// image gets a third axis of size 1; a NIfTI file whose third axis ITK
+/// dropped (a 5D tensor file of one slice) gets it back from its header.
+/// Throws ImageIoError when the geometry is unusable (degenerate direction
+/// cosines, an origin beyond kMaxCoordinateMm).
+GridGeometry geometryOf(const OpenedImage& image, const std::string& path);
 
-/// Reads every component of every pixel, converted to float, in file order
-/// (components fastest, then i, j, k, further axes). Throws ImageIoError
-/// for truncated or unreadable data.
-std::vector<float> readAllComponents(itk::ImageIOBase& io, const std::string& path);
+/// Every component of every pixel as stored, in file order (components
+/// fastest, then i, j, k, further axes), with the values niftilib turned
+/// from NaN or infinity into 0 put back.
+struct RawComponents {
+  std::vector<char> bytes;
+  itk::IOComponentEnum type = itk::IOComponentEnum::UNKNOWNCOMPONENTTYPE;
+  std::size_t count = 0;
+};
+RawComponents readRawComponents(OpenedImage& image, const std::string& path);
+
+/// readRawComponents() converted to float. Throws ImageIoError for
+/// truncated or unreadable data.
+std::vector<float> readAllComponents(OpenedImage& image, const std::string& path);
 
 /// Prepares an ITK writer for `path` (the format follows the extension):
 /// geometry of the first three axes, float32 components. `extraAxis` > 0

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <memory>
 
+#include "library_messages.hpp"
 #include "stvd/itk/image_io_error.hpp"
 
 namespace stvd::imaging::detail {
@@ -32,6 +33,7 @@ NrrdPtr loadNrrd(const std::string& path, bool headerOnly) {
   NrrdPtr nrrd(nrrdNew());
   std::unique_ptr<NrrdIoState, NrrdIoStateDeleter> io(nrrdIoStateNew());
   io->skipData = headerOnly ? 1 : 0;
+  LibraryMessageCapture quiet;
   if (nrrdLoad(nrrd.get(), path.c_str(), io.get()) != 0)
     throw ImageIoError(path, "cannot read the NRRD file: " + takeBiffMessage());
   return nrrd;

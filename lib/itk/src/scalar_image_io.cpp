@@ -1,47 +1,153 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
+#include <limits>
+#include <type_traits>
 #include <sstream>
 
 #include "itk_io_support.hpp"
-#include "stvd/itk/atomic_output.hpp"
+#include "written_files.hpp"
+#include "stvd/files/output_transaction.hpp"
+#include "stvd/itk/image_files.hpp"
 #include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/label_values.hpp"
+#include "stvd/itk/mrtrix_image.hpp"
 #include "stvd/itk/scalar_image.hpp"
 
 namespace stvd::imaging {
 
-ScalarImage readScalarImage(const std::string& path) {
-  itk::ImageIOBase::Pointer io = detail::openImageForReading(path);
-  const unsigned dims = io->GetNumberOfDimensions();
-  if (io->GetNumberOfComponents() != 1)
-    throw ImageIoError(path, "not a scalar image: " + std::to_string(io->GetNumberOfComponents()) +
+namespace {
+
+detail::OpenedImage openScalarImage(const std::string& path) {
+  detail::OpenedImage image = detail::openImageForReading(path);
+  itk::ImageIOBase& io = *image.io;
+  if (io.GetNumberOfComponents() != 1)
+    throw ImageIoError(path, "not a scalar image: " + std::to_string(io.GetNumberOfComponents()) +
                                  " components per voxel");
-  for (unsigned d = 3; d < dims; ++d)
-    if (io->GetDimensions(d) != 1)
+  for (unsigned d = 3; d < io.GetNumberOfDimensions(); ++d)
+    if (io.GetDimensions(d) != 1)
       throw ImageIoError(path, "not a 3D scalar image: axis " + std::to_string(d + 1) + " has " +
-                                   std::to_string(io->GetDimensions(d)) + " samples");
-  ScalarImage image;
-  image.geometry = detail::geometryOf(*io, path);
-  image.values = detail::readAllComponents(*io, path);
+                                   std::to_string(io.GetDimensions(d)) + " samples");
   return image;
 }
 
-void writeScalarImage(const std::string& path, const GridGeometry& geometry,
-                      const std::vector<float>& values) {
+template <class T>
+void integerLabels(const detail::RawComponents& raw, std::vector<std::int64_t>& labels, const std::string& path,
+                   const GridGeometry& g) {
+  labels.resize(raw.count);
+  for (std::size_t v = 0; v < raw.count; ++v) {
+    T value;
+    std::memcpy(&value, raw.bytes.data() + v * sizeof(T), sizeof(T));
+    if constexpr (std::is_unsigned_v<T> && sizeof(T) == 8)
+      labels[v] = labelOfUnsigned64(value, path, g, v);
+    else
+      labels[v] = static_cast<std::int64_t>(value);
+  }
+}
+
+template <class T>
+void floatLabels(const detail::RawComponents& raw, std::vector<std::int64_t>& labels, const std::string& path,
+                 const GridGeometry& g) {
+  labels.resize(raw.count);
+  for (std::size_t v = 0; v < raw.count; ++v) {
+    T value;
+    std::memcpy(&value, raw.bytes.data() + v * sizeof(T), sizeof(T));
+    labels[v] = labelOfReal(static_cast<double>(value), path, g, v);
+  }
+}
+
+/// An MRtrix image holds one volume: every axis after the third has size 1.
+void checkMrtrixScalarImage(const MrtrixHeader& header, const std::string& path) {
+  for (std::size_t a = 3; a < header.size.size(); ++a)
+    if (header.size[a] != 1)
+      throw ImageIoError(path, "not a 3D scalar image: axis " + std::to_string(a + 1) + " has " +
+                                   std::to_string(header.size[a]) + " samples");
+}
+
+}  // namespace
+
+ScalarImage readScalarImage(const std::string& path) {
+  if (isMrtrixImagePath(path)) {
+    MrtrixImage image = readMrtrixImage(path);
+    checkMrtrixScalarImage(image.header, path);
+    return {image.geometry, std::move(image.values), {}};
+  }
+  detail::OpenedImage opened = openScalarImage(path);
+  ScalarImage image;
+  image.geometry = detail::geometryOf(opened, path);
+  image.values = detail::readAllComponents(opened, path);
+  image.warnings = opened.screened.warnings;
+  return image;
+}
+
+LabelImage readLabelImage(const std::string& path) {
+  if (isMrtrixImagePath(path)) {
+    MrtrixLabelImage image = readMrtrixLabelImage(path);
+    checkMrtrixScalarImage(image.header, path);
+    return {image.geometry, std::move(image.labels), {}};
+  }
+  detail::OpenedImage opened = openScalarImage(path);
+  LabelImage image;
+  image.geometry = detail::geometryOf(opened, path);
+  image.warnings = opened.screened.warnings;
+  const detail::RawComponents raw = detail::readRawComponents(opened, path);
+  const GridGeometry& g = image.geometry;
+  using C = itk::IOComponentEnum;
+  switch (raw.type) {
+    case C::UCHAR: integerLabels<std::uint8_t>(raw, image.labels, path, g); break;
+    case C::CHAR: integerLabels<std::int8_t>(raw, image.labels, path, g); break;
+    case C::USHORT: integerLabels<std::uint16_t>(raw, image.labels, path, g); break;
+    case C::SHORT: integerLabels<std::int16_t>(raw, image.labels, path, g); break;
+    case C::UINT: integerLabels<std::uint32_t>(raw, image.labels, path, g); break;
+    case C::INT: integerLabels<std::int32_t>(raw, image.labels, path, g); break;
+    case C::ULONG: integerLabels<unsigned long>(raw, image.labels, path, g); break;
+    case C::LONG: integerLabels<long>(raw, image.labels, path, g); break;
+    case C::ULONGLONG: integerLabels<unsigned long long>(raw, image.labels, path, g); break;
+    case C::LONGLONG: integerLabels<long long>(raw, image.labels, path, g); break;
+    case C::FLOAT: floatLabels<float>(raw, image.labels, path, g); break;
+    case C::DOUBLE: floatLabels<double>(raw, image.labels, path, g); break;
+    default:
+      throw ImageIoError(path, "unsupported component type " + itk::ImageIOBase::GetComponentTypeAsString(raw.type));
+  }
+  return image;
+}
+
+namespace {
+
+void writeScalarImageTo(const std::string& stagingPath, const std::string& path, const GridGeometry& geometry,
+                        const std::vector<float>& values) {
   if (values.size() != geometry.voxelCount())
     throw ImageIoError(path, std::to_string(values.size()) + " values for a grid of " +
                                  std::to_string(geometry.voxelCount()) + " voxels");
-  AtomicOutput output(path);
-  itk::ImageIOBase::Pointer io =
-      detail::createFloatWriter(output.stagingPath(), path, geometry, 1, itk::IOPixelEnum::SCALAR);
-  detail::writeFloatData(*io, path, values.data());
-  output.commit();
+  checkImageOutputCompanions(path);
+  if (isMrtrixImagePath(path)) {
+    writeMrtrixImage(stagingPath, path, geometry, values);
+  } else {
+    itk::ImageIOBase::Pointer io =
+        detail::createFloatWriter(stagingPath, path, geometry, 1, itk::IOPixelEnum::SCALAR);
+    detail::writeFloatData(*io, path, values.data());
+  }
+  detail::checkWrittenImage(stagingPath, path, values);
+}
+
+}  // namespace
+
+void writeScalarImage(const std::string& path, const GridGeometry& geometry,
+                      const std::vector<float>& values) {
+  detail::writeAtomically(
+      path, [&](const std::string& staging) { writeScalarImageTo(staging, path, geometry, values); });
+}
+
+void writeScalarImage(files::OutputTransaction& outputs, const std::string& path, const GridGeometry& geometry,
+                      const std::vector<float>& values) {
+  outputs.write(path, [&](const std::string& staging) { writeScalarImageTo(staging, path, geometry, values); });
 }
 
 bool hasImageExtension(const std::string& path) {
   std::string lower = path;
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  for (const char* ext : {".nii", ".nii.gz", ".nrrd", ".nhdr"}) {
+  for (const char* ext : {".nii", ".nii.gz", ".nrrd", ".nhdr", ".mif", ".mif.gz"}) {
     const std::size_t n = std::char_traits<char>::length(ext);
     if (lower.size() > n && lower.compare(lower.size() - n, n, ext) == 0) return true;
   }

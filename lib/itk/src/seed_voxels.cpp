@@ -110,11 +110,11 @@ std::vector<SeedVoxel> labelSeedVoxels(const std::string& labelsName, const Scal
   return seeds;
 }
 
-std::vector<PathTarget> labelTargets(const std::string& labelsName, const ScalarImage& labels,
+std::vector<PathTarget> labelTargets(const std::string& labelsName, const LabelImage& labels,
                                      const std::string& inputName, const GridGeometry& geometry,
                                      const std::vector<std::uint8_t>& inDomain, const std::vector<double>& distance) {
   requireSameGrid(labels.geometry, geometry, labelsName, "the target labels are", inputName);
-  const std::vector<LabelRegion> regions = labelRegions(labelsName, labels.values, inDomain);
+  const std::vector<LabelRegion> regions = labelRegions(labels.labels, inDomain);
   if (regions.empty()) throw NothingToCompute(labelsName + ": the target label image has no non-zero voxel");
   std::vector<PathTarget> targets;
   for (const LabelRegion& region : regions) {

@@ -4,12 +4,13 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <sstream>
 
-#include "stvd/itk/atomic_output.hpp"
+#include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/image_io_error.hpp"
+#include "written_files.hpp"
 
 namespace stvd::imaging {
 namespace {
@@ -223,7 +224,11 @@ std::string rasAxisCodes(const GridGeometry& g) {
   return code;
 }
 
-void writeStreamlines(const std::string& path, const StreamlineSet& set) {
+namespace {
+
+/// The bytes of the file; throws ImageIoError for an unknown extension or an
+/// inconsistent set.
+std::string streamlineFileContents(const std::string& path, const StreamlineSet& set) {
   const std::optional<StreamlineFormat> format = streamlineFormatOf(path);
   if (!format) throw ImageIoError(path, "unknown streamline format; use .tck, .trk or .vtk");
   checkSet(path, set, *format);
@@ -233,13 +238,19 @@ void writeStreamlines(const std::string& path, const StreamlineSet& set) {
     case StreamlineFormat::Trk: contents = trkContents(set); break;
     case StreamlineFormat::Vtk: contents = vtkContents(set); break;
   }
-  AtomicOutput output(path);
-  {
-    std::ofstream file(output.stagingPath(), std::ios::binary);
-    file.write(contents.data(), static_cast<std::streamsize>(contents.size()));
-    if (!file.flush()) throw ImageIoError(path, "cannot write the streamline file");
-  }
-  output.commit();
+  return contents;
+}
+
+}  // namespace
+
+void writeStreamlines(const std::string& path, const StreamlineSet& set) {
+  const std::string contents = streamlineFileContents(path, set);
+  detail::writeAtomically(path, [&](const std::string& staging) { files::writeFileContents(staging, contents); });
+}
+
+void writeStreamlines(files::OutputTransaction& outputs, const std::string& path, const StreamlineSet& set) {
+  const std::string contents = streamlineFileContents(path, set);
+  outputs.write(path, [&](const std::string& staging) { files::writeFileContents(staging, contents); });
 }
 
 }  // namespace stvd::imaging

@@ -1,6 +1,7 @@
 #include "stvd/itk/tensor_arrays.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "stvd/itk/image_io_error.hpp"
@@ -29,10 +30,29 @@ GridGeometry gridGeometryFromRasAffine(const std::array<double, 16>& a, const st
   return g;
 }
 
+TensorComponentLayout componentsPerVoxel(const std::array<std::size_t, 3>& size, TensorOrder order) {
+  const std::ptrdiff_t nx = static_cast<std::ptrdiff_t>(size[0]), nxy = nx * static_cast<std::ptrdiff_t>(size[1]);
+  TensorComponentLayout layout;
+  layout.order = order;
+  layout.voxelStride = {6, 6 * nx, 6 * nxy};
+  for (int q = 0; q < 6; ++q) layout.componentOffset[q] = q;
+  return layout;
+}
+
+TensorComponentLayout oneVolumePerComponent(const std::array<std::size_t, 3>& size, TensorOrder order) {
+  const std::ptrdiff_t nx = static_cast<std::ptrdiff_t>(size[0]), nxy = nx * static_cast<std::ptrdiff_t>(size[1]);
+  TensorComponentLayout layout;
+  layout.order = order;
+  layout.voxelStride = {1, nx, nxy};
+  for (int q = 0; q < 6; ++q) layout.componentOffset[q] = q * nxy * static_cast<std::ptrdiff_t>(size[2]);
+  return layout;
+}
+
 template <class T>
 std::vector<SymTensor3> tensorsFromArray(const T* components, const std::array<std::size_t, 3>& size,
                                          const TensorComponentLayout& layout, const Matrix3& frameChange) {
   std::vector<SymTensor3> tensors(size[0] * size[1] * size[2]);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
   float c[6];
   std::size_t v = 0;
   for (std::size_t k = 0; k < size[2]; ++k)
@@ -41,8 +61,19 @@ std::vector<SymTensor3> tensorsFromArray(const T* components, const std::array<s
         const T* voxel = components + static_cast<std::ptrdiff_t>(i) * layout.voxelStride[0] +
                          static_cast<std::ptrdiff_t>(j) * layout.voxelStride[1] +
                          static_cast<std::ptrdiff_t>(k) * layout.voxelStride[2];
-        for (int q = 0; q < 6; ++q) c[q] = static_cast<float>(voxel[layout.componentOffset[q]]);
-        tensors[v] = changeTensorFrame(tensorFromComponents(c, layout.order), frameChange);
+        bool finite = true;
+        for (int q = 0; q < 6; ++q) {
+          const T x = voxel[layout.componentOffset[q]];
+          // Beyond float's range a double would become infinite (and its
+          // conversion is undefined).
+          finite = finite && std::isfinite(x) && std::abs(x) <= std::numeric_limits<float>::max();
+          c[q] = finite ? static_cast<float>(x) : 0.f;
+        }
+        // There is no tensor where a component is not finite (niftilib
+        // would have turned a NaN into 0, and the frame change would mix it
+        // into some components only).
+        tensors[v] = finite ? changeTensorFrame(tensorFromComponents(c, layout.order), frameChange)
+                            : SymTensor3{nan, nan, nan, nan, nan, nan};
       }
   return tensors;
 }
@@ -54,6 +85,7 @@ template std::vector<SymTensor3> tensorsFromArray(const double*, const std::arra
 
 TensorOrder resolveTensorOrder(const std::string& name, TensorFileLayout layout,
                                const std::optional<TensorOrder>& stated) {
+  if (layout == TensorFileLayout::MrtrixSixVolumes) return stated.value_or(TensorOrder::Mrtrix);
   if (layout == TensorFileLayout::NiftiSixVolumes) {
     if (!stated)
       throw ImageIoError(name, "a NIfTI file with six values per voxel and no SYMMATRIX intent does not say its "

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "stvd/front_end_errors.hpp"
-
+#include "stvd/itk/tensor_plausibility.hpp"
 
 namespace stvd::imaging {
 
@@ -44,22 +44,44 @@ void checkTensorInputOptions(const TensorInputOptions& o) {
     throw OptionError("--fa-threshold applies to --tensor-kind diffusion only");
 }
 
-TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options) {
+TensorInput tensorInputOf(TensorReadResult read, const std::string& name) {
   TensorInput input;
-  input.read = readTensorVolume(path, {options.order, options.frame});
+  input.read = std::move(read);
   input.mask = input.read.volume.mask;
   if (!input.mask.empty()) input.maskDescription = "the file's confidence channel";
+  for (const std::string& w : input.read.info.warnings) input.warnings.push_back(name + ": " + w);
+  return input;
+}
+
+TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options) {
+  TensorInput input = tensorInputOf(readTensorVolume(path, {options.order, options.frame}), path);
   if (!options.maskPath.empty()) addMask(input, readScalarImage(options.maskPath), options.maskPath, path);
   return input;
 }
 
 void addMask(TensorInput& input, const ScalarImage& mask, const std::string& maskName, const std::string& inputName) {
+  for (const std::string& w : mask.warnings) input.warnings.push_back(maskName + ": " + w);
   requireSameGrid(mask.geometry, input.read.volume.geometry, maskName, "the mask is", inputName);
   if (input.mask.empty()) input.mask.assign(mask.values.size(), 1);
   for (std::size_t v = 0; v < mask.values.size(); ++v)
     if (mask.values[v] == 0.f || std::isnan(mask.values[v])) input.mask[v] = 0;
   input.maskDescription =
       input.maskDescription.empty() ? maskName : maskName + " and " + input.maskDescription;
+}
+
+MetricFromTensors buildCheckedMetric(const std::string& inputName, const TensorInput& input,
+                                     const TensorInputOptions& options) {
+  MetricFromTensors built = buildMetric(input.read.volume.tensors, input.mask, options.metric);
+  const std::string reason = implausibleTensorsReason(built.counts);
+  if (!reason.empty() && !options.acceptImplausible) {
+    const TensorFileInfo& info = input.read.info;
+    throw InputError(inputName + ": " + reason + " as read (" + tensorFileLayoutName(info.layout) + ", order " +
+                     tensorOrderName(info.order) + " = " + tensorOrderComponents(info.order) + ", " +
+                     tensorFrameName(info.frame) +
+                     " frame): most likely a wrong --tensor-order; check it, --tensor-frame and --tensor-kind (stvd "
+                     "info " + inputName + " tries each order), or go on with --accept-implausible-tensors");
+  }
+  return built;
 }
 
 }  // namespace stvd::imaging

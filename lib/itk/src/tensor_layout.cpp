@@ -43,6 +43,7 @@ std::string tensorFileLayoutName(TensorFileLayout layout) {
     case TensorFileLayout::NiftiSixVolumes: return "NIfTI six-volume";
     case TensorFileLayout::NrrdSymMatrix: return "NRRD 3D-symmetric-matrix";
     case TensorFileLayout::NrrdMaskedSymMatrix: return "NRRD 3D-masked-symmetric-matrix";
+    case TensorFileLayout::MrtrixSixVolumes: return "MRtrix six-volume";
   }
   return "?";
 }
@@ -53,6 +54,7 @@ TensorFrame defaultTensorFrame(TensorFileLayout layout, TensorOrder order) {
     case TensorFileLayout::NrrdMaskedSymMatrix: return TensorFrame::World;
     case TensorFileLayout::NiftiSymMatrix5D:
     case TensorFileLayout::NiftiSixVolumes:
+    case TensorFileLayout::MrtrixSixVolumes:
       return order == TensorOrder::Mrtrix ? TensorFrame::World : TensorFrame::Voxel;
   }
   return TensorFrame::Voxel;

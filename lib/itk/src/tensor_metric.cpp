@@ -56,10 +56,16 @@ std::array<double, 3> metricEigenvalues(const std::array<double, 3>& l, const Me
 
 }  // namespace
 
+std::optional<double> anisotropyCap(const MetricOptions& options) {
+  if (options.maxAnisotropy) return options.maxAnisotropy;
+  if (options.kind == TensorKind::Diffusion) return kDefaultMaxAnisotropy;
+  return std::nullopt;
+}
+
 MetricFromTensors buildMetric(const std::vector<SymTensor3>& tensors, const std::vector<std::uint8_t>& mask,
                               const MetricOptions& options) {
-  if (!(options.maxAnisotropy >= 1.0))
-    throw std::invalid_argument("the anisotropy cap must be at least 1");
+  const std::optional<double> cap = anisotropyCap(options);
+  if (cap && !(*cap >= 1.0)) throw std::invalid_argument("the anisotropy cap must be at least 1");
   if (!mask.empty() && mask.size() != tensors.size())
     throw std::invalid_argument("mask has " + std::to_string(mask.size()) + " voxels, the tensors " +
                                 std::to_string(tensors.size()));
@@ -77,18 +83,23 @@ MetricFromTensors buildMetric(const std::vector<SymTensor3>& tensors, const std:
     if (!isFinite(t)) { ++c.nonFinite; continue; }
     if (isZero(t)) { ++c.zero; continue; }
     const SymmetricEigen e = eigenDecompose(t);
+    if (!(e.values[2] > 0.0)) ++c.notPositiveDefinite;
+    if (e.values[2] < 0.0 && fractionalAnisotropy(e.values) > 1.0) ++c.faAboveOne;
     if (!(e.values[0] > 0.0)) { ++c.noPositiveEigenvalue; continue; }
     if (options.faThreshold && fractionalAnisotropy(e.values) < *options.faThreshold) {
       ++c.belowFaThreshold;
       continue;
     }
-    const double floor = e.values[0] / options.maxAnisotropy;
+    // Without a cap only non-positive eigenvalues are raised, to the
+    // default cap's floor.
+    const double floor = e.values[0] / cap.value_or(kDefaultMaxAnisotropy);
     std::array<double, 3> repaired = e.values;
     if (e.values[2] <= 0.0)
       ++c.repairedNonPositive;
-    else if (e.values[2] < floor)
+    else if (cap && e.values[2] < floor)
       ++c.repairedAnisotropy;
-    for (double& l : repaired) l = std::max(l, floor);
+    for (double& l : repaired)
+      if (cap || l <= 0.0) l = std::max(l, floor);
     out.metric[v] = tensorFromEigen(metricEigenvalues(repaired, options), e.vectors);
     out.inDomain[v] = 1;
     ++c.domain;

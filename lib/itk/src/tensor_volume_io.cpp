@@ -3,13 +3,17 @@
 // keeps ITK's tensor headers (and the Eigen copy they carry) out of stvd.
 #include <itkMetaDataObject.h>
 
+#include <cmath>
+#include <limits>
 #include <sstream>
 #include <utility>
 
 #include "itk_io_support.hpp"
 #include "nrrd_header.hpp"
-#include "stvd/itk/atomic_output.hpp"
+#include "written_files.hpp"
+#include "stvd/itk/image_files.hpp"
 #include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/mrtrix_image.hpp"
 #include "stvd/itk/tensor_arrays.hpp"
 #include "stvd/itk/tensor_volume.hpp"
 
@@ -29,10 +33,38 @@ Matrix3 transpose(const Matrix3& m) {
   return {m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]};
 }
 
+/// An MRtrix tensor image: X Y Z 6, as dwi2tensor writes it (components
+/// D11 D22 D33 D12 D13 D23 along the scanner's RAS axes).
+TensorReadResult readMrtrixTensorVolume(const std::string& path, const TensorReadOptions& options) {
+  MrtrixImage image = readMrtrixImage(path);
+  const std::vector<std::size_t>& size = image.header.size;
+  if (!(size.size() == 4 && size[3] == 6)) {
+    std::string dim;
+    for (std::size_t s : size) dim += (dim.empty() ? "" : ",") + std::to_string(s);
+    throw ImageIoError(path, "not a tensor volume: an MRtrix tensor image has four axes with 6 volumes "
+                             "(dim X,Y,Z,6), this one has dim " + dim);
+  }
+  TensorReadResult result;
+  TensorFileInfo& info = result.info;
+  info.layout = TensorFileLayout::MrtrixSixVolumes;
+  info.order = resolveTensorOrder(path, info.layout, options.order);
+  info.frameWasStated = options.frame.has_value();
+  info.frame = options.frame.value_or(defaultTensorFrame(info.layout, info.order));
+  info.componentType = image.header.datatype;
+  result.volume.geometry = image.geometry;
+  info.componentsToLps = componentFrameToLps(info, image.geometry);
+  result.volume.tensors =
+      tensorsFromArray(image.values.data(), image.geometry.size, oneVolumePerComponent(image.geometry.size, info.order),
+                       info.componentsToLps);
+  return result;
+}
+
 }  // namespace
 
 TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options) {
-  itk::ImageIOBase::Pointer io = detail::openImageForReading(path);
+  if (isMrtrixImagePath(path)) return readMrtrixTensorVolume(path, options);
+  detail::OpenedImage image = detail::openImageForReading(path);
+  itk::ImageIOBase::Pointer io = image.io;
   const std::string ioClass = io->GetNameOfClass();
   const unsigned dims = io->GetNumberOfDimensions();
   const unsigned components = io->GetNumberOfComponents();
@@ -40,6 +72,7 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
 
   TensorReadResult result;
   TensorFileInfo& info = result.info;
+  info.warnings = image.screened.warnings;
   info.componentType = itk::ImageIOBase::GetComponentTypeAsString(io->GetComponentType());
   // How the components sit in ITK's buffer: interleaved per voxel (true) or
   // one volume after the other (false).
@@ -59,7 +92,10 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
     // ITK hands the six tensor values over in NRRD's own order, xx xy xz yy yz zz.
     bufferOrder = TensorOrder::Fsl;
   } else if (ioClass == "NiftiImageIO") {
-    if (dims == 3 && components == 6 && tensorPixel) {
+    // ITK drops the third axis of a 5D file of one slice (geometryOf()
+    // takes it back from the header).
+    const bool oneSlice = dims < 3 && image.screened.niftiDim[0] == 5 && image.screened.niftiDim[3] == 1;
+    if ((dims == 3 || oneSlice) && components == 6 && tensorPixel) {
       info.layout = TensorFileLayout::NiftiSymMatrix5D;
       info.order = resolveTensorOrder(path, info.layout, options.order);
       // ITK reorders the standard's lower triangle into its own upper one.
@@ -89,21 +125,17 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
   info.frame = options.frame.value_or(defaultTensorFrame(info.layout, info.order));
 
   TensorVolume& volume = result.volume;
-  volume.geometry = detail::geometryOf(*io, path);
-  const std::vector<float> values = detail::readAllComponents(*io, path);
+  volume.geometry = detail::geometryOf(image, path);
+  const std::vector<float> values = detail::readAllComponents(image, path);
   const std::size_t n = volume.geometry.voxelCount();
   if (values.size() != 6 * n)
     throw ImageIoError(path, "holds " + std::to_string(values.size()) + " values, expected 6 per voxel");
 
   // The same conversion as for arrays in memory (tensor_arrays.hpp).
-  const std::array<std::size_t, 3>& size = volume.geometry.size;
-  const std::ptrdiff_t nx = static_cast<std::ptrdiff_t>(size[0]), nxy = nx * static_cast<std::ptrdiff_t>(size[1]);
-  TensorComponentLayout layout;
-  layout.order = bufferOrder;
-  const std::ptrdiff_t voxel = interleaved ? 6 : 1, component = interleaved ? 1 : static_cast<std::ptrdiff_t>(n);
-  layout.voxelStride = {voxel, voxel * nx, voxel * nxy};
-  for (int q = 0; q < 6; ++q) layout.componentOffset[q] = q * component;
-  volume.tensors = tensorsFromArray(values.data(), size, layout, componentFrameToLps(info, volume.geometry));
+  info.componentsToLps = componentFrameToLps(info, volume.geometry);
+  const TensorComponentLayout layout = interleaved ? componentsPerVoxel(volume.geometry.size, bufferOrder)
+                                                   : oneVolumePerComponent(volume.geometry.size, bufferOrder);
+  volume.tensors = tensorsFromArray(values.data(), volume.geometry.size, layout, info.componentsToLps);
 
   if (info.layout == TensorFileLayout::NrrdMaskedSymMatrix) {
     const std::vector<float> confidence = detail::readNrrdConfidence(path);
@@ -136,7 +168,8 @@ void writeTensorVolume(const std::string& path, const TensorVolume& volume,
     toLps = nrrd ? Matrix3{1, 0, 0, 0, 1, 0, 0, 0, 1} : rasToLps();
   const Matrix3 fromLps = transpose(toLps);
 
-  const bool sixVolumes = options.layout == TensorFileLayout::NiftiSixVolumes;
+  const bool mrtrix = options.layout == TensorFileLayout::MrtrixSixVolumes;
+  const bool sixVolumes = options.layout == TensorFileLayout::NiftiSixVolumes || mrtrix;
   const TensorOrder order = sixVolumes ? options.order : TensorOrder::Fsl;
   std::vector<float> buffer(6 * n);
   float c[6];
@@ -145,24 +178,32 @@ void writeTensorVolume(const std::string& path, const TensorVolume& volume,
     for (int q = 0; q < 6; ++q) (sixVolumes ? buffer[v + n * q] : buffer[6 * v + q]) = c[q];
   }
 
-  AtomicOutput output(path);
-  itk::ImageIOBase::Pointer io =
-      sixVolumes ? detail::createFloatWriter(output.stagingPath(), path, g, 1, itk::IOPixelEnum::SCALAR, 6)
-                 : detail::createFloatWriter(output.stagingPath(), path, g, 6,
-                                             itk::IOPixelEnum::SYMMETRICSECONDRANKTENSOR);
-  const std::string ioClass = io->GetNameOfClass();
-  if (nrrd != (ioClass == "NrrdImageIO"))
+  if (mrtrix != isMrtrixImagePath(path))
     throw ImageIoError(path, "the extension does not match the layout " + tensorFileLayoutName(options.layout));
-  if (nrrd && options.frame == TensorFrame::Voxel) {
-    // The measurement frame's columns are the index axes in LPS.
-    std::vector<std::vector<double>> frame(3, std::vector<double>(3));
-    for (int col = 0; col < 3; ++col)
-      for (int r = 0; r < 3; ++r) frame[col][r] = toLps[3 * r + col];
-    itk::EncapsulateMetaData<std::vector<std::vector<double>>>(io->GetMetaDataDictionary(),
-                                                               "NRRD_measurement frame", frame);
-  }
-  detail::writeFloatData(*io, path, buffer.data());
-  output.commit();
+  detail::writeAtomically(path, [&](const std::string& staging) {
+    if (mrtrix) {
+      writeMrtrixImage(staging, path, g, buffer, 6);
+      detail::checkWrittenImage(staging, path, buffer);
+      return;
+    }
+    itk::ImageIOBase::Pointer io =
+        sixVolumes ? detail::createFloatWriter(staging, path, g, 1, itk::IOPixelEnum::SCALAR, 6)
+                   : detail::createFloatWriter(staging, path, g, 6, itk::IOPixelEnum::SYMMETRICSECONDRANKTENSOR);
+    const std::string ioClass = io->GetNameOfClass();
+    if (nrrd != (ioClass == "NrrdImageIO"))
+      throw ImageIoError(path, "the extension does not match the layout " + tensorFileLayoutName(options.layout));
+    if (nrrd && options.frame == TensorFrame::Voxel) {
+      // The measurement frame's columns are the index axes in LPS.
+      std::vector<std::vector<double>> frame(3, std::vector<double>(3));
+      for (int col = 0; col < 3; ++col)
+        for (int r = 0; r < 3; ++r) frame[col][r] = toLps[3 * r + col];
+      itk::EncapsulateMetaData<std::vector<std::vector<double>>>(io->GetMetaDataDictionary(),
+                                                                 "NRRD_measurement frame", frame);
+    }
+    checkImageOutputCompanions(path);
+    detail::writeFloatData(*io, path, buffer.data());
+    detail::checkWrittenImage(staging, path, buffer);
+  });
 }
 
 }  // namespace stvd::imaging

@@ -31,17 +31,37 @@ void putLittle(std::ostream& out, T value) {
   out.write(reinterpret_cast<const char*>(b), sizeof(T));
 }
 
+/// A coordinate in the mesh's own type: the value it was read from.
+void putCoordinate(std::ostream& out, double x, ScalarType type) {
+  switch (type) {
+    case ScalarType::Int8: putLittle(out, static_cast<std::int8_t>(x)); return;
+    case ScalarType::UInt8: putLittle(out, static_cast<std::uint8_t>(x)); return;
+    case ScalarType::Int16: putLittle(out, static_cast<std::int16_t>(x)); return;
+    case ScalarType::UInt16: putLittle(out, static_cast<std::uint16_t>(x)); return;
+    case ScalarType::Int32: putLittle(out, static_cast<std::int32_t>(x)); return;
+    case ScalarType::UInt32: putLittle(out, static_cast<std::uint32_t>(x)); return;
+    case ScalarType::Float32: putLittle(out, static_cast<float>(x)); return;
+    case ScalarType::Float64: putLittle(out, x); return;
+  }
+}
+
 void writePly(std::ofstream& out, const SurfaceMesh& m, const std::vector<double>& d) {
+  // Coordinates keep the input's type, so that every vertex is written back
+  // exactly where it was read. Distances are float: the propagation
+  // measures each edge in single precision, so more digits would only
+  // repeat float rounding (sqrt(2) as 1.4142135381698608).
+  const char* coordinate = plyTypeName(m.coordinateType);
   out << "ply\nformat binary_little_endian 1.0\ncomment stvd surface distance\n"
       << "element vertex " << m.points.size() << "\n"
-      << "property float x\nproperty float y\nproperty float z\nproperty double distance\n"
+      << "property " << coordinate << " x\nproperty " << coordinate << " y\nproperty " << coordinate
+      << " z\nproperty float distance\n"
       << "element face " << m.faces.faceCount() << "\n"
       << "property list uchar int vertex_indices\nend_header\n";
   for (std::size_t v = 0; v < m.points.size(); ++v) {
-    putLittle(out, static_cast<float>(m.points[v].x));
-    putLittle(out, static_cast<float>(m.points[v].y));
-    putLittle(out, static_cast<float>(m.points[v].z));
-    putLittle(out, d[v]);
+    putCoordinate(out, m.points[v].x, m.coordinateType);
+    putCoordinate(out, m.points[v].y, m.coordinateType);
+    putCoordinate(out, m.points[v].z, m.coordinateType);
+    putLittle(out, static_cast<float>(d[v]));
   }
   for (std::size_t f = 0; f < m.faces.faceCount(); ++f) {
     const std::uint32_t b = m.faces.faceStart[f], e = m.faces.faceStart[f + 1];
@@ -93,8 +113,8 @@ void writeSurfaceDistances(const std::string& path, const std::string& formatPat
   if (e == ".ply") writePly(out, mesh, distance);
   else if (e == ".vtk") writeVtk(out, mesh, distance);
   else writeCsv(out, distance);
-  out.flush();
-  if (!out) throw MeshFileError(path + ": cannot write the file");
+  out.close();
+  if (!out) throw MeshFileError(path + ": cannot write the file (disk full or file size limit?)");
 }
 
 }  // namespace stvd::surface_io

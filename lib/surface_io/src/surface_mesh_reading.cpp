@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -7,6 +8,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <sstream>
 
 #include "stvd/surface_io/surface_mesh_io.hpp"
@@ -81,7 +83,7 @@ void requireFaces(const std::string& path, const SurfaceMesh& m) {
 
 bool isSurfaceMeshPath(const std::string& path) {
   const std::string e = lowerExtension(path);
-  return e == ".obj" || e == ".off" || e == ".ply";
+  return e == ".obj" || e == ".off" || e == ".ply" || e == ".stl";
 }
 
 bool isSurfaceOutputPath(const std::string& path) {
@@ -94,7 +96,8 @@ SurfaceMesh readSurfaceMesh(const std::string& path) {
   if (e == ".obj") return readObj(path);
   if (e == ".off") return readOff(path);
   if (e == ".ply") return readPly(path);
-  throw MeshFileError(path + ": unknown surface format (expected .obj, .off or .ply)");
+  if (e == ".stl") return readStl(path);
+  throw MeshFileError(path + ": unknown surface format (expected .obj, .off, .ply or .stl)");
 }
 
 // Wavefront OBJ: "v x y z [w]" and "f i i i ..." with i, i/t, i//n or i/t/n,
@@ -166,8 +169,11 @@ SurfaceMesh readOff(const std::string& path) {
   long long nv, nf;
   if (t.size() < 2 || !parseLong(t[0], nv) || !parseLong(t[1], nf) || nv < 0 || nf < 0)
     throw MeshFileError(at(path, next) + "expected the counts \"vertices faces edges\"");
+  // Every vertex takes a line of its own: no more is reserved than the lines
+  // left can hold, whatever the counts announce.
+  const std::size_t linesLeft = lines.size() - std::min(next, lines.size());
   SurfaceMesh m;
-  m.points.reserve(static_cast<std::size_t>(std::min(nv, 1LL << 26)));
+  m.points.reserve(std::min(static_cast<std::size_t>(nv), linesLeft));
   for (long long v = 0; v < nv; ++v) {
     double x, y, z;
     if (!nextLine(t))
@@ -203,7 +209,7 @@ SurfaceMesh readOff(const std::string& path) {
 
 namespace {
 
-enum class PlyType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
+using PlyType = ScalarType;
 
 bool plyType(const std::string& name, PlyType& type) {
   static const std::pair<const char*, PlyType> names[] = {
@@ -247,6 +253,9 @@ class PlyBody {
  public:
   PlyBody(const std::string& path, const std::string& text, std::size_t start, int format)
       : path_(path), text_(text), pos_(start), format_(format) {}
+
+  /// Bytes of the body not read yet.
+  std::size_t remaining() const { return text_.size() - std::min(pos_, text_.size()); }
 
   double read(PlyType t, const std::string& where) {
     if (format_ == 0) return readAscii(t, where);
@@ -369,10 +378,25 @@ SurfaceMesh readPly(const std::string& path) {
     }
     if (isVertex && (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0))
       throw MeshFileError(path + ": the vertex element lacks one of the properties x, y, z");
+    if (isVertex) {
+      const PlyType x = e.properties[xyz[0]].type;
+      m.coordinateType = x == e.properties[xyz[1]].type && x == e.properties[xyz[2]].type ? x : PlyType::Float64;
+    }
     if (isFace && indices < 0)
       throw MeshFileError(path + ": the face element has no list property vertex_indices");
     if (isFace && !sawVertices)
       throw MeshFileError(path + ": the face element comes before the vertex element");
+    // A record takes at least one byte per value in binary (one character
+    // and a separator in ASCII): a count the rest of the file cannot hold is
+    // refused here, and a record without properties holds nothing to read.
+    if (e.properties.empty()) continue;
+    std::size_t recordBytes = 0;
+    for (const PlyProperty& q : e.properties)
+      recordBytes += format == 0 ? 1 : static_cast<std::size_t>(plySize(q.isList ? q.countType : q.type));
+    if (static_cast<unsigned long long>(e.count) > body.remaining() / recordBytes)
+      throw MeshFileError(path + ": the header announces " + std::to_string(e.count) + " " + e.name +
+                          " records, more than the " + std::to_string(body.remaining()) +
+                          " bytes left in the file can hold");
     for (long long i = 0; i < e.count; ++i) {
       const std::string where = e.name + " " + std::to_string(i);
       double coordinate[3] = {0, 0, 0};
@@ -414,6 +438,112 @@ SurfaceMesh readPly(const std::string& path) {
       }
     }
     sawVertices = sawVertices || isVertex;
+  }
+  requireFaces(path, m);
+  return m;
+}
+
+const char* plyTypeName(ScalarType type) {
+  switch (type) {
+    case ScalarType::Int8: return "char";
+    case ScalarType::UInt8: return "uchar";
+    case ScalarType::Int16: return "short";
+    case ScalarType::UInt16: return "ushort";
+    case ScalarType::Int32: return "int";
+    case ScalarType::UInt32: return "uint";
+    case ScalarType::Float32: return "float";
+    case ScalarType::Float64: return "double";
+  }
+  return "double";
+}
+
+namespace {
+
+/// Welds STL corners into vertices by exact coordinates.
+class StlWelder {
+ public:
+  explicit StlWelder(SurfaceMesh& mesh) : mesh_(mesh) {}
+  void facet(const Vec3d (&corner)[3]) {
+    VertexId v[3];
+    for (int c = 0; c < 3; ++c) {
+      const auto [it, inserted] = index_.emplace(std::array<double, 3>{corner[c].x, corner[c].y, corner[c].z},
+                                                 static_cast<VertexId>(mesh_.points.size()));
+      if (inserted) mesh_.points.push_back(corner[c]);
+      else ++mesh_.weldedVertices;
+      v[c] = it->second;
+    }
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) {
+      ++mesh_.degenerateFacets;
+      return;
+    }
+    mesh_.faces.add(v, v + 3);
+  }
+
+ private:
+  SurfaceMesh& mesh_;
+  std::map<std::array<double, 3>, VertexId> index_;
+};
+
+}  // namespace
+
+SurfaceMesh readStl(const std::string& path) {
+  const std::string bytes = readAll(path);
+  SurfaceMesh m;
+  StlWelder welder(m);
+  std::uint32_t count = 0;
+  if (bytes.size() >= 84) std::memcpy(&count, bytes.data() + 80, 4);  // little-endian on every target
+  if (bytes.size() >= 84 && bytes.size() == 84 + 50ull * count) {
+    m.coordinateType = ScalarType::Float32;
+    for (std::uint32_t f = 0; f < count; ++f) {
+      const char* at = bytes.data() + 84 + 50ull * f + 12;  // after the facet normal
+      Vec3d corner[3];
+      for (int c = 0; c < 3; ++c) {
+        float xyz[3];
+        std::memcpy(xyz, at + 12 * c, 12);
+        if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2]))
+          throw MeshFileError(path + ": facet " + std::to_string(f) + ": a coordinate is not a finite number");
+        corner[c] = {xyz[0], xyz[1], xyz[2]};
+      }
+      welder.facet(corner);
+    }
+  } else {
+    const std::vector<std::string> lines = splitLines(bytes);
+    std::size_t first = 0;
+    while (first < lines.size() && tokens(lines[first]).empty()) ++first;
+    if (first == lines.size() || tokens(lines[first])[0] != "solid")
+      throw MeshFileError(path + ": not an STL file (neither \"solid\" text nor binary of " +
+                          std::to_string(bytes.size()) + " bytes, which " +
+                          (bytes.size() >= 84 ? std::to_string(count) + " triangles would make " +
+                                                    std::to_string(84 + 50ull * count)
+                                              : std::string("a binary header needs at least 84")) +
+                          ")");
+    Vec3d corner[3];
+    int corners = -1;  // -1: outside a facet
+    bool ended = false;
+    for (std::size_t i = first + 1; i < lines.size() && !ended; ++i) {
+      const std::vector<std::string> t = tokens(lines[i]);
+      if (t.empty()) continue;
+      if (t[0] == "facet") {
+        if (corners >= 0) throw MeshFileError(at(path, i + 1) + "a facet inside a facet");
+        corners = 0;
+      } else if (t[0] == "vertex") {
+        double x, y, z;
+        if (corners < 0 || corners >= 3)
+          throw MeshFileError(at(path, i + 1) + "a vertex outside a facet, or a fourth one");
+        if (t.size() != 4 || !parseDouble(t[1], x) || !parseDouble(t[2], y) || !parseDouble(t[3], z))
+          throw MeshFileError(at(path, i + 1) + "a vertex needs three finite coordinates");
+        corner[corners++] = {x, y, z};
+      } else if (t[0] == "endfacet") {
+        if (corners != 3) throw MeshFileError(at(path, i + 1) + "a facet needs exactly 3 vertices");
+        welder.facet(corner);
+        corners = -1;
+      } else if (t[0] == "endsolid") {
+        ended = true;
+      } else if (t[0] != "outer" && t[0] != "endloop") {
+        throw MeshFileError(at(path, i + 1) + "unknown STL keyword \"" + t[0] + "\"");
+      }
+    }
+    if (corners >= 0) throw MeshFileError(path + ": the file ends inside a facet");
   }
   requireFaces(path, m);
   return m;

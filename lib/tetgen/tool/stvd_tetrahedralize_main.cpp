@@ -12,7 +12,11 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
+#include "stvd/files/file_identity.hpp"
+#include "stvd/files/output_transaction.hpp"
+#include "stvd/files/termination_signals.hpp"
 #include "stvd/tetgen/tetrahedralize.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
 
@@ -48,28 +52,27 @@ double number(const std::string& option, const std::string& text) {
   return x;
 }
 
-/// Writes the three files under temporary names next to the output and
-/// renames them (the .node file, which names the mesh, last), so that a
-/// reader never sees a partial mesh. Removes the temporary files on failure.
-void writeAtomically(const std::string& base, const stvd::tetmesh::TetMesh& mesh) {
-  const std::string staging = base + ".partial-" + std::to_string(::getpid());
-  const char* suffixes[] = {".ele", ".face", ".node"};
-  auto removeStaged = [&] {
-    for (const char* s : suffixes) std::remove((staging + s).c_str());
-  };
-  try {
-    stvd::tetmesh::writeTetGenMesh(staging, mesh);
-  } catch (...) {
-    removeStaged();
-    throw;
-  }
-  for (const char* s : suffixes) {
-    if (std::string(s) == ".face" && mesh.faces.empty()) continue;
-    if (std::rename((staging + s).c_str(), (base + s).c_str()) != 0) {
-      removeStaged();
-      throw stvd::tetmesh::TetMeshError(base + s + ": cannot write the file");
-    }
-  }
+/// The three files, staged together and moved into place at once (the .node
+/// file, which names the mesh, last): a reader never sees a partial mesh,
+/// and a failure leaves the files that were there before.
+void writeMesh(const std::string& base, const stvd::tetmesh::TetMesh& mesh) {
+  stvd::files::writeAtomically(base + ".node", [&](const std::string& stagingNode) {
+    stvd::tetmesh::writeTetGenMesh(stvd::tetmesh::tetGenBaseName(stagingNode), mesh);
+  });
+}
+
+/// The input surface and the file a .poly surface may take its points from.
+std::vector<stvd::files::RunFile> inputFiles(const std::string& input) {
+  std::vector<stvd::files::RunFile> files{{"input surface", input}};
+  if (input.size() > 5 && input.compare(input.size() - 5, 5, ".poly") == 0)
+    files.push_back({"points file of the input surface", input.substr(0, input.size() - 5) + ".node"});
+  return files;
+}
+
+std::vector<stvd::files::RunFile> outputFiles(const std::string& base) {
+  return {{".node file of the output mesh", base + ".node"},
+          {".ele file of the output mesh", base + ".ele"},
+          {".face file of the output mesh", base + ".face"}};
 }
 
 /// TetGen's loaders print progress and their own diagnostics on stdout; the
@@ -101,6 +104,7 @@ stvd::tetgen::SurfaceMesh readSurfaceQuietly(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  stvd::files::removeStagedOutputsOnTerminationSignals("stvd tetrahedralize");
   std::string input, output;
   stvd::tetgen::TetrahedralizeOptions options;
   bool quiet = false;
@@ -139,12 +143,18 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   const std::string base = stvd::tetmesh::tetGenBaseName(output);
-  // An unwritable output folder is found before the meshing, not after it.
-  const std::size_t slash = base.find_last_of('/');
-  const std::string folder = slash == std::string::npos ? "." : base.substr(0, slash + 1);
-  if (::access(folder.c_str(), W_OK | X_OK) != 0) {
-    std::cerr << "stvd tetrahedralize: " << base << ".node: the folder " << folder
-              << " does not exist or is not writable" << std::endl;
+  // An output that is the input, and an unwritable output folder, are found
+  // before the meshing, not after it.
+  try {
+    stvd::files::checkOutputsAreNotInputs(inputFiles(input), outputFiles(base));
+  } catch (const stvd::files::FileConflict& e) {
+    std::cerr << "stvd tetrahedralize: " << e.what() << std::endl;
+    return kExitUsage;
+  }
+  try {
+    stvd::files::checkOutputPath(base + ".node");
+  } catch (const stvd::files::OutputError& e) {
+    std::cerr << "stvd tetrahedralize: " << e.what() << std::endl;
     return kExitOutput;
   }
   stvd::tetmesh::TetMesh mesh;
@@ -159,8 +169,8 @@ int main(int argc, char** argv) {
     return kExitInternal;
   }
   try {
-    writeAtomically(base, mesh);
-  } catch (const std::exception& e) {
+    writeMesh(base, mesh);
+  } catch (const stvd::files::OutputError& e) {
     std::cerr << "stvd tetrahedralize: " << e.what() << std::endl;
     return kExitOutput;
   }

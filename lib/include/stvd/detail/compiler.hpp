@@ -21,9 +21,10 @@
 /// and for x86-64-v3 (AVX2 + FMA, 2013 and later), and the loader picks the
 /// version the processor supports (GNU ifunc). The STVD chain kernel runs
 /// eight lanes per instruction with AVX2 instead of four. Define
-/// STVD_NO_TARGET_CLONES to build the baseline only.
+/// STVD_NO_TARGET_CLONES to build the baseline only. GCC only: clang (up
+/// to 14 at least) refuses target_clones on function templates.
 #if defined(__x86_64__) && defined(__gnu_linux__) && !defined(STVD_NO_TARGET_CLONES) && \
-    (defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 8))
+    !defined(__clang__) && defined(__GNUC__) && __GNUC__ >= 8
 #define STVD_HOT_LOOP __attribute__((target_clones("arch=x86-64-v3", "default")))
 #else
 #define STVD_HOT_LOOP

@@ -101,6 +101,25 @@ class FrontQueue {
     place({key, v});
   }
 
+  /// Gives the vertex with the smallest key the larger key `key` and queues
+  /// it again where that key belongs (the heap, a bucket or the overflow);
+  /// only after empty() returned false. The propagation uses it when a
+  /// vertex's key was an estimate that turned out too low once measured.
+  void requeueMin(double key) {
+    const VertexId top = heap_.front().id;
+    if ((key - base_) * inverseWidth_ < hotEnd_) {
+      // Still in the current bucket: one sift down from the root, which
+      // stops at once when the vertex is still the smallest.
+      siftDown(0, {key, top});
+      return;
+    }
+    const Entry last = heap_.back();
+    heap_.pop_back();
+    if (!heap_.empty()) siftDown(0, last);
+    slot(top) = kUnseen;
+    place({key, top});
+  }
+
   /// Removes a vertex with the smallest key and marks it final; only after
   /// empty() returned false.
   VertexId popMin() {

@@ -62,9 +62,9 @@ struct PathTarget {
 /// region's voxel in the domain with the smallest distance from the seeds
 /// (the end of the shortest path from the seeds to the region). Throws
 /// ImageIoError when the labels are on another grid than `geometry`,
-/// InputError for a label that is not an integer, NothingToCompute when no
-/// voxel is non-zero or a label has no reached voxel in the domain.
-std::vector<PathTarget> labelTargets(const std::string& labelsName, const ScalarImage& labels,
+/// NothingToCompute when no voxel is non-zero or a label has no reached
+/// voxel in the domain.
+std::vector<PathTarget> labelTargets(const std::string& labelsName, const LabelImage& labels,
                                      const std::string& inputName, const GridGeometry& geometry,
                                      const std::vector<std::uint8_t>& inDomain, const std::vector<double>& distance);
 

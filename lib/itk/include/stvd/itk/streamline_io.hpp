@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/grid_geometry.hpp"
 #include "stvd/types.hpp"
 
@@ -62,5 +63,10 @@ std::string rasAxisCodes(const GridGeometry& geometry);
 ///   title line), lines as LINES, per-line values as CELL_DATA and per-point
 ///   values as POINT_DATA scalars.
 void writeStreamlines(const std::string& path, const StreamlineSet& set);
+
+/// The same as one output of `outputs`, moved into place at its commit.
+/// Throws ImageIoError for an unknown extension or an inconsistent set,
+/// files::OutputError when writing fails.
+void writeStreamlines(files::OutputTransaction& outputs, const std::string& path, const StreamlineSet& set);
 
 }  // namespace stvd::imaging

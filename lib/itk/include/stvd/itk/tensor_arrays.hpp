@@ -42,18 +42,28 @@ struct TensorComponentLayout {
   TensorOrder order = TensorOrder::Fsl;
 };
 
+/// The layouts of the file readers: the six components of a voxel one after
+/// the other (a NRRD, a NIfTI SYMMATRIX or interleaved file), or one whole
+/// volume per component (a NIfTI or MRtrix file of six volumes); voxels in
+/// the order i + nx*(j + ny*k).
+TensorComponentLayout componentsPerVoxel(const std::array<std::size_t, 3>& size, TensorOrder order);
+TensorComponentLayout oneVolumePerComponent(const std::array<std::size_t, 3>& size, TensorOrder order);
+
 /// One tensor per voxel (linear index i + nx*(j + ny*k)): the components
 /// read as single precision, put in order and changed into another frame
 /// with `frameChange`, M T M^T (componentFrameToLps gives the matrix into
-/// LPS; the identity keeps the frame exactly). Instantiated for float and
-/// double.
+/// LPS; the identity keeps the frame exactly). A voxel with a NaN or
+/// infinite component gets a tensor of NaN in every component (no tensor
+/// there; outside the domain), whatever its source. Instantiated for float
+/// and double.
 template <class T>
 std::vector<SymTensor3> tensorsFromArray(const T* components, const std::array<std::size_t, 3>& size,
                                          const TensorComponentLayout& layout, const Matrix3& frameChange);
 
 /// The component order of a tensor layout: the fixed order of the 5D NIfTI
-/// and NRRD layouts (a stated order must agree), the stated one for six
-/// volumes (which need one). Throws ImageIoError naming `name` otherwise.
+/// and NRRD layouts (a stated order must agree), the stated one for NIfTI
+/// six volumes (which need one), the stated one or mrtrix for MRtrix six
+/// volumes. Throws ImageIoError naming `name` otherwise.
 TensorOrder resolveTensorOrder(const std::string& name, TensorFileLayout layout,
                                const std::optional<TensorOrder>& stated);
 

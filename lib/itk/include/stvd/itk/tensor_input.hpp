@@ -17,12 +17,16 @@ namespace stvd::imaging {
 
 /// How to read a tensor file and turn it into a metric (the tool's
 /// --tensor-order, --tensor-frame, --tensor-kind, --diffusion-metric,
-/// --max-anisotropy, --fa-threshold and --mask).
+/// --max-anisotropy, --fa-threshold, --mask and
+/// --accept-implausible-tensors).
 struct TensorInputOptions {
   std::optional<TensorOrder> order;
   std::optional<TensorFrame> frame;
   MetricOptions metric;
   std::string maskPath;
+  /// Go on when the tensors look read in a wrong layout
+  /// (implausibleTensorsReason, tensor_plausibility.hpp).
+  bool acceptImplausible = false;
 };
 
 // The setters take a value as the user gave it and throw OptionError with
@@ -51,17 +55,33 @@ struct TensorInput {
   std::vector<std::uint8_t> mask;
   /// How the mask came about, for reports: "" or e.g. "mask.nii.gz".
   std::string maskDescription;
+  /// What the user should know about the files that were read all the same
+  /// (the tensors' and the mask's warnings), each "FILE: text".
+  std::vector<std::string> warnings;
 };
+
+/// The input of tensors as read (from a file named `name`, or converted
+/// from arrays): the file's own mask, if any, and its warnings.
+TensorInput tensorInputOf(TensorReadResult read, const std::string& name);
 
 /// Reads the tensor file and, when options.maskPath is set, the mask file.
 /// Throws ImageIoError naming the file: unreadable, wrong layout, or a mask
 /// on another grid.
 TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options);
 
-/// Restricts `input` to the voxels where `mask` is neither zero nor NaN.
-/// `maskName` and `inputName` name the two in messages and in the mask
-/// description. Throws ImageIoError(maskName, ...) when the mask is on
-/// another grid than the tensors (geometryMismatch).
+/// Restricts `input` to the voxels where `mask` is neither zero nor NaN,
+/// and takes on the mask's warnings. `maskName` and `inputName` name the
+/// two in messages and in the mask description. Throws
+/// ImageIoError(maskName, ...) when the mask is on another grid than the
+/// tensors (geometryMismatch).
 void addMask(TensorInput& input, const ScalarImage& mask, const std::string& maskName, const std::string& inputName);
+
+/// buildMetric on the input's tensors and mask, then the check of the
+/// layout: when the tensors are implausible (most of them not positive
+/// definite, tensor_plausibility.hpp), InputError naming `inputName`, the
+/// layout, order and frame as read and the options to check, unless
+/// options.acceptImplausible.
+MetricFromTensors buildCheckedMetric(const std::string& inputName, const TensorInput& input,
+                                     const TensorInputOptions& options);
 
 }  // namespace stvd::imaging

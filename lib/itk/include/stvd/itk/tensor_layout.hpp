@@ -29,6 +29,9 @@ enum class TensorFileLayout {
   NiftiSixVolumes,     ///< X Y Z 6 (or X Y Z 1 6 without the intent): order must be stated
   NrrdSymMatrix,       ///< kind 3D-symmetric-matrix (order fixed: fsl)
   NrrdMaskedSymMatrix, ///< kind 3D-masked-symmetric-matrix: confidence + 6 (order fixed: fsl)
+  /// MRtrix image (.mif, .mif.gz, .mih), X Y Z 6: order mrtrix unless
+  /// stated (MRtrix's tensor convention; the file does not say it)
+  MrtrixSixVolumes,
 };
 
 /// "lower" (alias "nifti"), "fsl" (alias "upper") or "mrtrix"; nullopt otherwise.
@@ -45,7 +48,8 @@ std::string tensorFileLayoutName(TensorFileLayout layout);
 
 /// The frame a file's tensors are taken to be in when none is stated:
 /// voxel for NIfTI in the lower and fsl orders (DIPY, FSL), world for NIfTI
-/// in the mrtrix order (MRtrix writes scanner-space tensors), world for NRRD
+/// in the mrtrix order (MRtrix writes scanner-space tensors), the same for
+/// MRtrix images (world in the mrtrix order, voxel otherwise), world for NRRD
 /// (the measurement frame says where the components live; a file without
 /// one has its components in the NRRD space).
 TensorFrame defaultTensorFrame(TensorFileLayout layout, TensorOrder order);

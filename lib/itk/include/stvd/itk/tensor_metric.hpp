@@ -18,11 +18,14 @@
 // coherent white matter more strongly.
 //
 // Repairs. Fitted tensors can be singular or indefinite (noise, partial
-// volume, fits that clip eigenvalues). Every in-domain tensor has its
-// eigenvalues raised to the floor lambda_max / maxAnisotropy, so that
-// lambda_max / lambda_min <= maxAnisotropy and every eigenvalue is
-// positive; the metric's cost ratio between the dearest and the cheapest
-// direction is then at most sqrt(maxAnisotropy). A tensor with a
+// volume, fits that clip eigenvalues). Diffusion tensors have their
+// eigenvalues raised to the floor lambda_max / maxAnisotropy (100 unless
+// given), so that lambda_max / lambda_min <= maxAnisotropy and every
+// eigenvalue is positive; the metric's cost ratio between the dearest and
+// the cheapest direction is then at most sqrt(maxAnisotropy). A metric given
+// as such (TensorKind::Metric) is taken as it is: only an eigenvalue that is
+// zero or negative is raised (to lambda_max / 100), unless maxAnisotropy is
+// given, which then applies as for diffusion tensors. A tensor with a
 // non-finite component, all six components zero, or no positive eigenvalue
 // is outside the domain.
 #pragma once
@@ -55,13 +58,16 @@ std::string diffusionMetricName(DiffusionMetric metric);
 /// A formula for humans, e.g. "G = (D/MD)^-1".
 std::string metricFormula(TensorKind kind, DiffusionMetric metric);
 
+/// The cap on diffusion tensors when none is given, and the floor of a
+/// metric's non-positive eigenvalues.
 inline constexpr double kDefaultMaxAnisotropy = 100.0;
 
 struct MetricOptions {
   TensorKind kind = TensorKind::Diffusion;
   DiffusionMetric diffusionMetric = DiffusionMetric::NormalizedInverse;
-  /// Cap on lambda_max / lambda_min of the tensor, >= 1.
-  double maxAnisotropy = kDefaultMaxAnisotropy;
+  /// Cap on lambda_max / lambda_min of the tensor, >= 1. Unset: 100 for
+  /// diffusion tensors, none for a metric (see the file's comment).
+  std::optional<double> maxAnisotropy;
   /// When set, voxels whose tensor has a lower fractional anisotropy (of
   /// the tensor as read, before repairs) are outside the domain.
   std::optional<double> faThreshold;
@@ -78,7 +84,14 @@ struct MetricVoxelCounts {
   std::uint64_t domain = 0;              ///< inside the domain
   std::uint64_t repairedNonPositive = 0; ///< in the domain; lambda_min <= 0 raised to the floor
   std::uint64_t repairedAnisotropy = 0;  ///< in the domain; 0 < lambda_min < floor raised
+  /// Of the tensors with a value (finite, non-zero, inside the masks), as
+  /// read (before the FA threshold and the repairs): lambda_min <= 0, and
+  /// FA above 1 (which only a negative eigenvalue gives). Many of them mean
+  /// a wrong layout (tensor_plausibility.hpp).
+  std::uint64_t notPositiveDefinite = 0;
+  std::uint64_t faAboveOne = 0;
   std::uint64_t repaired() const { return repairedNonPositive + repairedAnisotropy; }
+  std::uint64_t withTensor() const { return total - masked - nonFinite - zero; }
 };
 
 struct MetricFromTensors {
@@ -89,6 +102,10 @@ struct MetricFromTensors {
   std::vector<std::uint8_t> inDomain;
   MetricVoxelCounts counts;
 };
+
+/// The cap that applies to tensors of this kind under these options, or
+/// none (a metric without --max-anisotropy).
+std::optional<double> anisotropyCap(const MetricOptions& options);
 
 /// Builds the metric and the domain from per-voxel tensors. `mask`, when
 /// not empty, holds one byte per voxel (0 = outside). Throws

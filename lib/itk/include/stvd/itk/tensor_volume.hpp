@@ -7,8 +7,8 @@
 // tensor's six numbers are given in one of two frames:
 //   voxel: along the image's index axes (i, j, k), as DIPY and FSL fits of
 //          FSL-style b-vectors usually are;
-//   world: along the file's own world axes: RAS scanner space for NIfTI (as
-//          MRtrix writes tensors), the measurement frame mapped into the NRRD
+//   world: along the file's own world axes: RAS scanner space for NIfTI and
+//          MRtrix images (as MRtrix writes tensors), the measurement frame mapped into the NRRD
 //          space for NRRD.
 // A voxel-frame tensor T becomes R T R^T in LPS, with R the direction
 // cosines of the index axes (GridGeometry::direction). A NIfTI world-frame
@@ -63,8 +63,14 @@ struct TensorFileInfo {
   Matrix3 measurementFrameLps{1, 0, 0, 0, 1, 0, 0, 0, 1};
   /// NRRD only: the file's "space" field ("" when absent).
   std::string nrrdSpace;
+  /// The matrix M that took the file's components to LPS (T_LPS = M T M^T):
+  /// the voxel axes, the NIfTI RAS flip or the NRRD measurement frame.
+  Matrix3 componentsToLps{1, 0, 0, 0, 1, 0, 0, 0, 1};
   /// File's component type, e.g. "float".
   std::string componentType;
+  /// What the user should know about a file that was read all the same
+  /// (e.g. "has an Analyze 7.5 header ..."), one sentence each.
+  std::vector<std::string> warnings;
 };
 
 struct TensorReadResult {
@@ -72,17 +78,23 @@ struct TensorReadResult {
   TensorFileInfo info;
 };
 
-/// Reads a tensor volume from a .nii, .nii.gz, .nrrd or .nhdr file and
-/// brings its tensors into the LPS frame. Throws ImageIoError with a
-/// one-line message naming the file: unreadable or truncated file, not a
-/// tensor layout (scalar image, wrong component count), a 4D NIfTI without
-/// an order, an order that contradicts the file.
+/// Reads a tensor volume from a .nii, .nii.gz, .nrrd, .nhdr, .mif, .mif.gz
+/// or .mih file (MRtrix: X Y Z 6, order mrtrix unless stated) and brings
+/// its tensors into the LPS frame. The header is checked before the file's
+/// data are read (see docs/reliability.md). A tensor with a NaN or infinite
+/// component in the file is NaN in every component, whatever the format
+/// (niftilib would have turned it into zeros). Throws ImageIoError with a
+/// one-line message naming the file: unreadable, truncated or hostile file,
+/// not a tensor layout (scalar image, wrong component count), a 4D NIfTI
+/// without an order, an order that contradicts the file.
 TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options = {});
 
 struct TensorWriteOptions {
-  /// NIfTI: NiftiSymMatrix5D or NiftiSixVolumes; NRRD: NrrdSymMatrix.
+  /// NIfTI: NiftiSymMatrix5D or NiftiSixVolumes; NRRD: NrrdSymMatrix;
+  /// .mif, .mif.gz: MrtrixSixVolumes.
   TensorFileLayout layout = TensorFileLayout::NiftiSymMatrix5D;
-  /// The order of a NiftiSixVolumes file (the others fix their order).
+  /// The order of a NiftiSixVolumes or MrtrixSixVolumes file (the others
+  /// fix their order).
   TensorOrder order = TensorOrder::Fsl;
   /// Voxel: components along the index axes (NRRD: with the index axes as
   /// measurement frame); world: RAS for NIfTI, LPS for NRRD (identity
@@ -91,8 +103,8 @@ struct TensorWriteOptions {
 };
 
 /// Writes `volume` (tensors in LPS) as float32 in the given layout, order
-/// and frame, atomically (see atomic_output.hpp). The mask is not written.
-/// Throws ImageIoError.
+/// and frame, atomically and checked as writeScalarImage writes (see
+/// scalar_image.hpp). The mask is not written. Throws ImageIoError.
 void writeTensorVolume(const std::string& path, const TensorVolume& volume,
                        const TensorWriteOptions& options);
 

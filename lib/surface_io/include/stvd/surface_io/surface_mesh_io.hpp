@@ -20,12 +20,27 @@ class MeshFileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The scalar type a file stores coordinates in (PLY's types).
+enum class ScalarType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
+/// PLY's name of the type: "char", "uchar", ..., "float", "double".
+const char* plyTypeName(ScalarType type);
+
 struct SurfaceMesh {
   std::vector<Vec3d> points;  // in file order: vertex i is the i-th vertex of the file
   PolygonList faces;          // polygons as given (not triangulated)
+  /// The type the file held the coordinates in: PLY's declared type of x,
+  /// y and z (Float64 when they differ), Float32 for binary STL, Float64
+  /// for the text formats. The PLY writer keeps it, so vertices are written
+  /// back exactly.
+  ScalarType coordinateType = ScalarType::Float64;
+  /// STL only: the facets' corners that coincided exactly with an earlier
+  /// corner and became one vertex with it, and the facets left out because
+  /// two of their corners coincided.
+  std::size_t weldedVertices = 0;
+  std::size_t degenerateFacets = 0;
 };
 
-/// True when the path ends in .obj, .off or .ply (any letter case).
+/// True when the path ends in .obj, .off, .ply or .stl (any letter case).
 bool isSurfaceMeshPath(const std::string& path);
 
 /// Reads by the extension. Throws MeshFileError.
@@ -33,6 +48,13 @@ SurfaceMesh readSurfaceMesh(const std::string& path);
 SurfaceMesh readObj(const std::string& path);
 SurfaceMesh readOff(const std::string& path);
 SurfaceMesh readPly(const std::string& path);
+/// STL, ASCII ("solid ... facet ... vertex x y z ... endsolid") or binary
+/// (80-byte header, triangle count, 50 bytes per triangle; recognised by
+/// its exact size, also when the header starts with "solid"). STL lists
+/// three corners per facet; corners with exactly the same coordinates are
+/// welded into one vertex (counted in weldedVertices), in order of first
+/// appearance, and facets with two equal corners are left out.
+SurfaceMesh readStl(const std::string& path);
 
 /// True when the path ends in .ply, .vtk or .csv (any letter case).
 bool isSurfaceOutputPath(const std::string& path);
@@ -40,7 +62,9 @@ bool isSurfaceOutputPath(const std::string& path);
 /// Writes the mesh and one distance per vertex to `path` in the format of
 /// `formatPath`'s extension (the two differ when the caller stages the file
 /// under a temporary name):
-///  .ply  binary little-endian PLY: x y z (float), distance (double); faces
+///  .ply  binary little-endian PLY: x y z in the mesh's coordinateType
+///        (exactly the input's values), distance (float: the precision the
+///        propagation measures edges in); faces
 ///  .vtk  legacy ASCII POLYDATA, POINT_DATA SCALARS distance double
 ///  .csv  "vertex,distance" then one row per vertex, vertices from 0
 /// A vertex that was not reached has distance +inf in .ply and .csv ("inf")

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "stvd/files/output_transaction.hpp"
 #include "stvd/grid_geometry.hpp"
 
 namespace stvd::vdb {
@@ -24,10 +25,19 @@ struct DistanceGridOptions {
 /// are inactive. The grid's index-to-world transform maps voxel (i, j, k) to
 /// its centre in RAS millimetres (the NIfTI/scanner convention; `geometry`
 /// is in LPS as the imaging adapter reads it). The grid carries the
-/// metadata "units" = "mm" and "world_frame" = "RAS". Written to a
-/// temporary name in the same folder and renamed when complete. Throws
-/// std::runtime_error with a one-line message "<path>: <problem>".
+/// metadata "units" = "mm" and "world_frame" = "RAS". Written atomically
+/// (stvd/files/output_transaction.hpp) and read back before it is moved into
+/// place, since OpenVDB does not report a failed write. The file's UUID is
+/// derived from its content, so that the same grid always gives the same
+/// bytes. Throws std::runtime_error (files::OutputError when writing fails)
+/// with a one-line message "<path>: <problem>".
 void writeDistanceGrid(const std::string& path, const GridGeometry& geometry, const std::vector<double>& distance,
                        const DistanceGridOptions& options = {});
+
+/// The same as one output of `outputs`, moved into place at its commit.
+/// Throws files::OutputError (std::runtime_error for values that do not fit
+/// the geometry).
+void writeDistanceGrid(files::OutputTransaction& outputs, const std::string& path, const GridGeometry& geometry,
+                       const std::vector<double>& distance, const DistanceGridOptions& options = {});
 
 }  // namespace stvd::vdb

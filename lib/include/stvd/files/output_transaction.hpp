@@ -1,0 +1,83 @@
+// The outputs of one run, written all or nothing.
+//
+// Each output is written into a private staging folder next to its final
+// path (".stvd-staging-<pid>-<n>" in the output's folder, so that the final
+// rename never crosses a file system), together with any file the writer
+// puts next to it (the data file of a detached NRRD header). Only when every
+// output of the run has been written and flushed to disk are they moved
+// into place, by rename; a file they replace is kept until all renames have
+// succeeded and restored when one fails. Whatever goes wrong before the
+// commit - a writer's error, a full disk, a file-size limit, an exception
+// anywhere in the run - the staging folders are removed and every file
+// that was at an output path before stays as it was.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace stvd::files {
+
+/// An output that cannot be written. what() is one line: "<path>: <problem>".
+class OutputError : public std::runtime_error {
+ public:
+  OutputError(const std::string& path, const std::string& problem)
+      : std::runtime_error(path + ": " + problem), path_(path) {}
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+/// Throws OutputError naming `path` when it cannot become an output file:
+/// its folder does not exist, is not a folder, or is not writable, or
+/// `path` names an existing folder. Lets a run fail before long work, not
+/// after it.
+void checkOutputPath(const std::string& path);
+
+class OutputTransaction {
+ public:
+  /// Writes one output into `stagingPath`: the staging folder plus the
+  /// output's own file name. It may add files next to it (companions),
+  /// which are moved into the output's folder with it. It reports failure
+  /// by throwing; a writer must check every write it makes (stream state,
+  /// sizes a library does not report).
+  using Writer = std::function<void(const std::string& stagingPath)>;
+
+  OutputTransaction();
+  /// Without commit(), removes everything staged: no file of the run
+  /// appears and none is replaced.
+  ~OutputTransaction();
+  OutputTransaction(const OutputTransaction&) = delete;
+  OutputTransaction& operator=(const OutputTransaction&) = delete;
+
+  /// Checks `path` (checkOutputPath), creates its staging folder, runs
+  /// `writer` and flushes what it wrote to disk (fsync). A failure of the
+  /// writer (any std::runtime_error) or of the flush is thrown as
+  /// OutputError naming `path`, with staging paths in the writer's message
+  /// replaced by final ones. Other exceptions (std::logic_error, bad_alloc)
+  /// pass unchanged. A failed output is removed at once (the others stay
+  /// staged). Throws OutputError when `path` was written before in this
+  /// transaction.
+  void write(const std::string& path, const Writer& writer);
+
+  /// Moves every staged file into place (per output: companions first, the
+  /// named file last), then flushes the output folders. When a rename
+  /// fails, those done are undone (the replaced files restored) and
+  /// OutputError is thrown. Termination signals handled by
+  /// removeStagedOutputsOnTerminationSignals() wait until it is done.
+  void commit();
+
+ private:
+  struct Staged;
+  std::vector<std::unique_ptr<Staged>> staged_;
+  bool committed_ = false;
+};
+
+/// Writes one output on its own: an OutputTransaction with this output
+/// alone, committed. What the plain-path writers of the adapters use.
+void writeAtomically(const std::string& path, const OutputTransaction::Writer& writer);
+
+}  // namespace stvd::files

@@ -1,0 +1,63 @@
+// The files a Python call writes, as the tool writes its own: the inputs and
+// outputs of the call declared and compared by identity before anything is
+// written (imaging::RunFiles), and the outputs written all or nothing
+// through the library's output transaction (files::OutputTransaction).
+#include <pybind11/functional.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <string>
+
+#include "bindings.hpp"
+#include "stvd/files/file_identity.hpp"
+#include "stvd/files/output_transaction.hpp"
+#include "stvd/itk/run_files.hpp"
+#include "stvd/itk/scalar_image.hpp"
+
+namespace py = pybind11;
+
+namespace stvd::python {
+
+void bindFiles(py::module_& m) {
+  // An output that is an input or another output is bad input to the call;
+  // an output that cannot be written is an operating-system error.
+  py::register_exception<files::FileConflict>(m, "FileConflictError", PyExc_ValueError);
+  py::register_exception<files::OutputError>(m, "OutputError", PyExc_OSError);
+
+  m.def("is_image_path", &imaging::hasImageExtension, py::arg("path"),
+        "Whether stvd writes `path` as an image (.nii, .nii.gz, .nrrd, .nhdr, .mif, .mif.gz).");
+
+  py::class_<imaging::RunFiles>(m, "RunFiles", "The files one call reads and writes (stvd/itk/run_files.hpp).")
+      .def(py::init<>())
+      .def("input_image", &imaging::RunFiles::inputImage, py::arg("role"), py::arg("path"))
+      .def("input_file", &imaging::RunFiles::inputFile, py::arg("role"), py::arg("path"))
+      .def("output_image", &imaging::RunFiles::outputImage, py::arg("role"), py::arg("path"))
+      .def("output_file", &imaging::RunFiles::outputFile, py::arg("role"), py::arg("path"))
+      .def("check", &imaging::RunFiles::check)
+      .def_property_readonly("inputs",
+                             [](const imaging::RunFiles& f) {
+                               py::list l;
+                               for (const files::RunFile& r : f.inputs()) l.append(py::make_tuple(r.role, r.path));
+                               return l;
+                             })
+      .def_property_readonly("outputs", [](const imaging::RunFiles& f) {
+        py::list l;
+        for (const files::RunFile& r : f.outputs()) l.append(py::make_tuple(r.role, r.path));
+        return l;
+      });
+
+  py::class_<files::OutputTransaction>(m, "OutputTransaction",
+                                       "Outputs staged next to their final paths and moved into place together.")
+      .def(py::init<>())
+      .def(
+          "write",
+          [](files::OutputTransaction& t, const std::string& path, const py::function& writer) {
+            // The writer is Python: the GIL stays held while it runs.
+            t.write(path, [&writer](const std::string& staging) { writer(staging); });
+          },
+          py::arg("path"), py::arg("writer"),
+          "Calls writer(staging_path), which must write the file there, and flushes it to disk.")
+      .def("commit", &files::OutputTransaction::commit);
+}
+
+}  // namespace stvd::python

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# The sanitizer pass of the test command: builds stvd, its tests and the
+# fuzz targets with clang, AddressSanitizer and UndefinedBehaviorSanitizer
+# into build-sanitize/ (or STVD_SANITIZE_BUILD_DIR), then
+#   1. runs the test suites of the file readers and writers and of the tool
+#      (CTest labels itk, surface, tetmesh, tetgen; the core's propagation
+#      suites are left out: under the sanitizers they take longer than
+#      CI's budget allows, and they read no files);
+#   2. replays every regression input of fuzz/regressions/ and fuzzes each
+#      target for a few seconds (STVD_FUZZ_SMOKE_SECONDS, default 3).
+# Any sanitizer report fails the pass; reports are written to
+# BUILD/sanitizer-reports/ (the readers divert standard error while a
+# library runs) and printed at the end.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+build_dir=${STVD_SANITIZE_BUILD_DIR:-build-sanitize}
+smoke_seconds=${STVD_FUZZ_SMOKE_SECONDS:-3}
+
+bash scripts/setup.sh
+CC=clang-14 CXX=clang++-14 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=None \
+  -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" -DCMAKE_C_FLAGS="-O1 -gline-tables-only" \
+  -DSTVD_BUILD_FUZZERS=ON -DSTVD_BUILD_TESTS=ON -DSTVD_BUILD_BENCHMARKS=OFF \
+  -DSTVD_WITH_OPENVDB=OFF -DSTVD_WITH_TETGEN=OFF >/dev/null
+cmake --build "$build_dir" -j"$(nproc)"
+
+reports="$PWD/$build_dir/sanitizer-reports"
+rm -rf "$reports"
+mkdir -p "$reports"
+export ASAN_OPTIONS="detect_leaks=1:log_path=$reports/report"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:log_path=$reports/report"
+export LSAN_OPTIONS="suppressions=$PWD/fuzz/itk_leaks.supp"
+
+status=0
+for target in $(sed -n 's/^stvd_add_fuzz_target(\([a-z_0-9]*\).*/\1/p' fuzz/CMakeLists.txt); do
+  scratch="$build_dir/fuzz-smoke/$target"
+  rm -rf "$scratch"
+  mkdir -p "$scratch"
+  inputs=("fuzz/corpus/$target")
+  [[ -d fuzz/regressions/$target ]] && inputs+=("fuzz/regressions/$target")
+  if "$build_dir/fuzz/fuzz_$target" -max_total_time="$smoke_seconds" -timeout=10 -rss_limit_mb=2048 \
+       -malloc_limit_mb=2048 -artifact_prefix="$scratch/" "$scratch" "${inputs[@]}" >"$scratch.log" 2>&1; then
+    echo "sanitize: fuzz smoke $target: $(sed -n 's/.*Done \([0-9]*\) runs.*/\1/p' "$scratch.log") runs, no finding"
+  else
+    echo "sanitize: fuzz smoke $target FAILED (see $scratch.log and $reports)"
+    status=1
+  fi
+done
+
+ctest --test-dir "$build_dir" -L 'itk|surface|tetmesh|tetgen' --output-on-failure -j2 --timeout 600 || status=1
+if compgen -G "$reports/report*" >/dev/null; then
+  echo "sanitize: sanitizer reports:"
+  cat "$reports"/report*
+  status=1
+fi
+exit "$status"
