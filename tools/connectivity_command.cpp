@@ -56,8 +56,8 @@ const char* kConnectivityHelp =
     "                          where B is not reachable.\n"
     "  --threads N             regions propagated in parallel (default: the number of cores);\n"
     "                          the table does not depend on N.\n"
-    "  --method, --k, --chain-measure, --stencil   as in stvd distance (defaults stvd, 6,\n"
-    "                          segment, 26).\n"
+    "  --method, --k, --chain-measure, --stencil, --domain-connectivity   as in stvd distance\n"
+    "                          (defaults stvd, 6, segment, 26, 6).\n"
     "  --no-memory-check       run even when the memory the propagations need (one per thread)\n"
     "                          exceeds the memory available.\n"
     "  -q, --quiet             no summary on stdout.\n"
@@ -166,7 +166,7 @@ int runConnectivity(int argc, char** argv) {
               std::to_string(threadCount) + (threadCount == 1 ? " propagation" : " propagations at once") + " on " +
                   withThousands(built.counts.domain) + " domain voxels",
               !o.memoryCheck);
-  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
+  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain, o.connectivity);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   const std::size_t n = regions.size();
   std::vector<std::vector<VertexId>> regionVoxels;
@@ -203,8 +203,9 @@ int runConnectivity(int argc, char** argv) {
   if (!o.quiet)
     std::cout << "Connectivity of " << n << " regions of " << o.labels
               << (empty ? " (" + std::to_string(empty) + " more without voxels in the domain left out)" : std::string())
-              << ": " << n * (n - 1) << " ordered pairs, " << methodText(o, memoryDepthOf<VoxelGridDomain>(o)) << " on the " << o.stencil
-              << "-neighbour stencil, " << threadCount << (threadCount == 1 ? " thread" : " threads") << ". Took "
+              << ": " << n * (n - 1) << " ordered pairs, " << methodText(o, memoryDepthOf<VoxelGridDomain>(o))
+              << " on the " << o.stencil << "-neighbour stencil, " << connectivityText(o.connectivity) << ", "
+              << threadCount << (threadCount == 1 ? " thread" : " threads") << ". Took "
               << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s. Wrote " << o.output
               << (o.matrix.empty() ? "" : ", " + o.matrix) << (o.matrixIndex.empty() ? "" : ", " + o.matrixIndex)
               << "." << std::endl;

@@ -66,7 +66,7 @@ const char* kDistanceHelp =
     "Propagation:\n"
     "  --method M              stvd (default): Short-Term Vector Dijkstra (Campen et al. 2013);\n"
     "                          dijkstra: shortest paths along stencil edges;\n"
-    "                          lanthier: Steiner points on the cubes between voxel centres, the\n"
+    "                          lanthier: Steiner points on the cells between voxel centres, the\n"
     "                          slow accurate reference (needs --steiner; docs/steiner.md).\n"
     "  --steiner M             lanthier: Steiner points per cube edge, 1..16; time and memory grow\n"
     "                          like M^4 and M^2 (shipped brain: M = 2 3 s, M = 8 4 min, 1.1 GB).\n"
@@ -76,6 +76,11 @@ const char* kDistanceHelp =
     "                          fields) or projection (the paper's rule, which underestimates on\n"
     "                          DTI data for k > 3; see docs/cli.md).\n"
     "  --stencil S             neighbourhood: 6, 18, 26 (default), 98 (5x5x5) or 290 (7x7x7).\n"
+    "  --domain-connectivity C which domain voxels touch, with a mask or --fa-threshold: 6\n"
+    "                          (default): only through the cells between voxel centres whose\n"
+    "                          corners are all in the domain, so no path passes a gap of zero\n"
+    "                          width; 18: also two voxels that share only an edge; 26: also two\n"
+    "                          that share only a corner. Every method keeps to it (docs/cli.md).\n"
     "  --max-distance D        stop at D mm; farther voxels are unreachable.\n"
     "  --no-memory-check       run even when the estimate of the memory the propagation needs\n"
     "                          exceeds the memory available (exit code 6 otherwise).\n"
@@ -259,6 +264,7 @@ std::string statsJson(const DistanceOptions& o, const TensorInput& input, const 
     j << "    \"chain_measure\": \"" << chainMeasureName(o.chainMeasure) << "\",\n";
     j << "    \"stencil\": " << jsonString(o.stencil) << ",\n";
   }
+  j << "    \"domain_connectivity\": " << static_cast<int>(o.connectivity) << ",\n";
   j << "    \"max_distance_mm\": " << jsonNumber(o.maxDistance) << ",\n";
   j << "    \"tensor_kind\": " << jsonString(imaging::tensorKindName(o.tensor.metric.kind)) << ",\n";
   j << "    \"diffusion_metric\": " << jsonString(imaging::diffusionMetricName(o.tensor.metric.diffusionMetric))
@@ -362,6 +368,7 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
   if (labelSeedsLeftOut) s << " (" << withThousands(labelSeedsLeftOut) << " label voxels outside the domain left out)";
   s << ". Method: " << methodText(o, memoryDepthOf<VoxelGridDomain>(o));
   if (!o.lanthier) s << " on the " << o.stencil << "-neighbour stencil";
+  if (counts.domain < counts.total) s << ", " << connectivityText(o.connectivity);
   if (std::isfinite(o.maxDistance)) s << ", stopping at " << fixed(o.maxDistance, 1) << " mm";
   s << ". Reached " << withThousands(stats.reached) << " of " << withThousands(counts.domain) << " domain voxels";
   if (result.termination == Termination::MaxDistanceReached) s << " before the distance limit";
@@ -430,7 +437,7 @@ int runDistance(int argc, char** argv) {
       !o.memoryCheck);
 
   phase = Clock::now();
-  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
+  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain, o.connectivity);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   t.metric += secondsSince(phase);
 
@@ -452,7 +459,7 @@ int runDistance(int argc, char** argv) {
     steiner.progress = options.progress;
     try {
       result = steinerPropagate(domain, metric, sources, steiner);
-    } catch (const std::invalid_argument& e) {  // a grid too thin for cubes, or too large a graph
+    } catch (const std::invalid_argument& e) {  // too large a graph
       throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
     }
   } else {

@@ -32,6 +32,8 @@ bool parsePropagationOption(const std::string& a, ArgumentReader& args, Propagat
   } else if (a == "--no-memory-check") {
     args.noValue(a);
     o.memoryCheck = false;
+  } else if (a == "--domain-connectivity") {
+    setDomainConnectivity(o, args.value(a));
   } else if (a == "--stencil") {
     setStencil(o, args.value(a));
   } else {

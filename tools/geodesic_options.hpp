@@ -28,8 +28,9 @@ struct SeedOptions {
 /// When `option` is a seed option, reads it into `seeds` and returns true.
 bool parseSeedOption(const std::string& option, ArgumentReader& args, SeedOptions& seeds);
 /// When `option` is a propagation option (--method, --steiner, --k,
-/// --chain-measure, --stencil, --no-memory-check), reads it into `choice`
-/// and returns true. Checks of the combination: stvd::checkPropagationChoice.
+/// --chain-measure, --stencil, --domain-connectivity, --no-memory-check),
+/// reads it into `choice` and returns true. Checks of the combination:
+/// stvd::checkPropagationChoice.
 bool parsePropagationOption(const std::string& option, ArgumentReader& args, PropagationChoice& choice);
 
 // A voxel the user named and how (for messages), and how voxels and points

@@ -56,6 +56,8 @@ const char* kPathHelp =
     "  --k N                   STVD memory depth, 1..16 (default 6).\n"
     "  --chain-measure R       largest (default) or projection.\n"
     "  --stencil S             6, 18, 26 (default), 98 or 290.\n"
+    "  --domain-connectivity C 6 (default), 18 or 26: which domain voxels touch; paths keep to\n"
+    "                          the same region as the distances.\n"
     "  --no-memory-check       run even when the estimate of the memory needed exceeds the\n"
     "                          memory available.\n"
     "\n"
@@ -197,7 +199,7 @@ int runPath(int argc, char** argv) {
               methodText(o, memoryDepthOf<VoxelGridDomain>(o)) + " on " + withThousands(built.counts.domain) +
                   " domain voxels",
               !o.memoryCheck);
-  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain);
+  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain, o.connectivity);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   const std::vector<VertexId> sources = imaging::sourceVertices(domain, seeds);
   const Clock::time_point propagationStart = Clock::now();
@@ -287,7 +289,8 @@ int runPath(int argc, char** argv) {
   }
   if (!o.quiet) {
     std::cout << summary.str();
-    std::cout << "Method: " << methodText(o, memoryDepthOf<VoxelGridDomain>(o)) << " on the " << o.stencil << "-neighbour stencil; " << seeds.size()
+    std::cout << "Method: " << methodText(o, memoryDepthOf<VoxelGridDomain>(o)) << " on the " << o.stencil
+              << "-neighbour stencil, " << connectivityText(o.connectivity) << "; " << seeds.size()
               << (seeds.size() == 1 ? " seed voxel" : " seed voxels") << ". Took "
               << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s (propagation "
               << fixed(propagationSeconds, 2) << ", paths " << fixed(tracingSeconds, 3) << "). Wrote " << o.output

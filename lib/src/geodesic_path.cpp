@@ -46,7 +46,7 @@ class PathTracer {
   PathTracer(const VoxelGridDomain& domain, const RiemannianMetric& metric,
              const PropagationResult& result, const PathTracingOptions& options)
       : domain_(domain), geometry_(domain.geometry()), metric_(metric), u_(result.distance),
-        result_(result), options_(options) {
+        reached_{domain, result.distance}, result_(result), options_(options) {
     const auto& s = geometry_.spacing;
     step_ = options.stepFraction * std::min({s[0], s[1], s[2]});
   }
@@ -100,13 +100,16 @@ class PathTracer {
         gradientAllowed = false;
       }
       ++path.fallbacks[static_cast<int>(why)];
-      // Jump to the lowest valid corner of the current cell, then follow the
-      // predecessor chain.
+      // Jump to the lowest corner of the smallest cell face that holds x
+      // (all of them reached, since x was), so that the jump stays in that
+      // face, then follow the predecessor chain.
       const CellSample cell = locateClamped(domain_, geometry_.physicalPointToIndex(x));
+      int moving;
+      const int face = detail::faceCorners(cell, moving);
       VertexId v = kNoVertex;
       for (int n = 0; n < 8; ++n) {
         const VertexId c = cell.corner[n];
-        if (domain_.contains(c) && std::isfinite(u_[c]) && (v == kNoVertex || u_[c] < u_[v])) v = c;
+        if (((face >> n) & 1) && reached_(c) && (v == kNoVertex || u_[c] < u_[v])) v = c;
       }
       if (v == kNoVertex) throw std::logic_error("path tracing lost the domain");
       points.push_back(domain_.physicalPoint(v));
@@ -126,7 +129,8 @@ class PathTracer {
   }
 
  private:
-  /// A source corner of the cell within one step of x, or kNoVertex.
+  /// A source corner of the cell within one step of x and joined to it
+  /// inside the region, or kNoVertex.
   VertexId nearbySource(const CellSample& cell, Vec3d x) const {
     VertexId best = kNoVertex;
     double bestDistance = step_;
@@ -134,7 +138,7 @@ class PathTracer {
       const VertexId c = cell.corner[n];
       if (!domain_.contains(c) || u_[c] != 0.0) continue;
       const double d = norm(domain_.physicalPoint(c) - x);
-      if (d <= bestDistance) {
+      if (d <= bestDistance && inRegion(x, domain_.physicalPoint(c))) {
         bestDistance = d;
         best = c;
       }
@@ -189,17 +193,31 @@ class PathTracer {
     Sym3 g;
     Vec3d gradIndex;
     u = 0.0;
+    // Over the corners of the smallest face that holds x (a voxel centre
+    // next to an excluded voxel stays usable despite rounding), weights
+    // renormalised.
+    int moving;
+    const int face = detail::faceCorners(cell, moving);
+    double total = 0.0;
     for (int n = 0; n < 8; ++n) {
-      if (cell.weight[n] <= 0.0) continue;
+      if (!((face >> n) & 1)) continue;
       const VertexId c = cell.corner[n];
-      if (!domain_.contains(c) || !std::isfinite(u_[c])) {
+      if (!reached_(c)) {
         why = PathFallback::LeavesDomain;
         return false;
       }
       u += cell.weight[n] * u_[c];
       g.add(cell.weight[n], metric_[c]);
       gradIndex = gradIndex + cell.weight[n] * indexGradient(c);
+      total += cell.weight[n];
     }
+    if (!(total > 0.0)) {
+      why = PathFallback::LeavesDomain;
+      return false;
+    }
+    u /= total;
+    gradIndex = (1.0 / total) * gradIndex;
+    g.xx /= total, g.xy /= total, g.xz /= total, g.yy /= total, g.yz /= total, g.zz /= total;
     // grad_x f = D S^-1 grad_ijk f (x = origin + D S ijk).
     const auto& s = geometry_.spacing;
     Vec3d gradient =
@@ -238,7 +256,23 @@ class PathTracer {
       why = PathFallback::LeavesImage;
       return false;
     }
-    return sampleDistance(next, unext, why);
+    if (!sampleDistance(next, unext, why)) return false;
+    // A new point keeps closer to the region than rounding allows for the
+    // points it starts from; and both ends in the region is not enough: a
+    // step may cut a corner of the cells around an excluded voxel.
+    if (!detail::pointInRegion(domain_, geometry_.physicalPointToIndex(next), reached_, detail::kNewPointOnPlane) ||
+        !inRegion(x, next)) {
+      why = PathFallback::LeavesDomain;
+      return false;
+    }
+    return true;
+  }
+
+  /// The segment between the physical points a and b keeps to the region of
+  /// the reached domain voxels (and the contacts the connectivity joins).
+  bool inRegion(Vec3d a, Vec3d b) const {
+    return detail::segmentInRegion(domain_, geometry_.physicalPointToIndex(a), geometry_.physicalPointToIndex(b),
+                                   reached_);
   }
 
   /// u at x when x's cell is valid.
@@ -249,15 +283,24 @@ class PathTracer {
       return false;
     }
     u = 0.0;
+    int moving;
+    const int face = detail::faceCorners(cell, moving);
+    double total = 0.0;
     for (int n = 0; n < 8; ++n) {
-      if (cell.weight[n] <= 0.0) continue;
+      if (!((face >> n) & 1)) continue;
       const VertexId c = cell.corner[n];
-      if (!domain_.contains(c) || !std::isfinite(u_[c])) {
+      if (!reached_(c)) {
         why = PathFallback::LeavesDomain;
         return false;
       }
       u += cell.weight[n] * u_[c];
+      total += cell.weight[n];
     }
+    if (!(total > 0.0)) {
+      why = PathFallback::LeavesDomain;
+      return false;
+    }
+    u /= total;
     return true;
   }
 
@@ -282,10 +325,14 @@ class PathTracer {
   TracedPath& finish(TracedPath& path) const {
     std::vector<Vec3d>& p = path.points;
     std::reverse(p.begin(), p.end());
+    // A point is smoothed only where its segments to its neighbours (the
+    // one before already decided) stay in the region.
     for (int pass = 0; pass < options_.smoothingPasses && p.size() > 2; ++pass) {
-      std::vector<Vec3d> smoothed = p;
-      for (std::size_t n = 1; n + 1 < p.size(); ++n) smoothed[n] = 0.25 * p[n - 1] + 0.5 * p[n] + 0.25 * p[n + 1];
-      p.swap(smoothed);
+      const std::vector<Vec3d> before = p;
+      for (std::size_t n = 1; n + 1 < p.size(); ++n) {
+        const Vec3d smoothed = 0.25 * before[n - 1] + 0.5 * before[n] + 0.25 * before[n + 1];
+        if (inRegion(p[n - 1], smoothed) && inRegion(smoothed, p[n + 1])) p[n] = smoothed;
+      }
     }
     if (options_.refine) path.refinement = refineGeodesicPath(domain_, metric_, u_, p, options_.refinement);
     for (std::size_t n = 1; n < p.size(); ++n) {
@@ -300,6 +347,7 @@ class PathTracer {
   const GridGeometry& geometry_;
   const RiemannianMetric& metric_;
   const std::vector<double>& u_;
+  detail::ReachedVoxel reached_;  // the voxels of the domain the propagation reached
   const PropagationResult& result_;
   PathTracingOptions options_;
   double step_ = 0.0;
@@ -346,20 +394,29 @@ TracedPath traceGeodesicPath(const VoxelGridDomain& domain, const RiemannianMetr
 
 double interpolateAtPoint(const VoxelGridDomain& domain, const std::vector<float>& values, Vec3d point) {
   if (values.size() != domain.vertexCount()) throw std::invalid_argument("value image and domain differ in size");
+  constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
   CellSample cell;
-  if (!locate(domain, domain.geometry().physicalPointToIndex(point), cell))
-    return std::numeric_limits<double>::quiet_NaN();
-  // Corners outside the domain hold no value (a voxel outside a brain mask
-  // has no FA), so the weights are renormalised over the corners inside it:
-  // a path point next to the domain's edge, or a voxel centre whose
-  // neighbours get weights of 1e-16 from rounding, keeps a value.
+  if (!locate(domain, domain.geometry().physicalPointToIndex(point), cell)) return kNan;
+  // The corners of the smallest face that holds the point: a weight of a
+  // rounding error on a voxel outside the domain does not count.
+  int moving;
+  const int face = detail::faceCorners(cell, moving);
+  auto inDomain = [&](VertexId v) { return domain.contains(v); };
   double sum = 0.0, total = 0.0;
-  for (int n = 0; n < 8; ++n) {
-    if (cell.weight[n] <= 0.0 || !domain.contains(cell.corner[n])) continue;
+  bool inside = true;
+  for (int n = 0; n < 8 && inside; ++n) {
+    if (!((face >> n) & 1)) continue;
+    inside = domain.contains(cell.corner[n]);
     sum += cell.weight[n] * values[cell.corner[n]];
     total += cell.weight[n];
   }
-  return total > 0.0 ? sum / total : std::numeric_limits<double>::quiet_NaN();
+  if (inside) return total > 0.0 ? sum / total : kNan;
+  // On a contact the connectivity joins: linear between its two voxels.
+  int from, to;
+  double t;
+  if (detail::onJoinedContact(domain, cell, face, moving, inDomain, from, to, t))
+    return (1.0 - t) * values[cell.corner[from]] + t * values[cell.corner[to]];
+  return kNan;
 }
 
 TracedPath discreteGeodesicPath(const VoxelGridDomain& domain, const PropagationResult& result, VertexId target) {

@@ -71,10 +71,6 @@ constexpr int kSlideBisections = 10;
 /// Rounds of fixing held points and solving again within one step.
 constexpr int kMaxFixingRounds = 64;
 
-/// A segment crossing more cell boundaries than this is refused (the
-/// refinement's segments span well under a voxel).
-constexpr int kMaxSegmentCrossings = 24;
-
 /// The refinement works in continuous index coordinates c (x = origin +
 /// D S c), where the box constraint is a clamp and the domain test a cell
 /// lookup; G is carried over as A^T G A with A = D S.
@@ -82,7 +78,11 @@ class PathRefiner {
  public:
   PathRefiner(const VoxelGridDomain& domain, const RiemannianMetric& metric, const std::vector<double>& distance,
               const PathRefinementOptions& options)
-      : domain_(domain), geometry_(domain.geometry()), metric_(metric), distance_(distance), options_(options) {
+      : domain_(domain),
+        geometry_(domain.geometry()),
+        metric_(metric),
+        reached_{domain, distance},
+        options_(options) {
     for (int c = 0; c < 3; ++c) {
       const Vec3d column = geometry_.indexToPhysicalOffset(c == 0, c == 1, c == 2);
       toPhysical_.m[c] = column.x, toPhysical_.m[3 + c] = column.y, toPhysical_.m[6 + c] = column.z;
@@ -96,14 +96,15 @@ class PathRefiner {
     if (points.size() < 2 || norm(points.back() - points.front()) == 0.0) return report;
     std::vector<Vec3d> input(points.size());
     for (std::size_t n = 0; n < points.size(); ++n) input[n] = clamp(geometry_.physicalPointToIndex(points[n]));
-    if (!resample(input, x_)) return report;
+    std::vector<std::size_t> segmentOf;
+    if (!resample(input, x_, segmentOf)) return report;
+    restoreCorners(input, segmentOf, x_);
     const std::size_t count = x_.size();
     y_.resize(count);
     gradient_.assign(count, Vec3d{});
     delta_.assign(count, Vec3d{});
     blocks_.resize(count - 1);
     moved_.resize(count);
-    valid_.resize(count);
     forward_.resize(count);
     rhs_.resize(count);
     mask_.resize(count);
@@ -183,56 +184,14 @@ class PathRefiner {
     return {std::clamp(c.x, 0.0, last_[0]), std::clamp(c.y, 0.0, last_[1]), std::clamp(c.z, 0.0, last_[2])};
   }
 
-  /// Every corner with a non-zero weight is in the domain and reached.
-  bool valid(Vec3d c) const {
-    CellSample cell;
-    if (!locate(domain_, c, cell)) return false;
-    for (int n = 0; n < 8; ++n)
-      if (cell.weight[n] > 0.0 && (!domain_.contains(cell.corner[n]) || !std::isfinite(distance_[cell.corner[n]])))
-        return false;
-    return true;
-  }
+  /// Every corner with a non-zero weight is in the domain and reached: where
+  /// a point may move to (detail::kNewPointOnPlane).
+  bool valid(Vec3d c) const { return detail::pointInRegion(domain_, c, reached_, detail::kNewPointOnPlane); }
 
-  /// b lies in the closed cell of `cell` (its lower corner is corner 0).
-  bool sameCell(const CellSample& cell, Vec3d b) const {
-    const VoxelIndex lo = domain_.indexOf(cell.corner[0]);
-    const double lower[3] = {double(lo.i), double(lo.j), double(lo.k)};
-    const double c[3] = {b.x, b.y, b.z};
-    for (int a = 0; a < 3; ++a)
-      if (!(c[a] >= lower[a] && c[a] <= lower[a] + (last_[a] == 0.0 ? 0.0 : 1.0))) return false;
-    return true;
-  }
-
-  /// Every point of the segment a -> b is valid. Between two consecutive
-  /// crossings of integer planes the segment runs inside one cell (or one
-  /// face of it), where the set of corners with a non-zero weight is
-  /// constant, so testing the middle of each piece and the end points is
-  /// exact.
-  bool segmentValid(Vec3d a, Vec3d b) const {
-    // Most segments lie in one cell: when all its corners are valid, so is
-    // every point of it.
-    CellSample cell;
-    if (locate(domain_, a, cell) && sameCell(cell, b)) {
-      bool all = true;
-      for (int n = 0; n < 8 && all; ++n)
-        all = domain_.contains(cell.corner[n]) && std::isfinite(distance_[cell.corner[n]]);
-      if (all) return true;
-    }
-    double t[2 + 3 * kMaxSegmentCrossings];
-    int count = 0;
-    t[count++] = 0.0;
-    const double from[3] = {a.x, a.y, a.z}, to[3] = {b.x, b.y, b.z};
-    for (int axis = 0; axis < 3; ++axis) {
-      const double lo = std::min(from[axis], to[axis]), hi = std::max(from[axis], to[axis]);
-      if (hi - lo > kMaxSegmentCrossings) return false;
-      for (double p = std::floor(lo) + 1.0; p < hi; p += 1.0) t[count++] = (p - from[axis]) / (to[axis] - from[axis]);
-    }
-    t[count++] = 1.0;
-    std::sort(t, t + count);
-    for (int n = 1; n < count; ++n)
-      if (t[n] > t[n - 1] && !valid(a + (0.5 * (t[n - 1] + t[n])) * (b - a))) return false;
-    return true;
-  }
+  /// Every point of the segment a -> b is valid, or lies on a contact that
+  /// the domain's connectivity joins (detail::segmentInRegion: exact, piece
+  /// by piece between the crossings of integer planes).
+  bool segmentValid(Vec3d a, Vec3d b) const { return detail::segmentInRegion(domain_, a, b, reached_); }
 
   /// The preconditioner's blocks of one segment, for its end points c_n,
   /// c_{n+1} (index coordinates): start (c_n, c_n), end (c_{n+1}, c_{n+1}),
@@ -264,7 +223,7 @@ class PathRefiner {
     for (int n = 0; n < 8; ++n) {
       qn[n] = 0.0;
       const VertexId v = cell.corner[n];
-      if (!domain_.contains(v) || !std::isfinite(distance_[v])) {
+      if (!reached_(v)) {
         complete = false;
         continue;
       }
@@ -466,41 +425,35 @@ class PathRefiner {
     y_.front() = x_.front();
     y_.back() = x_.back();
     moved_.front() = moved_.back() = 0;
-    valid_.front() = valid(x_.front());
-    valid_.back() = valid(x_.back());
+    // A point moves only to a valid position (never onto a contact, which
+    // it could not leave sideways).
     for (std::size_t n = 1; n + 1 < count; ++n) {
       if (mask_[n] == 7) {  // fixed for this step
         y_[n] = x_[n];
         moved_[n] = 0;
-        valid_[n] = valid(x_[n]);
         continue;
       }
       y_[n] = clamp(x_[n] + alpha * delta_[n]);
       moved_[n] = 1;
-      valid_[n] = valid(y_[n]);
-      if (!valid_[n]) {
+      if (!valid(y_[n])) {
         ++held;
-        if (valid(x_[n]) && slideTowards(x_[n], y_[n])) {
-          valid_[n] = 1;
-        } else {
+        if (!(valid(x_[n]) && slideTowards(x_[n], y_[n]))) {
           y_[n] = x_[n];
           moved_[n] = 0;
-          valid_[n] = valid(x_[n]);
         }
       }
     }
     // A held point can invalidate its neighbours' segments: repeat until
-    // every changed segment is short and joins valid points.
+    // every changed segment keeps to the region.
     for (bool changed = true; changed;) {
       changed = false;
       for (std::size_t n = 0; n + 1 < count; ++n) {
         if (!moved_[n] && !moved_[n + 1]) continue;
-        if (valid_[n] && valid_[n + 1] && segmentValid(y_[n], y_[n + 1])) continue;
+        if (segmentValid(y_[n], y_[n + 1])) continue;
         for (std::size_t k : {n, n + 1})
           if (moved_[k]) {
             y_[k] = x_[k];
             moved_[k] = 0;
-            valid_[k] = valid(x_[k]);
             ++held;
           }
         changed = true;
@@ -510,8 +463,9 @@ class PathRefiner {
   }
 
   /// The polyline `in` (index points) resampled to equal metric spacing,
-  /// with segments of at most spacingFraction voxel along every axis.
-  bool resample(const std::vector<Vec3d>& in, std::vector<Vec3d>& out) const {
+  /// with segments of at most spacingFraction voxel along every axis;
+  /// segmentOf[k]: the segment of `in` that out[k] lies on.
+  bool resample(const std::vector<Vec3d>& in, std::vector<Vec3d>& out, std::vector<std::size_t>& segmentOf) const {
     std::vector<double> cumulative(in.size(), 0.0);
     double axisSum = 0.0;
     for (std::size_t n = 1; n < in.size(); ++n) {
@@ -529,8 +483,10 @@ class PathRefiner {
     for (int attempt = 0; attempt < 4; ++attempt) {
       segments = std::min(segments, kMaxSegments);
       out.assign(segments + 1, Vec3d{});
+      segmentOf.assign(segments + 1, 0);
       out.front() = in.front();
       out.back() = in.back();
+      segmentOf.back() = in.size() - 2;
       std::size_t at = 1;
       for (std::size_t k = 1; k < segments; ++k) {
         const double s = total * static_cast<double>(k) / static_cast<double>(segments);
@@ -538,6 +494,7 @@ class PathRefiner {
         const double span = cumulative[at] - cumulative[at - 1];
         const double t = span > 0.0 ? std::clamp((s - cumulative[at - 1]) / span, 0.0, 1.0) : 0.0;
         out[k] = in[at - 1] + t * (in[at] - in[at - 1]);
+        segmentOf[k] = at - 1;
       }
       double longest = 0.0;
       for (std::size_t k = 1; k < out.size(); ++k) longest = std::max(longest, maxAbs(out[k] - out[k - 1]));
@@ -547,10 +504,29 @@ class PathRefiner {
     return true;
   }
 
+  /// Where a chord of the resampled polyline `out` cuts a corner of `in`
+  /// and leaves the region (around the end of a wall, at the ends of a
+  /// contact), puts the corners of `in` between the chord's ends back, so
+  /// that the refinement starts from a polyline inside the region when `in`
+  /// is one.
+  void restoreCorners(const std::vector<Vec3d>& in, const std::vector<std::size_t>& segmentOf,
+                      std::vector<Vec3d>& out) const {
+    std::vector<Vec3d> kept;
+    kept.reserve(out.size());
+    for (std::size_t k = 0; k + 1 < out.size(); ++k) {
+      kept.push_back(out[k]);
+      if (segmentOf[k] == segmentOf[k + 1] || segmentValid(out[k], out[k + 1])) continue;
+      for (std::size_t v = segmentOf[k] + 1; v <= segmentOf[k + 1]; ++v)
+        if (norm(in[v] - kept.back()) > 0.0 && norm(in[v] - out[k + 1]) > 0.0) kept.push_back(in[v]);
+    }
+    kept.push_back(out.back());
+    out.swap(kept);
+  }
+
   const VoxelGridDomain& domain_;
   const GridGeometry& geometry_;
   const RiemannianMetric& metric_;
-  const std::vector<double>& distance_;
+  detail::ReachedVoxel reached_;  // the voxels of the domain the propagation reached
   PathRefinementOptions options_;
   Block toPhysical_, transposed_;
   double last_[3] = {0, 0, 0};
@@ -558,7 +534,7 @@ class PathRefiner {
   std::vector<Vec3d> x_, y_, gradient_, delta_, rhs_;
   std::vector<SegmentHessian> blocks_;
   std::vector<Block> forward_;
-  std::vector<char> moved_, valid_;
+  std::vector<char> moved_;
   std::vector<int> mask_;
 };
 

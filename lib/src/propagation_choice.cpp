@@ -52,6 +52,18 @@ void setStencil(PropagationChoice& o, const std::string& name) {
   }
 }
 
+void setDomainConnectivity(PropagationChoice& o, const std::string& c) {
+  if (c == "6")
+    o.connectivity = VoxelConnectivity::Faces;
+  else if (c == "18")
+    o.connectivity = VoxelConnectivity::Edges;
+  else if (c == "26")
+    o.connectivity = VoxelConnectivity::Corners;
+  else
+    throw OptionError("--domain-connectivity: '" + c + "' is not one of 6, 18, 26");
+  o.connectivityGiven = true;
+}
+
 namespace {
 
 /// The rules every domain shares: STVD's options are refused where no
@@ -76,10 +88,23 @@ void checkPropagationChoice(const PropagationChoice& o, bool lanthierAllowed) {
         "--method lanthier gives distances but no predecessors, which paths need; use stvd or dijkstra");
   checkCommonChoice(o, /*stvdOnly=*/true, "cube edge", 2);
   if (o.lanthier && o.stencilGiven) throw OptionError("--stencil does not apply to --method lanthier (it uses cubes)");
+  // Every method must reach the same voxels: a stencil has to contain the
+  // steps across the contacts that the connectivity joins (the 98 and 290
+  // stencils contain all 26 unit steps).
+  if (!o.lanthier) {
+    const bool edgeSteps = o.stencil != "6", cornerSteps = edgeSteps && o.stencil != "18";
+    if (o.connectivity == VoxelConnectivity::Edges && !edgeSteps)
+      throw OptionError("--domain-connectivity 18 joins voxels that touch along an edge, which the 6-neighbour "
+                        "stencil cannot step between; use --stencil 18 or larger");
+    if (o.connectivity == VoxelConnectivity::Corners && !cornerSteps)
+      throw OptionError("--domain-connectivity 26 joins voxels that touch at a corner, which the " + o.stencil +
+                        "-neighbour stencil cannot step between; use --stencil 26 or larger");
+  }
 }
 
 void checkMeshPropagationChoice(const PropagationChoice& o, const std::string& cellEdge, int suggestedSteinerPoints) {
   checkCommonChoice(o, /*stvdOnly=*/false, cellEdge, suggestedSteinerPoints);
+  if (o.connectivityGiven) throw OptionError("--domain-connectivity applies to voxel grids only");
 }
 
 PropagationOptions propagationOptions(const PropagationChoice& o) {
@@ -102,6 +127,16 @@ std::string methodText(const PropagationChoice& o, int k) {
 
 std::string methodName(const PropagationChoice& o) {
   return o.lanthier ? "lanthier" : o.method == Method::Dijkstra ? "dijkstra" : "stvd";
+}
+
+std::string connectivityText(VoxelConnectivity c) {
+  switch (c) {
+    case VoxelConnectivity::Faces: return "domain connectivity 6 (voxels joined through faces only)";
+    case VoxelConnectivity::Edges: return "domain connectivity 18 (voxels also joined across edge contacts)";
+    case VoxelConnectivity::Corners:
+      return "domain connectivity 26 (voxels also joined across edge and corner contacts)";
+  }
+  return "?";
 }
 
 void checkUnreachableValue(double value, const std::string& given) {

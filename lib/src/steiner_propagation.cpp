@@ -13,100 +13,6 @@
 namespace stvd {
 namespace detail {
 
-// ---------------------------------------------------------------- grid cells
-
-GridSteinerCells::GridSteinerCells(const VoxelGridDomain& domain, int steinerPoints, bool findCells)
-    : domain_(domain), m_(steinerPoints) {
-  const GridGeometry& g = domain.geometry();
-  for (int a = 0; a < 3; ++a)
-    if (g.size[a] < 2)
-      throw std::invalid_argument("Steiner propagation needs at least 2 voxels along every grid axis (axis " +
-                                  std::to_string(a) + " has " + std::to_string(g.size[a]) + ")");
-  const std::uint64_t slots = steinerGridPointCount(1, m_);
-  if (domain.domainVertexCount() < domain.vertexCount()) {
-    numberOfVoxel_.assign(domain.vertexCount(), kNoVertex);
-    voxelOfNumber_.reserve(domain.domainVertexCount());
-    for (VertexId v = 0; v < domain.vertexCount(); ++v)
-      if (domain.contains(v)) {
-        numberOfVoxel_[v] = static_cast<std::uint32_t>(voxelOfNumber_.size());
-        voxelOfNumber_.push_back(v);
-      }
-  }
-  pointCount_ = slots * domain.domainVertexCount();
-  if (pointCount_ >= FrontQueue::kFinal)
-    throw std::invalid_argument("Steiner graph of " + std::to_string(pointCount_) +
-                                " points is too large for 32-bit indices; use fewer Steiner points or a smaller grid");
-  slots_ = static_cast<std::uint32_t>(slots);
-  slotDivisor_ = FixedDivisor(slots_);
-
-  const VertexId nx = static_cast<VertexId>(g.size[0]), ny = static_cast<VertexId>(g.size[1]);
-  const double step = 1.0 / (m_ + 1);
-  slotIndexOffset_.assign(slots_, Vec3d{});
-  around_.assign(slots_, {});
-  // One boundary point of the cube: the voxel it is numbered with (offset d
-  // from the base corner), its slot there, and its continuous index offset
-  // within the cube.
-  auto add = [&](std::array<int, 3> d, std::uint32_t slot, Vec3d inCube) {
-    const int local = static_cast<int>(position_.size());
-    position_.push_back(toFloat(g.indexToPhysicalOffset(inCube.x, inCube.y, inCube.z)));
-    pointCorner_.push_back(static_cast<std::uint8_t>(d[0] + 2 * d[1] + 4 * d[2]));
-    pointSlot_.push_back(slot);
-    slotIndexOffset_[slot] = inCube - Vec3d{double(d[0]), double(d[1]), double(d[2])};
-    around_[slot].push_back({d, local});
-  };
-  for (int corner = 0; corner < 8; ++corner) {
-    const std::array<int, 3> d{corner & 1, (corner >> 1) & 1, (corner >> 2) & 1};
-    cornerOffset_[corner] = d[0] + nx * (d[1] + ny * d[2]);
-    add(d, 0, {double(d[0]), double(d[1]), double(d[2])});
-  }
-  for (int a = 0; a < 3; ++a) {
-    const int b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;  // the two other axes, b < c
-    // Edges along axis a: the four at (d_b, d_c) in {0, 1}^2.
-    for (int db = 0; db < 2; ++db)
-      for (int dc = 0; dc < 2; ++dc)
-        for (int m = 1; m <= m_; ++m) {
-          std::array<int, 3> d{0, 0, 0};
-          d[b] = db;
-          d[c] = dc;
-          double x[3] = {double(d[0]), double(d[1]), double(d[2])};
-          x[a] = m * step;
-          add(d, 1 + a * m_ + (m - 1), {x[0], x[1], x[2]});
-        }
-    // Faces normal to axis a: the two at d_a in {0, 1}.
-    for (int da = 0; da < 2; ++da)
-      for (int mb = 1; mb <= m_; ++mb)
-        for (int mc = 1; mc <= m_; ++mc) {
-          std::array<int, 3> d{0, 0, 0};
-          d[a] = da;
-          double x[3];
-          x[a] = da;
-          x[b] = mb * step;
-          x[c] = mc * step;
-          add(d, 1 + 3 * m_ + a * m_ * m_ + (mb - 1) * m_ + (mc - 1), {x[0], x[1], x[2]});
-        }
-  }
-
-  id_.resize(position_.size());
-
-  if (!findCells) return;
-  isCell_.assign(domain.vertexCount(), 0);
-  for (std::size_t k = 0; k + 1 < g.size[2]; ++k)
-    for (std::size_t j = 0; j + 1 < g.size[1]; ++j)
-      for (std::size_t i = 0; i + 1 < g.size[0]; ++i) {
-        const VertexId base = domain.vertexAt(int(i), int(j), int(k));
-        bool all = true;
-        for (int corner = 0; corner < 8 && all; ++corner) all = domain.contains(base + cornerOffset_[corner]);
-        isCell_[base] = all ? 1 : 0;
-      }
-}
-
-Vec3d GridSteinerCells::position(SteinerPointId p) const {
-  const std::uint32_t n = slotDivisor_.divide(p);
-  const VoxelIndex c = domain_.indexOf(voxelOf(n));
-  const Vec3d o = slotIndexOffset_[p - n * slots_];
-  return domain_.geometry().indexToPhysicalPoint(c.i + o.x, c.j + o.y, c.k + o.z);
-}
-
 // --------------------------------------------------------- tetrahedral cells
 
 TetSteinerCells::TetSteinerCells(const TetrahedralCells& cells, int steinerPoints)
@@ -271,10 +177,14 @@ class SteinerDijkstra {
     float* length = length_.data();
     cells_.forEachCellAround(u, [&](const SteinerCellView& cell) {
       // A polygon face may have any number of corners: the scratch is sized
-      // for the largest cell once.
+      // for the largest cell once. A grid's cells are mostly cubes, whose
+      // norm takes a loop of constant length.
       const typename Norm::VertexParams** corner = corner_.data();
-      for (int c = 0; c < cell.cornerCount; ++c) corner[c] = &metric_[cell.corners[c]];
-      const typename Norm::EdgeParams g = CellNormRule<Norm>::params(corner, cell.cornerCount);
+      auto cellNorm = [&](int count) STVD_ALWAYS_INLINE_LAMBDA {
+        for (int c = 0; c < count; ++c) corner[c] = &metric_[cell.corners[c]];
+        return CellNormRule<Norm>::params(corner, count);
+      };
+      const typename Norm::EdgeParams g = cell.cornerCount == 8 ? cellNorm(8) : cellNorm(cell.cornerCount);
       const Vec3f* x = cell.position;
       const Vec3f self = cell.self;
       const int n = cell.pointCount;

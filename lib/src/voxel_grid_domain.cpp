@@ -93,6 +93,34 @@ bool isJoinedContact(const Index3& from, const Index3& to, std::int64_t denomina
   return diagonalAxes == 2 || (diagonalAxes == 3 && connectivity == VoxelConnectivity::Corners);
 }
 
+/// The linear offsets (from a) of the voxels that the segment from a to
+/// a + d needs in the domain besides a and a + d (VoxelGridDomain::
+/// segmentInDomain): the corners of every cell it passes through, or, for a
+/// piece on a contact that `connectivity` joins, the piece's two ends.
+/// Sorted, without repeats.
+std::vector<std::int64_t> segmentSupport(const Index3& d, VoxelConnectivity connectivity, std::int64_t nx,
+                                         std::int64_t ny) {
+  std::vector<std::int64_t> needed;
+  auto add = [&](const Index3& q) {
+    const bool end = (q[0] == 0 && q[1] == 0 && q[2] == 0) || (q[0] == d[0] && q[1] == d[1] && q[2] == d[2]);
+    if (!end) needed.push_back(q[0] + nx * (q[1] + ny * q[2]));
+  };
+  walkSegmentCells({0, 0, 0}, d,
+                   [&](const Index3* corners, int count, const Index3& from, const Index3& to,
+                       std::int64_t denominator) {
+                     if (isJoinedContact(from, to, denominator, connectivity)) {
+                       add({from[0] / denominator, from[1] / denominator, from[2] / denominator});
+                       add({to[0] / denominator, to[1] / denominator, to[2] / denominator});
+                     } else {
+                       for (int c = 0; c < count; ++c) add(corners[c]);
+                     }
+                     return true;
+                   });
+  std::sort(needed.begin(), needed.end());
+  needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
+  return needed;
+}
+
 }  // namespace
 
 VoxelGridDomain::VoxelGridDomain(const GridGeometry& geometry, Stencil stencil,
@@ -125,27 +153,37 @@ VoxelGridDomain::VoxelGridDomain(const GridGeometry& geometry, Stencil stencil,
     linearOffset_.push_back(o[0] + static_cast<std::int64_t>(nx_) * (o[1] + static_cast<std::int64_t>(ny_) * o[2]));
     edgeVector_.push_back(toFloat(geometry_.indexToPhysicalOffset(o[0], o[1], o[2])));
     // The voxels (besides both ends) that the step's segment needs.
-    std::vector<std::int64_t> needed;
-    walkSegmentCells({0, 0, 0}, {o[0], o[1], o[2]},
-                     [&](const Index3* corners, int count, const Index3& from, const Index3& to,
-                         std::int64_t denominator) {
-                       if (isJoinedContact(from, to, denominator, connectivity_)) return true;
-                       for (int c = 0; c < count; ++c) {
-                         const Index3& q = corners[c];
-                         const bool end = (q[0] == 0 && q[1] == 0 && q[2] == 0) ||
-                                          (q[0] == o[0] && q[1] == o[1] && q[2] == o[2]);
-                         if (!end)
-                           needed.push_back(q[0] + static_cast<std::int64_t>(nx_) *
-                                                       (q[1] + static_cast<std::int64_t>(ny_) * q[2]));
-                       }
-                       return true;
-                     });
-    std::sort(needed.begin(), needed.end());
-    needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
+    const std::vector<std::int64_t> needed = segmentSupport({o[0], o[1], o[2]}, connectivity_, nx_, ny_);
     supportOffset_.insert(supportOffset_.end(), needed.begin(), needed.end());
     supportStart_.push_back(static_cast<std::uint32_t>(supportOffset_.size()));
   }
-  if (!mask_.empty()) computeClearance();
+  if (!mask_.empty() && domainVertexCount_ < vertexCount_) {
+    computeClearance();
+    // The same for every index offset of the segments that STVD's
+    // candidates test: a lookup instead of a walk through the cells.
+    // The second half of the block holds the reversed segments of the
+    // first: the same voxels, seen from the other end.
+    constexpr int r = kSegmentTableRadius, side = 2 * r + 1, offsets = side * side * side;
+    segmentSupportStart_.reserve(offsets + 1);
+    segmentSupportStart_.push_back(0);
+    int t = 0;
+    for (int k = -r; k <= r; ++k)
+      for (int j = -r; j <= r; ++j)
+        for (int i = -r; i <= r; ++i, ++t) {
+          if (t <= offsets / 2) {
+            const std::vector<std::int64_t> needed = segmentSupport({i, j, k}, connectivity_, nx_, ny_);
+            segmentSupportOffset_.insert(segmentSupportOffset_.end(), needed.begin(), needed.end());
+          } else {
+            const int reversed = offsets - 1 - t;  // the table index of -d
+            const std::int64_t d = i + static_cast<std::int64_t>(nx_) * (j + static_cast<std::int64_t>(ny_) * k);
+            for (std::uint32_t m = segmentSupportStart_[reversed]; m < segmentSupportStart_[reversed + 1]; ++m)
+              segmentSupportOffset_.push_back(segmentSupportOffset_[m] + d);
+          }
+          segmentSupportStart_.push_back(static_cast<std::uint32_t>(segmentSupportOffset_.size()));
+        }
+  } else if (!mask_.empty()) {
+    computeClearance();  // 255 everywhere
+  }
 }
 
 // Chebyshev distance to the nearest excluded voxel: the length of the
@@ -154,6 +192,9 @@ VoxelGridDomain::VoxelGridDomain(const GridGeometry& geometry, Stencil stencil,
 void VoxelGridDomain::computeClearance() {
   constexpr int kFar = 255;
   clearance_.assign(vertexCount_, kFar);
+  // A mask that keeps every voxel (the tool always passes one) needs no
+  // passes: they cost as much as a Dijkstra propagation of the grid.
+  if (domainVertexCount_ == vertexCount_) return;
   for (VertexId v = 0; v < vertexCount_; ++v)
     if (mask_[v] == 0) clearance_[v] = 0;
   // The neighbours that precede a voxel in raster order (k, then j, then i).

@@ -37,6 +37,7 @@ py::dict defaults() {
   // written when surfaces had their own.
   d["surface_chain_measure"] = chainMeasureName(choice.chainMeasure);
   d["stencil"] = choice.stencil;
+  d["domain_connectivity"] = static_cast<int>(choice.connectivity);
   d["tensor_kind"] = imaging::tensorKindName(tensor.metric.kind);
   d["diffusion_metric"] = imaging::diffusionMetricName(tensor.metric.diffusionMetric);
   d["max_anisotropy"] = tensor.metric.maxAnisotropy;

@@ -1,6 +1,7 @@
 // The propagation keywords every Python call shares (method, k,
-// chain_measure, stencil, steiner, max_distance), through the library's
-// setters, so that values and messages are the tool's.
+// chain_measure, stencil, domain_connectivity, steiner, max_distance),
+// through the library's setters, so that values and messages are the
+// tool's.
 #pragma once
 
 #include <optional>
@@ -14,7 +15,8 @@ namespace stvd::python {
 /// default of the kind of domain the choice runs on).
 PropagationChoice choiceOf(const std::optional<std::string>& method, const std::optional<int>& k,
                            const std::optional<std::string>& chainMeasure, const std::optional<std::string>& stencil,
-                           const std::optional<int>& steiner);
+                           const std::optional<int>& steiner,
+                           const std::optional<int>& domainConnectivity = std::nullopt);
 
 /// max_distance: infinity for None; OptionError unless positive.
 double maxDistanceOf(const std::optional<double>& maxDistance);

@@ -114,7 +114,7 @@ std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const Te
       seeds.insert(seeds.end(), labelled.begin(), labelled.end());
     }
     out = std::make_shared<VolumePropagation>(VolumePropagation{
-        field, choice, VoxelGridDomain(field->geometry(), Stencil::byName(choice.stencil), field->inDomain), {},
+        field, choice, VoxelGridDomain(field->geometry(), Stencil::byName(choice.stencil), field->inDomain, choice.connectivity), {},
         std::move(seeds), leftOut});
     const std::vector<VertexId> sources = imaging::sourceVertices(out->domain, out->seeds);
     if (choice.lanthier) {
@@ -246,7 +246,8 @@ py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py:
                               leftOut);
     std::vector<std::vector<VertexId>> voxels;
     for (const LabelRegion& r : regions) voxels.push_back(r.voxels);
-    const VoxelGridDomain domain(field->geometry(), Stencil::byName(choice.stencil), field->inDomain);
+    const VoxelGridDomain domain(field->geometry(), Stencil::byName(choice.stencil), field->inDomain,
+                                 choice.connectivity);
     PropagationOptions options = propagationOptions(choice);
     options.progress = relay.hook();
     table = regionConnectivity(domain, field->metric, voxels, options, threads);
@@ -372,29 +373,33 @@ void bindVolumes(py::module_& m) {
              const std::vector<std::array<double, 3>>& seedPoints, bool lps, const py::object& seedLabels,
              const std::optional<std::string>& method, const std::optional<int>& k,
              const std::optional<std::string>& chainMeasure, const std::optional<std::string>& stencil,
-             const std::optional<int>& steiner, const std::optional<double>& maxDistance, const py::object& progress) {
+             const std::optional<int>& steiner, const std::optional<double>& maxDistance, const py::object& progress,
+             const std::optional<int>& domainConnectivity) {
             return propagateField(field, seeds, finiteTriples(seedPoints, "seed_points"), lps, seedLabels,
-                                  choiceOf(method, k, chainMeasure, stencil, steiner), maxDistanceOf(maxDistance),
-                                  progress);
+                                  choiceOf(method, k, chainMeasure, stencil, steiner, domainConnectivity),
+                                  maxDistanceOf(maxDistance), progress);
           },
           py::arg("seeds") = std::vector<std::array<int, 3>>{},
           py::arg("seed_points") = std::vector<std::array<double, 3>>{}, py::arg("lps") = false,
           py::arg("seed_labels") = py::none(), py::arg("method") = py::none(), py::arg("k") = py::none(),
           py::arg("chain_measure") = py::none(), py::arg("stencil") = py::none(), py::arg("steiner") = py::none(),
-          py::arg("max_distance") = py::none(), py::arg("progress") = py::none())
+          py::arg("max_distance") = py::none(), py::arg("progress") = py::none(),
+          py::arg("domain_connectivity") = py::none())
       .def(
           "connectivity",
           [](const std::shared_ptr<TensorField>& field, const py::object& labels, const std::optional<std::string>& method,
              const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
-             const std::optional<std::string>& stencil, const std::optional<int>& threads, const py::object& progress) {
+             const std::optional<std::string>& stencil, const std::optional<int>& threads, const py::object& progress,
+             const std::optional<int>& domainConnectivity) {
             if (threads && (*threads < 1 || *threads > 1024))
               throw OptionError("--threads must be between 1 and 1024");
-            return connectivity(field, labels, choiceOf(method, k, chainMeasure, stencil, std::nullopt),
+            return connectivity(field, labels,
+                                choiceOf(method, k, chainMeasure, stencil, std::nullopt, domainConnectivity),
                                 threads ? static_cast<unsigned>(*threads) : 0u, progress);
           },
           py::arg("labels"), py::arg("method") = py::none(), py::arg("k") = py::none(),
           py::arg("chain_measure") = py::none(), py::arg("stencil") = py::none(), py::arg("threads") = py::none(),
-          py::arg("progress") = py::none());
+          py::arg("progress") = py::none(), py::arg("domain_connectivity") = py::none());
 
   py::class_<VolumePropagation, std::shared_ptr<VolumePropagation>>(m, "VolumePropagation")
       .def_property_readonly("field", [](const VolumePropagation& p) { return std::const_pointer_cast<TensorField>(p.field); })
@@ -494,6 +499,8 @@ void bindVolumes(py::module_& m) {
       })
       .def_property_readonly("chain_measure", [](const VolumePropagation& p) { return chainMeasureName(p.choice.chainMeasure); })
       .def_property_readonly("stencil", [](const VolumePropagation& p) { return p.choice.stencil; })
+      .def_property_readonly("domain_connectivity",
+                             [](const VolumePropagation& p) { return static_cast<int>(p.choice.connectivity); })
       .def(
           "trace_paths",
           [](const std::shared_ptr<VolumePropagation>& p, const std::vector<std::array<int, 3>>& targets,

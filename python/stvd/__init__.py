@@ -30,7 +30,8 @@ class _Defaults:
     """The library's defaults, read-only: ``stvd.defaults.k``, ...
 
     method, k (on volumes), surface_k, tet_mesh_k (the k of each kind of
-    domain when none is given), chain_measure, stencil, surface_chain_measure
+    domain when none is given), chain_measure, stencil, domain_connectivity
+    (volumes), surface_chain_measure
     (the same measure), tensor_kind, diffusion_metric, max_anisotropy (None:
     the metric as given), accept_implausible_tensors, unreachable_value,
     step, smooth, refine (paths), max_k, max_steiner. The values are the
@@ -62,6 +63,16 @@ class _Defaults:
 defaults = _Defaults(_core.defaults())
 
 
+def _connectivity(value):
+    """domain_connectivity as an int (6, 18, 26; "6" as well), None kept."""
+    if value is None:
+        return None
+    try:
+        return int(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"--domain-connectivity: '{value}' is not one of 6, 18, 26") from None
+
+
 def _tensor_options(tensor_order, tensor_frame, tensor_kind, diffusion_metric, max_anisotropy, fa_threshold,
                     accept_implausible_tensors=False):
     return dict(tensor_order=tensor_order, tensor_frame=tensor_frame, tensor_kind=tensor_kind,
@@ -78,7 +89,8 @@ class Propagation:
     are read-only arrays on the input's grid, without a copy. Statistics:
     ``termination``, ``finalized_vertices``, ``relaxed_edges``,
     ``peak_state_bytes``, ``seeds`` (the seed voxels), ``label_seeds_left_out``,
-    ``voxel_counts``, ``method``, ``k``, ``chain_measure``, ``stencil``. The
+    ``voxel_counts``, ``method``, ``k``, ``chain_measure``, ``stencil``,
+    ``domain_connectivity``. The
     grid: ``shape``, ``affine`` (voxel index to RAS millimetres), ``zooms``,
     ``in_domain``. Paths (``stvd.trace_paths``) and connectivity
     (``stvd.connectivity``) use it without propagating again.
@@ -95,7 +107,7 @@ class Propagation:
     def __getattr__(self, name):
         if name in ("distance", "predecessor", "termination", "finalized_vertices", "relaxed_edges",
                     "peak_state_bytes", "seeds", "label_seeds_left_out", "method", "method_text", "k",
-                    "chain_measure", "stencil"):
+                    "chain_measure", "stencil", "domain_connectivity"):
             return getattr(self._result, name)
         if name in ("shape", "affine", "zooms", "voxel_counts", "in_domain", "fractional_anisotropy", "tensor_info"):
             return getattr(self._result.field, name)
@@ -171,7 +183,7 @@ def _image_template(tensors, field):
 def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=None, lps=False, mask=None,
               tensor_order=None, tensor_frame=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None,
               fa_threshold=None, method=None, k=None, chain_measure=None, stencil=None, steiner=None,
-              max_distance=None, progress=None, accept_implausible_tensors=False):
+              max_distance=None, progress=None, accept_implausible_tensors=False, domain_connectivity=None):
     """Propagates the geodesic distance from seeds over a tensor volume and
     returns the whole result (``stvd.Propagation``): distances, predecessors
     and statistics. The arguments are those of ``stvd.distance``."""
@@ -182,7 +194,8 @@ def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels
     with progress_reporter(progress) as reporter:
         result = field.propagate(voxel_list(seeds, "seeds"), point_list(seed_points, "seed_points"), bool(lps),
                                  labels, method=method, k=k, chain_measure=chain_measure, stencil=stencil,
-                                 steiner=steiner, max_distance=max_distance, progress=reporter.callback)
+                                 steiner=steiner, max_distance=max_distance, progress=reporter.callback,
+                                 domain_connectivity=_connectivity(domain_connectivity))
         reporter.finish(result.finalized_vertices)
     template = _image_template(tensors, field) if (is_image(tensors) or is_path(tensors)) else None
     return Propagation(result, template,
@@ -193,7 +206,8 @@ def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels
 def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=None, lps=False, mask=None,
              tensor_order=None, tensor_frame=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None,
              fa_threshold=None, method=None, k=None, chain_measure=None, stencil=None, steiner=None,
-             max_distance=None, unreachable_value=None, progress=None, accept_implausible_tensors=False):
+             max_distance=None, unreachable_value=None, progress=None, accept_implausible_tensors=False,
+             domain_connectivity=None):
     """The anisotropic geodesic distance (millimetres) from seeds over a
     diffusion or metric tensor volume, as ``stvd distance`` computes it.
 
@@ -210,8 +224,10 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
     mask, fa_threshold, tensor_frame, tensor_kind, diffusion_metric,
         max_anisotropy, accept_implausible_tensors: the domain and the
         metric, as the tool's options.
-    method, k, chain_measure, stencil, steiner, max_distance: the
-        propagation, as the tool's options.
+    method, k, chain_measure, stencil, steiner, max_distance,
+        domain_connectivity: the propagation, as the tool's options
+        (``domain_connectivity`` 6, 18 or 26: which domain voxels touch when
+        a mask or an FA threshold leaves gaps; paths keep to it too).
     unreachable_value: the value of voxels not reached.
     progress: True for a tqdm bar, or a function
         ``f(finalized, domain_vertices, front_mm)``; returning False cancels.
@@ -225,7 +241,8 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
                        diffusion_metric=diffusion_metric, max_anisotropy=max_anisotropy, fa_threshold=fa_threshold,
                        method=method, k=k, chain_measure=chain_measure, stencil=stencil, steiner=steiner,
                        max_distance=max_distance, progress=progress,
-                       accept_implausible_tensors=accept_implausible_tensors)
+                       accept_implausible_tensors=accept_implausible_tensors,
+                       domain_connectivity=domain_connectivity)
     return result.distance_map(unreachable_value)
 
 
@@ -268,7 +285,8 @@ class Connectivity:
 
 def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tensor_order=None, tensor_frame=None,
                  tensor_kind=None, diffusion_metric=None, max_anisotropy=None, fa_threshold=None, method=None, k=None,
-                 chain_measure=None, stencil=None, progress=None, accept_implausible_tensors=False):
+                 chain_measure=None, stencil=None, progress=None, accept_implausible_tensors=False,
+                 domain_connectivity=None):
     """Region-to-region connectivity as ``stvd connectivity`` computes it: one
     propagation from each region of ``labels`` (a path, image or array on the
     tensors' grid; each distinct non-zero integer is a region), ``threads`` at
@@ -278,17 +296,20 @@ def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tenso
     if isinstance(tensors, Propagation):
         if accept_implausible_tensors or any(
                 v is not None for v in (affine, mask, tensor_order, tensor_frame, tensor_kind, diffusion_metric,
-                                        max_anisotropy, fa_threshold, method, k, chain_measure, stencil)):
+                                        max_anisotropy, fa_threshold, method, k, chain_measure, stencil,
+                                        domain_connectivity)):
             raise ValueError("tensor and method options come from the stvd.Propagation given")
         field = tensors._result.field
         given = tensors._result
         options = dict(method=given.method, k=given.k if given.method == "stvd" else None,
-                       chain_measure=given.chain_measure if given.method == "stvd" else None, stencil=given.stencil)
+                       chain_measure=given.chain_measure if given.method == "stvd" else None, stencil=given.stencil,
+                       domain_connectivity=given.domain_connectivity)
     else:
         field = tensor_field(tensors, affine, mask, _tensor_options(tensor_order, tensor_frame, tensor_kind,
                                                                     diffusion_metric, max_anisotropy, fa_threshold,
                                                                     accept_implausible_tensors))
-        options = dict(method=method, k=k, chain_measure=chain_measure, stencil=stencil)
+        options = dict(method=method, k=k, chain_measure=chain_measure, stencil=stencil,
+                       domain_connectivity=_connectivity(domain_connectivity))
     spec = scalar_image_spec(labels, "labels")
     with progress_reporter(progress) as reporter:
         values = field.connectivity(spec, threads=threads, progress=reporter.callback, **options)

@@ -7,9 +7,12 @@
 // voxels that the path must not cut through, and a target on a ridge of the
 // distance field where the gradient vanishes.
 //
-// Every propagation here runs with the command-line tool's defaults (STVD,
-// k = 8, largest-norm chain measure, 26 neighbours), so the paths are those
-// `stvd path` traces.
+// Every propagation here runs STVD with k = 8, the largest-norm chain
+// measure and 26 neighbours: the configuration the bounds below were
+// measured on. On the library's default field (segment measure, k = 6) the
+// refined paths keep the requirement of 1 voxel but not all of these
+// tighter bounds (docs/paths.md, "Accuracy"). Masks, walls and contacts:
+// path_region_test.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -550,6 +553,8 @@ TEST(GeodesicPathOptions, SmoothingKeepsTheEndPointsAndStaysNearTheCurve) {
     EXPECT_EQ(norm(path.points.back() - domain.physicalPoint(target)), 0.0);
     const Deviation d = deviationFromCurve(domain.geometry(), path.points,
                                            segment(domain.physicalPoint(source), domain.physicalPoint(target)));
+    std::printf("[ measured ] constant metric, 5 smoothing passes, %s: deviation max %.3g voxel\n",
+                refine ? "refined" : "traced only", d.max);
     EXPECT_LE(d.max, refine ? kConstantMaxDeviationVoxels : kConstantTracedMaxDeviationVoxels);
   }
 }
@@ -586,11 +591,13 @@ TEST(InterpolateAtPoint, IsTrilinearBetweenVoxelCentresAndNanOutside) {
 namespace stvd {
 namespace {
 
-// A value is sampled only from corners inside the domain: next to a masked
-// voxel the weights are renormalised over the others, so a point of a path
-// along the domain's edge (FA along a path that ends at the brain's edge)
-// never gets NaN from a voxel that has no value.
-TEST(InterpolateAtPoint, RenormalisesOverTheCornersInsideTheDomain) {
+// A value is sampled only from voxels inside the domain, and only at points
+// of the domain's region, where paths run: at a voxel centre next to a masked
+// voxel (whose weight is zero, or a rounding error in an oblique geometry)
+// and on a grid edge between two domain voxels the value is defined (FA along
+// a path that ends at the brain's edge is never NaN); in a cell face or cube
+// with a masked corner, which no path crosses, it is NaN.
+TEST(InterpolateAtPoint, UsesOnlyVoxelsInsideTheDomain) {
   const GridGeometry g = test::obliqueGrid({4, 4, 4});
   std::vector<std::uint8_t> mask(64, 1);
   const auto at = [](int i, int j, int k) { return static_cast<std::size_t>(i + 4 * (j + 4 * k)); };
@@ -602,15 +609,19 @@ TEST(InterpolateAtPoint, RenormalisesOverTheCornersInsideTheDomain) {
     values[v] = static_cast<float>(1.0 + c.i + 10.0 * c.j + 100.0 * c.k);
   }
   values[at(2, 1, 1)] = std::numeric_limits<float>::quiet_NaN();  // no value outside the domain
-  // Halfway between (1,1,1) (value 111) and the masked (2,1,1): all weight on (1,1,1).
-  EXPECT_NEAR(interpolateAtPoint(domain, values, g.indexToPhysicalPoint(1.5, 1, 1)), 112.0, 1e-9);
-  // A quarter of the way towards j = 2: the in-domain corners (1,1,1), (1,2,1)
-  // and (2,2,1) have the weights 0.375, 0.125 and 0.125, renormalised to 1.
-  const double expected = (0.375 * 112.0 + 0.125 * 122.0 + 0.125 * 123.0) / 0.625;
-  EXPECT_NEAR(interpolateAtPoint(domain, values, g.indexToPhysicalPoint(1.5, 1.25, 1)), expected, 1e-9);
-  // The voxel centre of a neighbour of the masked voxel, reached through
-  // the oblique geometry's rounding, gives its own value.
+  // The voxel centre of a neighbour of the masked voxel, reached through the
+  // oblique geometry's rounding, gives its own value.
   EXPECT_NEAR(interpolateAtPoint(domain, values, g.indexToPhysicalPoint(1, 1, 1)), 112.0, 1e-6);
+  // A quarter of the way along the grid edge from (1,1,1) to (1,2,1).
+  EXPECT_NEAR(interpolateAtPoint(domain, values, g.indexToPhysicalPoint(1, 1.25, 1)), 0.75 * 112.0 + 0.25 * 122.0,
+              1e-5);
+  // Inside a cube whose eight corners are in the domain: trilinear.
+  EXPECT_NEAR(interpolateAtPoint(domain, values, g.indexToPhysicalPoint(1.5, 2.25, 1.75)), 1.0 + 1.5 + 22.5 + 175.0,
+              1e-5);
+  // Towards the masked voxel, in a face and in a cube that hold it: no value.
+  EXPECT_TRUE(std::isnan(interpolateAtPoint(domain, values, g.indexToPhysicalPoint(1.5, 1, 1))));
+  EXPECT_TRUE(std::isnan(interpolateAtPoint(domain, values, g.indexToPhysicalPoint(1.5, 1.25, 1))));
+  EXPECT_TRUE(std::isnan(interpolateAtPoint(domain, values, g.indexToPhysicalPoint(1.5, 1.25, 1.5))));
 }
 
 }  // namespace

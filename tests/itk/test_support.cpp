@@ -314,4 +314,25 @@ ToolRun runToolInBash(const std::string& script, const std::vector<std::string>&
   return runShellCommand(command);
 }
 
+std::vector<std::map<std::string, std::string>> readTsv(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> header;
+  {
+    std::istringstream h(line);
+    std::string column;
+    while (std::getline(h, column, '\t')) header.push_back(column);
+  }
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(in, line)) {
+    std::istringstream r(line);
+    std::map<std::string, std::string> row;
+    std::string value;
+    for (std::size_t c = 0; std::getline(r, value, '\t'); ++c) row[header.at(c)] = value;
+    rows.push_back(row);
+  }
+  return rows;
+}
+
 }  // namespace stvd::testing

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -109,5 +110,8 @@ ToolRun runTool(const std::vector<std::string>& arguments);
 /// tool. The exit code is the script's (124 after 120 s); stdout and stderr
 /// are captured.
 ToolRun runToolInBash(const std::string& script, const std::vector<std::string>& arguments);
+/// A tab-separated table with a header line (the TSV files of `stvd path`
+/// and `stvd connectivity`) as rows of named columns.
+std::vector<std::map<std::string, std::string>> readTsv(const std::string& path);
 
 }  // namespace stvd::testing

@@ -113,19 +113,30 @@ TEST_F(ToolLanthier, CommandLineRulesAreExplained) {
   expectUsageError({"--method", "lanthier", "--steiner", "2", "--stencil", "6"}, "--stencil");
 }
 
-TEST_F(ToolLanthier, ASingleSliceHasNoCubesAndIsRefused) {
+TEST_F(ToolLanthier, ASingleSliceIsPropagatedThroughItsSquares) {
+  // One slice has no cubes: its squares are the cells, as for Dijkstra and
+  // STVD every voxel is reached, and no distance is below the straight line.
   KnownField slice;
   slice.geometry.size = {11, 9, 1};
   const Matrix3 frame = slice.measurementFrameLps;
   writeTensorNrrdByHand(path("slice.nrrd"), slice.geometry, "left-posterior-superior",
                         std::vector<SymTensor3>(slice.voxelCount(), slice.measurementFrameMetric()), &frame);
-  const ToolRun run = runTool({"distance", path("slice.nrrd"), "-o", path("never.nii.gz"), "--tensor-kind",
+  const ToolRun run = runTool({"distance", path("slice.nrrd"), "-o", path("slice.nii.gz"), "--tensor-kind",
                                "metric", "--seed-voxel", "5,4,0", "--method", "lanthier", "--steiner", "2"});
-  EXPECT_EQ(run.exitCode, 2) << run.err;
-  EXPECT_EQ(run.err.find('\n'), run.err.size() - 1) << run.err;
-  EXPECT_NE(run.err.find("slice.nrrd"), std::string::npos) << run.err;
-  EXPECT_NE(run.err.find("at least 2 voxels along every grid axis"), std::string::npos) << run.err;
-  EXPECT_FALSE(std::ifstream(path("never.nii.gz")).good());
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  EXPECT_NE(run.out.find("Reached 99 of 99 domain voxels"), std::string::npos) << run.out;
+  const imaging::ScalarImage d = imaging::readScalarImage(path("slice.nii.gz"));
+  double worst = 0.0;
+  for (int j = 0; j < 9; ++j)
+    for (int i = 0; i < 11; ++i) {
+      if (i == 5 && j == 4) continue;
+      const double exact = slice.exactDistance({5, 4, 0}, {i, j, 0});
+      const double value = d.values[slice.linear({i, j, 0})];
+      EXPECT_GE(value, exact * (1.0 - 2e-6)) << i << " " << j;
+      worst = std::max(worst, value / exact - 1.0);
+    }
+  // Measured: at most 6.6 % above at M = 2, next to the seed.
+  EXPECT_LT(worst, 0.09);
 }
 
 }  // namespace

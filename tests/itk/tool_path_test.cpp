@@ -45,28 +45,6 @@ std::string triple(const std::array<int, 3>& v) {
   return std::to_string(v[0]) + "," + std::to_string(v[1]) + "," + std::to_string(v[2]);
 }
 
-/// The TSV summary as rows of named columns.
-std::vector<std::map<std::string, std::string>> readTsv(const std::string& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> header;
-  {
-    std::istringstream h(line);
-    std::string column;
-    while (std::getline(h, column, '\t')) header.push_back(column);
-  }
-  std::vector<std::map<std::string, std::string>> rows;
-  while (std::getline(in, line)) {
-    std::istringstream r(line);
-    std::map<std::string, std::string> row;
-    std::string value;
-    for (std::size_t c = 0; std::getline(r, value, '\t'); ++c) row[header.at(c)] = value;
-    rows.push_back(row);
-  }
-  return rows;
-}
-
 // seeds.tsv gives RAS to 2 decimals: 0.005 mm rounding, plus float32 storage.
 constexpr double kSeedTableTolerance = 0.006;
 
@@ -137,10 +115,10 @@ TEST_F(ToolPath, EachStreamlineFormatLandsOnTheAnatomyInNibabel) {
 
 // Measured (Release, x86-64), tool defaults (refined paths):
 //   CC_body_R_lateral -> CC_body_L_lateral: crosses the midline plane
-//     i = 55 (CC_body's) at 0.41 voxel from CC_body, mean FA 0.808
-//     (traced only: 0.66 voxel, 0.813);
+//     i = 55 (CC_body's) at 0.42 voxel from CC_body, mean FA 0.807
+//     (traced only: 0.50 voxel, 0.812);
 //   CST_L_low -> CST_L_high: superior share of the path length 0.953
-//     (|dz| 36.9 mm of 38.7 mm; traced only: 0.936, of 39.4 mm).
+//     (|dz| 36.9 mm of 38.7 mm; traced only: 0.939, of 39.3 mm).
 // The issue's requirements: within 3 voxels, mean FA >= 0.5, "mainly
 // superior" (taken as a superior share of at least 2/3, twice the share of
 // a random direction, 1/3, and more than the other two axes together).

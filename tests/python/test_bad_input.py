@@ -39,6 +39,9 @@ def message_of(error_type, call):
     (["--seed-voxel", "55,54,15", "--mask", FSL_6], dict(seeds=CC_BODY, mask=str(FSL_6))),
     (["--seed-voxel", "55,54,15", "--max-distance", "-3"], dict(seeds=CC_BODY, max_distance=-3)),
     (["--seed-voxel", "55,54,15", "--unreachable-value", "1e+300"], dict(seeds=CC_BODY, unreachable_value=1e300)),
+    (["--seed-voxel", "55,54,15", "--domain-connectivity", "12"], dict(seeds=CC_BODY, domain_connectivity=12)),
+    (["--seed-voxel", "55,54,15", "--domain-connectivity", "26", "--stencil", "18"],
+     dict(seeds=CC_BODY, domain_connectivity=26, stencil="18")),
 ])
 def test_messages_are_the_tools(tmp_path, tool_options, keywords):
     expected = tool_message("distance", DIPY_5D, "-o", tmp_path / "d.nii.gz", *tool_options)

@@ -17,11 +17,10 @@ def test_volume_defaults_are_the_ones_the_tool_reports(tmp_path):
     run_tool("distance", DIPY_5D, "--seed-voxel", ",".join(map(str, CC_BODY)), "-o", tmp_path / "d.nii.gz", "-q",
              "--stats", tmp_path / "stats.json")
     used = json.loads((tmp_path / "stats.json").read_text())["parameters"]
-    assert (used["method"], used["k"], used["chain_measure"], used["stencil"]) == (
-        stvd.defaults.method, stvd.defaults.k, stvd.defaults.chain_measure, stvd.defaults.stencil)
+    names = ("method", "k", "chain_measure", "stencil", "domain_connectivity")
+    assert tuple(used[n] for n in names) == tuple(getattr(stvd.defaults, n) for n in names)
     result = stvd.propagate(DIPY_5D, CC_BODY)
-    assert (result.method, result.k, result.chain_measure, result.stencil) == (
-        used["method"], used["k"], used["chain_measure"], used["stencil"])
+    assert tuple(getattr(result, n) for n in names) == tuple(used[n] for n in names)
     assert stvd.defaults.k == 6  # the library's choice for volumes (docs/benchmarks.md)
 
 

@@ -75,6 +75,9 @@ def test_any_memory_order_and_the_matrix_form_give_the_same_numbers(dipy_image, 
      dict(diffusion_metric="adjugate", max_anisotropy=20, fa_threshold=0.2)),
     (["--max-distance", "30", "--unreachable-value", "nan"], dict(max_distance=30, unreachable_value=np.nan)),
     (["--tensor-frame", "world"], dict(tensor_frame="world")),
+    (["--fa-threshold", "0.2", "--domain-connectivity", "26"], dict(fa_threshold=0.2, domain_connectivity=26)),
+    (["--fa-threshold", "0.2", "--domain-connectivity", "18", "--method", "dijkstra", "--stencil", "18"],
+     dict(fa_threshold=0.2, domain_connectivity=18, method="dijkstra", stencil="18")),
 ])
 def test_options_give_the_tools_numbers(tmp_path, dipy_image, tool_options, keywords):
     tool = tool_distance(tmp_path, DIPY_5D, "--seed-voxel", "55,54,15", *tool_options)

@@ -111,10 +111,11 @@ TracedPath traceGeodesicPath(const VoxelGridDomain& domain, const RiemannianMetr
                              const PathTracingOptions& options = {});
 
 /// Trilinear interpolation of a per-voxel scalar (e.g. FA) at a physical
-/// point, with the weights renormalised over the corners of its cell that
-/// are in the domain (values outside the domain are never used). NaN only
-/// outside the box of voxel centres or where no corner with a non-zero
-/// weight is in the domain, i.e. never for a point of a path.
+/// point of the domain's region; on a contact that the domain's
+/// connectivity joins, linear between its two voxels. NaN outside the box of
+/// voxel centres or outside the region (a corner with a non-zero weight
+/// outside the domain; within 1e-4 voxel of a cell face a point counts as
+/// on it, for the rounding of single-precision direction cosines).
 double interpolateAtPoint(const VoxelGridDomain& domain, const std::vector<float>& values, Vec3d point);
 
 /// The discrete path of `target` in the form of a traced one: the voxel

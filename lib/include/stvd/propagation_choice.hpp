@@ -11,6 +11,7 @@
 
 #include "stvd/front_end_errors.hpp"
 #include "stvd/propagation.hpp"
+#include "stvd/voxel_grid_domain.hpp"
 
 namespace stvd {
 
@@ -21,7 +22,8 @@ namespace stvd {
 inline constexpr double kDefaultUnreachableValue = -1.0;
 
 /// A propagation as a front end's user chose it (--method, --steiner, --k,
-/// --chain-measure, --stencil, --no-memory-check), with the library's
+/// --chain-measure, --stencil, --domain-connectivity, --no-memory-check),
+/// with the library's
 /// defaults; what was stated is kept apart from the defaults, for the checks
 /// below.
 struct PropagationChoice {
@@ -35,6 +37,10 @@ struct PropagationChoice {
   bool chainMeasureGiven = false;
   std::string stencil = "26";
   bool stencilGiven = false;
+  /// Which contacts between domain voxels paths may pass (voxel grids only;
+  /// VoxelGridDomain's default).
+  VoxelConnectivity connectivity = VoxelConnectivity::Faces;
+  bool connectivityGiven = false;
   /// Whether the memory the run needs is compared with the memory available
   /// before it starts (stvd/system_memory.hpp; --no-memory-check: false).
   bool memoryCheck = true;
@@ -53,16 +59,20 @@ void setMemoryDepth(PropagationChoice& choice, int k);
 void setChainMeasure(PropagationChoice& choice, const std::string& name);
 /// "6", "18", "26", "98" or "290" (Stencil::byName).
 void setStencil(PropagationChoice& choice, const std::string& name);
+/// "6", "18" or "26" (VoxelConnectivity).
+void setDomainConnectivity(PropagationChoice& choice, const std::string& name);
 
 /// OptionError for combinations that make no sense on a voxel grid (--k with
-/// Dijkstra, --stencil with lanthier, lanthier without --steiner, ...).
+/// Dijkstra, --stencil with lanthier, lanthier without --steiner, a stencil
+/// that cannot step across the contacts --domain-connectivity joins, ...).
 /// Commands that need predecessors (paths, connectivity) refuse lanthier,
 /// which has none.
 void checkPropagationChoice(const PropagationChoice& choice, bool lanthierAllowed);
 /// The same rules for tetrahedral meshes and surfaces, which have no stencil
 /// and, as they always have, accept and ignore --k and --chain-measure with
-/// dijkstra. `cellEdge` names the edges that carry the Steiner points in
-/// messages ("tetrahedron edge", "face edge").
+/// dijkstra; --domain-connectivity applies to voxel grids only. `cellEdge`
+/// names the edges that carry the Steiner points in messages ("tetrahedron
+/// edge", "face edge").
 void checkMeshPropagationChoice(const PropagationChoice& choice, const std::string& cellEdge,
                                 int suggestedSteinerPoints);
 
@@ -80,6 +90,9 @@ int memoryDepthOf(const PropagationChoice& choice) {
 std::string methodText(const PropagationChoice& choice, int k);
 /// "stvd", "dijkstra" or "lanthier".
 std::string methodName(const PropagationChoice& choice);
+/// What the domain's connectivity joins, for summaries: "domain connectivity
+/// 6 (voxels joined through faces only)".
+std::string connectivityText(VoxelConnectivity connectivity);
 
 /// OptionError ("--unreachable-value: '1e+300' does not fit in a float32
 /// map ...") unless `value` is NaN or a number a float32 map can hold (1e300

@@ -83,19 +83,27 @@ std::uint64_t steinerGridPointCount(std::uint64_t domainVoxelCount, int steinerP
 /// the memory available before it starts.
 std::uint64_t steinerMemoryEstimate(std::uint64_t graphPoints, std::uint64_t vertexCount);
 
-/// Grid version. Cells are the cubes whose eight corners are voxel centres
-/// inside the domain (image and mask): a cube with a corner outside the mask
-/// is not a cell, so paths never pass through it, which is what makes masked
-/// voxels obstacles (and a masked voxel blocks the eight cubes around it). A
-/// domain voxel that belongs to no cell is reached only if it is a source.
-/// Each cube is measured with the mean of the norm parameters at its eight
-/// corners (CellNormRule). The domain's stencil is not used. Spacing and
-/// direction cosines are honoured; distances are in millimetres.
+/// Grid version. The graph covers the domain's region, the same region that
+/// Dijkstra's steps and STVD's candidates keep to (VoxelConnectivity), so
+/// every method reaches the same voxels. Its cells are the cubes whose eight
+/// corners are voxel centres inside the domain (image and mask), every grid
+/// edge between two domain voxels (a one-voxel strand or tunnel, and the
+/// edges of the cubes), where the domain is thinner than a cube the squares
+/// with four domain corners that lie in no such cube (a one-voxel sheet, or
+/// a single-slice image), and, as the domain's connectivity joins them, the
+/// diagonals between domain voxels that touch only along an edge (Edges) or
+/// at a corner (Corners). A cube with a corner outside the mask is not a
+/// cell, so paths never pass through it, which is what makes masked voxels
+/// obstacles. Each cell is measured with the mean of the norm parameters at
+/// its corners (CellNormRule: 8, 4 or 2), an edge as Dijkstra measures it,
+/// so no distance exceeds Dijkstra's on the 6-neighbourhood. A domain
+/// voxel that belongs to no cell is reached only if it is a source. The
+/// domain's stencil is not used. Spacing and direction cosines are honoured;
+/// distances are in millimetres.
 ///
 /// Throws std::invalid_argument for a metric of the wrong size, no source, a
 /// source or target outside the domain, M out of range, a NaN maximum
-/// distance, a grid with fewer than 2 voxels along an axis, or a graph with
-/// more points than 32-bit indices can number.
+/// distance, or a graph with more points than 32-bit indices can number.
 template <class Norm>
 SteinerPropagationResult steinerPropagate(const VoxelGridDomain& domain,
                                           const MetricField<Norm>& metric,
@@ -139,7 +147,11 @@ SteinerPropagationResult steinerPropagate(const SurfaceDomain& surface, const Ri
 /// m / (M + 1) of the way along the grid edge from v to v + e_a (a = 0, 1, 2
 /// the index axes i, j, k; m = 1..M), and slots 1 + 3M + a M^2 + (m_b - 1) M
 /// + (m_c - 1) are the face points (m_b, m_c) / (M + 1) of the square
-/// spanned at v by the two axes b < c other than a.
+/// spanned at v by the two axes b < c other than a. The cells of every kind
+/// share these points: an edge cell uses the points on it, a square cell the
+/// edge and face points on it, and a diagonal cell only its two voxel
+/// centres. Points that lie in no cell (on the image's last layer along
+/// their axis, or outside the domain's region) are never reached.
 Vec3d steinerPointPosition(const VoxelGridDomain& domain, int steinerPoints, SteinerPointId p);
 /// Mesh numbering: vertices first (p = v), then M points per edge
 /// (cells.edges() order, the m-th at m / (M + 1) from the edge's first to its
