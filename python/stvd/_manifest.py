@@ -45,8 +45,12 @@ class Subject:
     cells: dict = field(default_factory=dict, compare=False)
 
     def inputs(self):
-        """The input files by role: ``{'tensors': path, ...}``."""
+        """The input files by column: ``{'tensors': path, ...}``."""
         return {role: getattr(self, role) for role in PATH_COLUMNS if getattr(self, role) is not None}
+
+    def input_roles(self):
+        """The input files as ``stvd.OutputFiles`` takes them: (role, path)."""
+        return [(f"{column} input", path) for column, path in self.inputs().items()]
 
 
 def _where(path, row, column=None):
@@ -116,12 +120,22 @@ def read_manifest(path):
 
 
 def read_seed_sets(path):
-    """The seed sets of a seeds table: a TSV with a header whose columns
-    include ``name``, ``i``, ``j`` and ``k`` (0-based voxel indices; other
-    columns, such as those of the sample's seeds.tsv, are ignored). Rows with
-    the same name form one set. Returns ``{name: [(i, j, k), ...]}`` in the
-    order of first appearance; raises ValueError naming file, row and
+    """The seed sets of a subject's seeds: a seeds table or a label image.
+
+    A seeds table is a TSV with a header whose columns include ``name``,
+    ``i``, ``j`` and ``k`` (0-based voxel indices; other columns, such as
+    those of the sample's seeds.tsv, are ignored); rows with the same name
+    form one set, ``{name: [(i, j, k), ...]}``. A label image (an image file
+    by its extension, on the tensors' grid) gives a set per region: every
+    distinct non-zero value, named ``label_<value>``, ``{name: {'label':
+    value}}``; its voxels outside the domain are left out (none inside is
+    that subject's error). Sets come in the order of first appearance (of
+    increasing value for regions); raises ValueError naming file, row and
     column."""
+    from . import _core
+
+    if _core.is_image_path(path):
+        return _label_seed_sets(path)
     try:
         with open(path, newline="", encoding="utf-8") as file:
             lines = list(csv.reader(file, delimiter="\t", quoting=csv.QUOTE_NONE))
@@ -153,3 +167,19 @@ def read_seed_sets(path):
     if not sets:
         raise ValueError(f"{path}: no seeds (the table has only its header row)")
     return sets
+
+
+def _label_seed_sets(path):
+    import nibabel
+    import numpy as np
+
+    try:
+        values = np.unique(np.asanyarray(nibabel.load(path).dataobj))
+    except Exception as error:  # NiBabel reads NIfTI; another format, or a file it cannot, is this subject's error
+        raise ValueError(f"{path}: cannot read the seed labels (NIfTI): {' '.join(str(error).split())}") from None
+    values = values[values != 0]
+    if values.size == 0:
+        raise ValueError(f"{path}: no seeds (the label image has no non-zero voxel)")
+    if not np.all(np.isfinite(values)) or np.any(values != np.round(values)):
+        raise ValueError(f"{path}: seed labels must be integers")
+    return {f"label_{int(v)}": {"label": int(v)} for v in values}

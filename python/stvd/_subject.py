@@ -4,12 +4,16 @@ subject's files, compute with the package's public calls (``stvd.propagate``,
 folder, and return a small summary. Arrays never leave the worker: what
 travels back to the scheduler is a dict of a few numbers and names.
 
-A task computes some *parts* of a subject: ``'connectivity'`` and the seed
-sets of its seeds table, one distance map each. By default one task computes
-all of a subject's parts; with many seed sets a task per part spreads one
-subject over the workers.
+A task computes some *parts* of a subject: ``'connectivity'`` and its seed
+sets (those of a seeds table, or one per region of a seed label image), one
+distance map each. By default one task computes all of a subject's parts;
+with many seed sets a task per part spreads one subject over the workers.
+The outputs of a task are written through the package's ``OutputFiles``,
+checked against the subject's inputs and moved into place together when
+every part is computed.
 """
 
+import hashlib
 import math
 import os
 import resource
@@ -17,8 +21,6 @@ import socket
 import time
 
 import numpy as np
-
-from ._cohort_files import atomic_path, file_record, write_text
 
 CONNECTIVITY = "connectivity"
 CONNECTIVITY_FILE = "connectivity.tsv"
@@ -78,16 +80,53 @@ def _load_tensors(path):
     return loaded
 
 
+def _file_record(path):
+    """The size and SHA-256 of a written file, as the statistics keep them."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as file:
+        for block in iter(lambda: file.read(1 << 20), b""):
+            digest.update(block)
+    return {"bytes": os.path.getsize(path), "sha256": digest.hexdigest()}
+
+
+class _SeedLabels:
+    """A seed label image, read once per task: the seeds of one region as an
+    image on the file's grid (the library checks it against the tensors')."""
+
+    def __init__(self, path):
+        import nibabel
+
+        self.path = path
+        try:
+            image = nibabel.load(path)
+            self.labels = np.asanyarray(image.dataobj)
+        except Exception as error:
+            raise ValueError(f"{path}: cannot read the seed labels: {one_line(error)}") from None
+        self.affine = image.affine
+
+    def region(self, label):
+        import nibabel
+
+        image = nibabel.Nifti1Image((self.labels == label).astype(np.uint8), self.affine)
+        image.set_filename(self.path)  # messages name the file; outputs are checked against it
+        return image
+
+
 def _round(value):
     return float(f"{float(value):.6g}")
 
 
 def _map_summary(propagation, seeds):
     finite = propagation.distance[np.isfinite(propagation.distance)]
-    return {"seeds": [list(map(int, s)) for s in seeds], "termination": propagation.termination,
-            "reached_voxels": int(finite.size), "domain_voxels": int(propagation.voxel_counts["domain"]),
-            "median_mm": _round(np.median(finite)) if finite.size else None,
-            "max_mm": _round(finite.max()) if finite.size else None}
+    if isinstance(seeds, dict):  # a region of a seed label image
+        summary = {"label": seeds["label"], "seed_voxels": len(propagation.seeds),
+                   "seed_voxels_left_out": int(propagation.label_seeds_left_out)}
+    else:
+        summary = {"seeds": [list(map(int, s)) for s in seeds]}
+    return dict(summary, termination=propagation.termination, reached_voxels=int(finite.size),
+                domain_voxels=int(propagation.voxel_counts["domain"]),
+                median_mm=_round(np.median(finite)) if finite.size else None,
+                max_mm=_round(finite.max()) if finite.size else None)
 
 
 def _connectivity_summary(result):
@@ -99,41 +138,58 @@ def _connectivity_summary(result):
             "mean_geodesic_mm": _round(geodesic.mean()) if geodesic.size else None}
 
 
+def output_files(folder, parts):
+    """The outputs of ``parts`` in ``folder``: ``{file name: (role, path)}``."""
+    files = {}
+    for part in parts:
+        name = CONNECTIVITY_FILE if part == CONNECTIVITY else map_file(part)
+        role = "connectivity table" if part == CONNECTIVITY else f"distance map of seed set {part}"
+        files[name] = (role, os.path.join(folder, name))
+    return files
+
+
 def compute_parts(subject, parts, seed_sets, folder, options):
     """Computes ``parts`` of ``subject`` (a ``_manifest.Subject``) and writes
-    their outputs into ``folder``. ``seed_sets``: ``{name: [(i, j, k), ...]}``
-    of the parts that are seed sets; ``options``: the keywords of the
-    package's calls. Returns ``{'parts': {part: summary}, 'outputs': {file:
-    {'bytes', 'sha256'}}, 'run': {...}}``, or ``{'error': one line}`` for a
-    subject that cannot be computed. Never raises for bad input: a bad
-    subject must not stop the others."""
+    their outputs into ``folder``. ``seed_sets``: ``{name: [(i, j, k), ...]
+    or {'label': value}}`` of the parts that are seed sets; ``options``: the
+    keywords of the package's calls. Returns ``{'parts': {part: summary},
+    'outputs': {file: {'bytes', 'sha256'}}, 'run': {...}}``, or ``{'error':
+    one line}`` for a subject that cannot be computed. Never raises for bad
+    input: a bad subject must not stop the others."""
     import stvd
 
     start = time.perf_counter()
+    files = output_files(folder, parts)
     try:
         tensor_options = {name: options.get(name) for name in (
             "tensor_kind", "diffusion_metric", "max_anisotropy", "fa_threshold")}
         method_options = {name: options.get(name) for name in ("method", "k", "chain_measure", "stencil")}
-        tensors = _load_tensors(subject.tensors)
         common = dict(mask=subject.mask, tensor_order=subject.tensor_order, tensor_frame=subject.tensor_frame,
                       **tensor_options, **method_options)
-        summaries, outputs = {}, {}
-        for part in parts:
-            if part == CONNECTIVITY:
-                result = stvd.connectivity(tensors, subject.labels, threads=options.get("threads"), **common)
-                path = os.path.join(folder, CONNECTIVITY_FILE)
-                write_text(path, connectivity_table(result))
-                summaries[part] = _connectivity_summary(result)
-                outputs[CONNECTIVITY_FILE] = file_record(path)
-            else:
+        summaries = {}
+        with stvd.OutputFiles(dict(files.values()), inputs=subject.input_roles()) as out:
+            tensors = _load_tensors(subject.tensors)
+            seed_labels = None
+            for part in parts:
+                path = files[CONNECTIVITY_FILE if part == CONNECTIVITY else map_file(part)][1]
+                if part == CONNECTIVITY:
+                    result = stvd.connectivity(tensors, subject.labels, threads=options.get("threads"), **common)
+                    out.write_text(path, connectivity_table(result))
+                    summaries[part] = _connectivity_summary(result)
+                    continue
                 seeds = seed_sets[part]
-                propagation = stvd.propagate(tensors, seeds, max_distance=options.get("max_distance"), **common)
-                image = propagation.distance_map(options.get("unreachable_value"))
-                path = os.path.join(folder, map_file(part))
-                with atomic_path(path) as partial:
-                    image.to_filename(partial)
+                if isinstance(seeds, dict):
+                    seed_labels = seed_labels or _SeedLabels(subject.seeds)
+                    try:
+                        propagation = stvd.propagate(tensors, seed_labels=seed_labels.region(seeds["label"]),
+                                                     max_distance=options.get("max_distance"), **common)
+                    except ValueError as error:
+                        raise ValueError(f"{one_line(error)} (seed region {seeds['label']})") from None
+                else:
+                    propagation = stvd.propagate(tensors, seeds, max_distance=options.get("max_distance"), **common)
+                propagation.save(path, options.get("unreachable_value"), outputs=out)
                 summaries[part] = _map_summary(propagation, seeds)
-                outputs[map_file(part)] = file_record(path)
+        outputs = {name: _file_record(path) for name, (_, path) in files.items()}
     except (ValueError, TypeError, OSError, MemoryError, EOFError) as error:
         return {"error": one_line(error)}
     except Exception as error:  # anything else from reading a hostile file is still this subject's failure

@@ -19,7 +19,8 @@ the package's calls and the tool's options. Per subject it writes into
   else).
 
 ``OUTDIR/cohort.tsv`` gathers every subject's summary or error. Every file is
-written atomically (``stvd._outputs``) and no output may be an input. A
+written through the package's ``stvd.OutputFiles`` (staged, flushed and
+renamed into place by the library) and no output may be an input. A
 re-run skips complete subjects and computes the others again; a subject that
 fails is recorded and never stops the others. Workers read and write the
 files themselves: only names and small summaries travel through the
@@ -36,8 +37,8 @@ import sys
 import time
 
 from ._manifest import ManifestError, read_manifest, read_seed_sets
-from ._cohort_files import check_outputs_are_not_inputs, remove_partial_files, write_text
-from ._subject import CONNECTIVITY, CONNECTIVITY_FILE, compute_parts, map_file, one_line
+from ._outputs import OutputFiles, check_outputs_are_not_inputs, remove_leftover_staging_folders
+from ._subject import CONNECTIVITY, CONNECTIVITY_FILE, compute_parts, one_line, output_files
 
 STATISTICS_FILE = "statistics.json"
 RUN_FILE = "run.json"
@@ -88,11 +89,9 @@ class _Plan:
             subject, folder, parts, seed_sets, request, error)
 
     def output_files(self):
-        names = [STATISTICS_FILE, RUN_FILE, ERROR_FILE]
-        if CONNECTIVITY in self.parts:
-            names.append(CONNECTIVITY_FILE)
-        names += [map_file(name) for name in self.parts if name != CONNECTIVITY]
-        return {name: os.path.join(self.folder, name) for name in names}
+        files = {name: os.path.join(self.folder, name) for name in (STATISTICS_FILE, RUN_FILE, ERROR_FILE)}
+        files.update({name: path for name, (_, path) in output_files(self.folder, self.parts).items()})
+        return files
 
 
 def _input_record(path, cell):
@@ -122,8 +121,9 @@ def _plan(subject, outdir, options, connectivity, maps):
         "subject": subject.id,
         "inputs": {role: _input_record(path, subject.cells[role]) for role, path in subject.inputs().items()},
         "tensor_order": subject.tensor_order, "tensor_frame": subject.tensor_frame,
-        "work": {"connectivity": connectivity, "seed_sets": {name: [list(v) for v in voxels]
-                                                             for name, voxels in seed_sets.items()}},
+        "work": {"connectivity": connectivity,
+                 "seed_sets": {name: seeds if isinstance(seeds, dict) else [list(v) for v in seeds]
+                               for name, seeds in seed_sets.items()}},
         "options": options, "stvd": __version__}
     return _Plan(subject, folder, parts, seed_sets, request, error)
 
@@ -171,7 +171,14 @@ def _start_subject(plan):
     for name in (STATISTICS_FILE, RUN_FILE, ERROR_FILE):
         with contextlib.suppress(FileNotFoundError):
             os.remove(os.path.join(plan.folder, name))
-    remove_partial_files(plan.folder)
+    remove_leftover_staging_folders(plan.folder)
+
+
+def _write_text(path, text):
+    """One small output of the run (statistics, table), written whole or not
+    at all."""
+    with OutputFiles({os.path.basename(path): path}) as out:
+        out.write_text(path, text)
 
 
 def _finish_subject(plan, results):
@@ -193,16 +200,16 @@ def _finish_subject(plan, results):
         if ours and name not in keep:
             os.remove(os.path.join(plan.folder, name))
     if errors:
-        write_text(os.path.join(plan.folder, ERROR_FILE), errors[0] + "\n")
+        _write_text(os.path.join(plan.folder, ERROR_FILE), errors[0] + "\n")
         return _summary_row(plan.subject.id, error=errors[0])
     statistics = {"request": plan.request,
                   "parts": {name: parts[name] for name in plan.parts},
                   "outputs": {name: outputs[name] for name in sorted(outputs)}}
     runs = [r["run"] for r in results]
-    write_text(os.path.join(plan.folder, RUN_FILE), json.dumps({
+    _write_text(os.path.join(plan.folder, RUN_FILE), json.dumps({
         "seconds": round(sum(r["seconds"] for r in runs), 3), "tasks": runs,
         "worker_peak_rss_mib": max(r["worker_peak_rss_mib"] for r in runs)}, indent=1) + "\n")
-    write_text(os.path.join(plan.folder, STATISTICS_FILE), json.dumps(statistics, indent=1) + "\n")
+    _write_text(os.path.join(plan.folder, STATISTICS_FILE), json.dumps(statistics, indent=1) + "\n")
     return _summary_row(plan.subject.id, statistics)
 
 
@@ -278,7 +285,7 @@ def _dashboard(client):
 @contextlib.contextmanager
 def _locked(outdir):
     """One run at a time per output folder (two would remove each other's
-    partial files)."""
+    staging folders)."""
     with open(os.path.join(outdir, LOCK_FILE), "a") as lock:
         try:
             fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -289,17 +296,18 @@ def _locked(outdir):
 
 def _check_files(manifest, outdir, plans):
     """No output of the run is an input of any subject, nor the manifest,
-    nor another output (issue: data must never be lost)."""
-    inputs = {"manifest": os.path.abspath(manifest)}
+    nor another output: the library's check (``stvd.FileConflictError``)
+    over the whole run, before any folder is made."""
+    inputs = [("manifest", os.path.abspath(manifest))]
     for plan in plans:
-        for role, path in plan.subject.inputs().items():
-            inputs[f"{role} input of subject {plan.subject.id}"] = path
-    outputs = {f"output {COHORT_TABLE}": os.path.join(outdir, COHORT_TABLE),
-               f"lock file {LOCK_FILE}": os.path.join(outdir, LOCK_FILE)}
+        inputs += [(f"{column} input of subject {plan.subject.id}", path)
+                   for column, path in plan.subject.inputs().items()]
+    outputs = [(f"output {COHORT_TABLE}", os.path.join(outdir, COHORT_TABLE)),
+               (f"lock file {LOCK_FILE}", os.path.join(outdir, LOCK_FILE))]
     for plan in plans:
-        for name, path in plan.output_files().items():
-            outputs[f"output {name} of subject {plan.subject.id}"] = path
-    check_outputs_are_not_inputs(outputs, inputs, f"{manifest} -> {outdir}")
+        outputs += [(f"output {name} of subject {plan.subject.id}", path)
+                    for name, path in plan.output_files().items()]
+    check_outputs_are_not_inputs(outputs, inputs)
 
 
 def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=False, connectivity=True, maps=True,
@@ -382,10 +390,10 @@ def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=F
             bar.close()
             for plan in pending:  # what workers killed mid-write left behind
                 if os.path.isdir(plan.folder):
-                    remove_partial_files(plan.folder)
+                    remove_leftover_staging_folders(plan.folder)
         ordered = [rows[plan.subject.id] for plan in plans]
         table = os.path.join(outdir, COHORT_TABLE)
-        write_text(table, _table_text(ordered))
+        _write_text(table, _table_text(ordered))
     return Cohort(ordered, table, time.perf_counter() - start, worker_count, dashboard)
 
 

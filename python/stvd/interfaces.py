@@ -3,7 +3,8 @@
 Nodes of an existing Nipype workflow, run by any of its plugins (MultiProc,
 SLURM, SGE, ...). Each runs the package's calls in the node's process and
 writes its output atomically into the node's folder (``out_file``, named
-by the input of that name). Inputs follow Nipype's names (``in_file`` for
+by the input of that name) through ``stvd.OutputFiles``: never over one of
+its inputs, whole or not at all, the bytes the tool writes. Inputs follow Nipype's names (``in_file`` for
 the tensors, ``mask_file``, ``out_file``) and the tool's options; options
 left undefined take ``stvd.defaults``::
 
@@ -19,7 +20,7 @@ import os
 
 from nipype.interfaces.base import BaseInterface, BaseInterfaceInputSpec, File, TraitedSpec, isdefined, traits
 
-from ._cohort_files import atomic_path, check_outputs_are_not_inputs, write_text
+from ._outputs import OutputFiles
 
 __all__ = ["Distance", "Path", "Connectivity"]
 
@@ -75,14 +76,14 @@ class _StvdInterface(BaseInterface):
     def _out_path(self):
         return os.path.abspath(self.inputs.out_file)
 
-    def _checked_out_path(self):
-        """The output, which must be none of the inputs however spelled."""
-        path = self._out_path()
-        inputs = {f"{name} input": getattr(self.inputs, name)
+    def _output_files(self):
+        """The node's output, checked against its inputs however spelled
+        (``stvd.FileConflictError`` before anything is computed), to be
+        written within a ``with`` block."""
+        inputs = [(f"{name} input", getattr(self.inputs, name))
                   for name in ("in_file", "mask_file", "seed_file", "target_file", "labels_file")
-                  if self.inputs.trait(name) is not None and isdefined(getattr(self.inputs, name))}
-        check_outputs_are_not_inputs({"output out_file": path}, inputs, type(self).__name__)
-        return path
+                  if self.inputs.trait(name) is not None and isdefined(getattr(self.inputs, name))]
+        return OutputFiles({"output out_file": self._out_path()}, inputs=inputs)
 
     def _propagation(self):
         import stvd
@@ -99,7 +100,7 @@ class _StvdInterface(BaseInterface):
 
 class _DistanceInputSpec(_SeedInputSpec):
     unreachable_value = traits.Float(desc="value of voxels not reached (--unreachable-value)")
-    out_file = File("distance.nii.gz", usedefault=True, desc="the distance map (float32 mm, NIfTI)")
+    out_file = File("distance.nii.gz", usedefault=True, desc="the distance map (float32 mm; NIfTI, NRRD or MRtrix by the extension)")
 
 
 class Distance(_StvdInterface):
@@ -108,11 +109,9 @@ class Distance(_StvdInterface):
     input_spec = _DistanceInputSpec
 
     def _run_interface(self, runtime):
-        path = self._checked_out_path()
         unreachable = self.inputs.unreachable_value if isdefined(self.inputs.unreachable_value) else None
-        image = self._propagation().distance_map(unreachable)
-        with atomic_path(path) as partial:
-            image.to_filename(partial)
+        with self._output_files() as out:
+            self._propagation().save(self._out_path(), unreachable, outputs=out)
         return runtime
 
 
@@ -120,27 +119,25 @@ class _PathInputSpec(_SeedInputSpec):
     target_voxels = traits.List(_VOXEL, desc="target voxels (i, j, k) (--target-voxel)")
     target_points = traits.List(_POINT, desc="target points in RAS millimetres (--target-point)")
     target_file = File(exists=True, desc="label image: one path to each region (--targets)")
-    out_file = File("paths.trk", usedefault=True, desc="the paths: .trk or .tck streamlines in RAS millimetres")
+    out_file = File("paths.trk", usedefault=True, desc="the paths as stvd path writes them: .trk, .tck or .vtk in RAS millimetres")
 
 
 class Path(_StvdInterface):
     """Geodesic paths from targets back to the seeds, as ``stvd path``
-    traces them, saved as streamlines (NiBabel)."""
+    traces and writes them."""
 
     input_spec = _PathInputSpec
 
     def _run_interface(self, runtime):
-        import nibabel
         import stvd
 
-        path = self._checked_out_path()
+        out = self._output_files()
         targets = _defined(self.inputs, ("target_voxels", "target_points", "target_file"))
         paths = stvd.trace_paths(self._propagation(), targets.get("target_voxels"),
                                  target_points=targets.get("target_points"),
                                  target_labels=targets.get("target_file"))
-        header = paths.trk_header() if path.endswith(".trk") else None
-        with atomic_path(path) as partial:
-            nibabel.streamlines.save(stvd.tractogram(paths), partial, header=header)
+        with out:
+            paths.save(self._out_path(), outputs=out)
         return runtime
 
 
@@ -162,9 +159,10 @@ class Connectivity(_StvdInterface):
 
         from ._subject import connectivity_table
 
-        path = self._checked_out_path()
+        out = self._output_files()
         result = stvd.connectivity(self.inputs.in_file, self.inputs.labels_file, threads=self.inputs.threads,
                                    mask=self.inputs.mask_file if isdefined(self.inputs.mask_file) else None,
                                    **_defined(self.inputs, _TENSOR_NAMES))
-        write_text(path, connectivity_table(result))
+        with out:
+            out.write_text(self._out_path(), connectivity_table(result))
         return runtime

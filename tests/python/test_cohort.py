@@ -105,7 +105,7 @@ def test_the_embedded_cluster_writes_the_bytes_of_the_serial_run(serial, cohort,
     assert process.returncode == 3, process.stderr  # two subjects failed
     assert "7 subjects: 7 computed on 2 Dask workers" in process.stdout
     assert folder_bytes(outdir) == folder_bytes(serial[0])
-    assert not list(outdir.rglob(".partial-*"))
+    assert not list(outdir.rglob(".stvd-staging-*"))
 
 
 def test_split_seed_sets_makes_a_task_of_each_part_with_the_same_outputs(serial, cohort, tmp_path):
@@ -129,12 +129,16 @@ def test_a_second_run_computes_only_what_is_missing_or_failed(cohort, tmp_path):
     assert {p: p.stat().st_mtime_ns for p in outdir.rglob("statistics.json")} == stamps
     assert (outdir / "cohort.tsv").read_text() == table
 
-    # A missing output, a repaired subject: computed again, now complete.
+    # A missing output, a repaired subject: computed again, now complete;
+    # what a worker killed while it wrote left there is removed.
     (outdir / "s03" / "distance_CST_L.nii.gz").unlink()
+    leftover = outdir / "s03" / ".stvd-staging-99999999-0"
+    leftover.mkdir()
+    (leftover / "distance_CST_L.nii.gz").write_bytes(b"half")
     shutil.copy(data / "base" / "tensors.nii.gz", data / "corrupt" / "tensors.nii.gz")
     third = stvd.cohort.run(manifest, outdir, serial=True)
     assert set(third.computed) == {"s03", "corrupt", "seed_outside"} and third.failed == ["seed_outside"]
-    assert (outdir / "s03" / "distance_CST_L.nii.gz").is_file()
+    assert (outdir / "s03" / "distance_CST_L.nii.gz").is_file() and not leftover.exists()
     assert (outdir / "corrupt" / "connectivity.tsv").read_bytes() == (outdir / "base" / "connectivity.tsv").read_bytes()
     assert not (outdir / "corrupt" / "error.txt").exists()
 
@@ -142,6 +146,42 @@ def test_a_second_run_computes_only_what_is_missing_or_failed(cohort, tmp_path):
     fourth = stvd.cohort.run(manifest, outdir, serial=True, k=4)
     assert len(fourth.computed) == SUBJECTS
     assert json.loads((outdir / "base" / "statistics.json").read_text())["request"]["options"]["k"] == 4
+
+
+def test_seeds_given_as_a_label_image_make_a_map_per_region(serial, cohort, tmp_path):
+    # The base subject with its two seed sets drawn as regions 1 and 2 of a
+    # label image (region 2 with one more voxel, outside the brain, which is
+    # left out), and a subject whose region 3 lies wholly outside.
+    base = cohort.parent / "base"
+    mask = nib.load(base / "mask.nii.gz")
+    statistics = json.loads((serial[0] / "base" / "statistics.json").read_text())
+    seed_sets = statistics["request"]["work"]["seed_sets"]
+    outside = tuple(int(c) for c in np.argwhere(np.asanyarray(mask.dataobj) == 0)[0])
+    labels = np.zeros(mask.shape, np.int16)
+    for value, name in ((1, "CC_body"), (2, "CST_L")):
+        for voxel in seed_sets[name]:
+            labels[tuple(voxel)] = value
+    labels[outside] = 2
+    nib.save(nib.Nifti1Image(labels, mask.affine), tmp_path / "seeds.nii.gz")
+    labels[outside] = 3
+    nib.save(nib.Nifti1Image(labels, mask.affine), tmp_path / "seeds_outside.nii.gz")
+    files = "\t".join(str(base / f) for f in ("tensors.nii.gz", "labels.nii.gz", "mask.nii.gz"))
+    manifest = tmp_path / "manifest.tsv"
+    manifest.write_text(f"subject\ttensors\tlabels\tmask\tseeds\nregions\t{files}\tseeds.nii.gz\n"
+                        f"region_outside\t{files}\tseeds_outside.nii.gz\n")
+
+    result = stvd.cohort.run(manifest, tmp_path / "out", serial=True, connectivity=False)
+    assert result.failed == ["region_outside"]
+    assert sorted(p.name for p in (tmp_path / "out" / "regions").glob("distance_*")) == [
+        "distance_label_1.nii.gz", "distance_label_2.nii.gz"]
+    for value, name in ((1, "CC_body"), (2, "CST_L")):  # the maps of the seed table's voxels, byte for byte
+        assert (tmp_path / "out" / "regions" / f"distance_label_{value}.nii.gz").read_bytes() == (
+            serial[0] / "base" / f"distance_{name}.nii.gz").read_bytes()
+    parts = json.loads((tmp_path / "out" / "regions" / "statistics.json").read_text())["parts"]
+    assert parts["label_1"]["seed_voxels"] == 1 and parts["label_1"]["seed_voxels_left_out"] == 0
+    assert parts["label_2"]["seed_voxels"] == 2 and parts["label_2"]["seed_voxels_left_out"] == 1
+    error = result.subjects[1]["error"]
+    assert "seeds_outside.nii.gz" in error and "(seed region 3)" in error, error
 
 
 @pytest.mark.parametrize("header, rows, where", [

@@ -104,7 +104,7 @@ def test_a_worker_killed_mid_task_loses_nothing_and_duplicates_nothing(dask_clus
     assert run.returncode == 3, stderr  # the two bad subjects
     assert "10 subjects: 10 computed on 2 Dask workers" in stdout
     assert folder_bytes(outdir) == folder_bytes(tmp_path / "serial")
-    assert not list(outdir.rglob(".partial-*"))
+    assert not list(outdir.rglob(".stvd-staging-*"))
     assert set(stvd.cohort.run(cohort, outdir, serial=True).computed) == BAD  # every other subject complete
 
     # The subject the victim was computing ran again, on the survivor.
