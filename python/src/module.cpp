@@ -9,6 +9,7 @@
 #include "stvd/geodesic_path.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/tensor_input.hpp"
+#include "stvd/itk/tensor_metric.hpp"
 #include "stvd/propagation_choice.hpp"
 #include "stvd/steiner_propagation.hpp"
 #include "stvd/surface_domain.hpp"
@@ -40,7 +41,10 @@ py::dict defaults() {
   d["domain_connectivity"] = static_cast<int>(choice.connectivity);
   d["tensor_kind"] = imaging::tensorKindName(tensor.metric.kind);
   d["diffusion_metric"] = imaging::diffusionMetricName(tensor.metric.diffusionMetric);
+  // Unset: the cap depends on the tensor kind (diffusion tensors:
+  // kDefaultMaxAnisotropy; a metric as given).
   d["max_anisotropy"] = tensor.metric.maxAnisotropy;
+  d["diffusion_max_anisotropy"] = imaging::kDefaultMaxAnisotropy;
   d["accept_implausible_tensors"] = tensor.acceptImplausible;
   d["unreachable_value"] = kDefaultUnreachableValue;
   d["step"] = tracing.stepFraction;

@@ -6,14 +6,14 @@ namespace stvd::python {
 
 PropagationChoice choiceOf(const std::optional<std::string>& method, const std::optional<int>& k,
                            const std::optional<std::string>& chainMeasure, const std::optional<std::string>& stencil,
-                           const std::optional<int>& steiner, const std::optional<int>& domainConnectivity) {
+                           const std::optional<int>& steiner, const std::optional<std::string>& domainConnectivity) {
   PropagationChoice choice;
   if (method) setMethod(choice, *method);
   if (steiner) setSteinerPoints(choice, *steiner);
   if (k) setMemoryDepth(choice, *k);
   if (chainMeasure) setChainMeasure(choice, *chainMeasure);
   if (stencil) setStencil(choice, *stencil);
-  if (domainConnectivity) setDomainConnectivity(choice, std::to_string(*domainConnectivity));
+  if (domainConnectivity) setDomainConnectivity(choice, *domainConnectivity);
   return choice;
 }
 

@@ -16,7 +16,7 @@ namespace stvd::python {
 PropagationChoice choiceOf(const std::optional<std::string>& method, const std::optional<int>& k,
                            const std::optional<std::string>& chainMeasure, const std::optional<std::string>& stencil,
                            const std::optional<int>& steiner,
-                           const std::optional<int>& domainConnectivity = std::nullopt);
+                           const std::optional<std::string>& domainConnectivity = std::nullopt);
 
 /// max_distance: infinity for None; OptionError unless positive.
 double maxDistanceOf(const std::optional<double>& maxDistance);

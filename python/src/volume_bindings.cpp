@@ -374,7 +374,7 @@ void bindVolumes(py::module_& m) {
              const std::optional<std::string>& method, const std::optional<int>& k,
              const std::optional<std::string>& chainMeasure, const std::optional<std::string>& stencil,
              const std::optional<int>& steiner, const std::optional<double>& maxDistance, const py::object& progress,
-             const std::optional<int>& domainConnectivity) {
+             const std::optional<std::string>& domainConnectivity) {
             return propagateField(field, seeds, finiteTriples(seedPoints, "seed_points"), lps, seedLabels,
                                   choiceOf(method, k, chainMeasure, stencil, steiner, domainConnectivity),
                                   maxDistanceOf(maxDistance), progress);
@@ -390,7 +390,7 @@ void bindVolumes(py::module_& m) {
           [](const std::shared_ptr<TensorField>& field, const py::object& labels, const std::optional<std::string>& method,
              const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
              const std::optional<std::string>& stencil, const std::optional<int>& threads, const py::object& progress,
-             const std::optional<int>& domainConnectivity) {
+             const std::optional<std::string>& domainConnectivity) {
             if (threads && (*threads < 1 || *threads > 1024))
               throw OptionError("--threads must be between 1 and 1024");
             return connectivity(field, labels,

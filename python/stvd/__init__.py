@@ -30,12 +30,13 @@ class _Defaults:
     """The library's defaults, read-only: ``stvd.defaults.k``, ...
 
     method, k (on volumes), surface_k, tet_mesh_k (the k of each kind of
-    domain when none is given), chain_measure, stencil, domain_connectivity
-    (volumes), surface_chain_measure
-    (the same measure), tensor_kind, diffusion_metric, max_anisotropy (None:
-    the metric as given), accept_implausible_tensors, unreachable_value,
-    step, smooth, refine (paths), max_k, max_steiner. The values are the
-    library's, the ones the ``stvd`` tool uses.
+    domain when none is given), chain_measure, surface_chain_measure (the
+    same measure), stencil, domain_connectivity (volumes), tensor_kind,
+    diffusion_metric, max_anisotropy (None: diffusion tensors capped at
+    diffusion_max_anisotropy, a metric taken as given),
+    accept_implausible_tensors, unreachable_value, step, smooth, refine
+    (paths), max_k, max_steiner. The values are the library's, the ones the
+    ``stvd`` tool uses.
     """
 
     def __init__(self, values):
@@ -64,13 +65,9 @@ defaults = _Defaults(_core.defaults())
 
 
 def _connectivity(value):
-    """domain_connectivity as an int (6, 18, 26; "6" as well), None kept."""
-    if value is None:
-        return None
-    try:
-        return int(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"--domain-connectivity: '{value}' is not one of 6, 18, 26") from None
+    """domain_connectivity (6, 18 or 26, or the same as text) as the tool's
+    option text, which the library checks; None kept."""
+    return None if value is None else str(value)
 
 
 def _tensor_options(tensor_order, tensor_frame, tensor_kind, diffusion_metric, max_anisotropy, fa_threshold,
@@ -303,7 +300,7 @@ def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tenso
         given = tensors._result
         options = dict(method=given.method, k=given.k if given.method == "stvd" else None,
                        chain_measure=given.chain_measure if given.method == "stvd" else None, stencil=given.stencil,
-                       domain_connectivity=given.domain_connectivity)
+                       domain_connectivity=str(given.domain_connectivity))
     else:
         field = tensor_field(tensors, affine, mask, _tensor_options(tensor_order, tensor_frame, tensor_kind,
                                                                     diffusion_metric, max_anisotropy, fa_threshold,

@@ -147,7 +147,8 @@ def test_nothing_reachable_from_python_crashes_the_interpreter():
             lambda: stvd.distance(good, (0, 0, 0), affine=eye, k=0),
             lambda: stvd.distance(good, (0, 0, 0), affine=eye, steiner=99, method="lanthier"),
             lambda: stvd.distance(good, (0, 0, 0), affine=eye, method="lanthier", steiner=2, stencil="6"),
-            lambda: stvd.distance(good[:, :, :1], (0, 0, 0), affine=eye, method="lanthier", steiner=2),
+            lambda: stvd.distance(good, (0, 0, 0), affine=eye, domain_connectivity="x"),
+            lambda: stvd.distance(good, (0, 0, 0), affine=eye, domain_connectivity=2**70),
             lambda: stvd.distance(np.full((4, 4, 4, 3, 3), np.nan, np.float32), (0, 0, 0), affine=eye),
             lambda: stvd.distance(np.arange(4 * 4 * 4 * 9, dtype=np.float32).reshape(4, 4, 4, 3, 3), (0, 0, 0),
                                   affine=eye),
@@ -175,4 +176,4 @@ def test_nothing_reachable_from_python_crashes_the_interpreter():
     """)
     child = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert child.returncode == 0, child.stderr
-    assert child.stdout.strip() == "survived 27"
+    assert child.stdout.strip() == "survived 28"

@@ -51,6 +51,7 @@ def test_tet_mesh_defaults_are_the_ones_the_tool_reports(tmp_path):
 
 def test_the_unreachable_value_and_the_tensor_options_are_the_tools():
     assert stvd.defaults.unreachable_value == -1.0
-    assert stvd.defaults.max_anisotropy is None  # the metric as given unless a cap is asked for
+    # Unset: diffusion tensors are capped at 100, a metric is taken as given.
+    assert stvd.defaults.max_anisotropy is None and stvd.defaults.diffusion_max_anisotropy == 100.0
     assert stvd.defaults.tensor_kind == "diffusion" and stvd.defaults.diffusion_metric == "inverse"
     assert stvd.defaults.accept_implausible_tensors is False
