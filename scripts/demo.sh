@@ -2,7 +2,8 @@
 # The demo: installs what is missing, builds stvd (Release): the tool and the
 # Python package, and computes the anisotropic geodesic distance from a seed
 # voxel in the body of the corpus callosum over the shipped DTI sample,
-# written to out/cc_body_distance.nii.gz.
+# written to out/cc_body_distance.nii.gz, with its QC report
+# out/cc_body_report.html (docs/report.md).
 #
 # STVD_BUILD_DIR overrides the build directory (default: build).
 set -euo pipefail
@@ -19,5 +20,6 @@ cmake --build "$build_dir" -j"$(nproc)" --target stvd_tool stvd_python
 
 mkdir -p out
 "$build_dir/tools/stvd" distance sample_data/dti_philips_biobank/dti_tensor_dipy5d.nii.gz \
-  --seed-voxel 55,54,15 -o out/cc_body_distance.nii.gz
+  --seed-voxel 55,54,15 -o out/cc_body_distance.nii.gz --report out/cc_body_report.html
+echo "The QC report of this run: $(pwd)/out/cc_body_report.html (open it in a browser; docs/report.md)"
 echo "The Python package is in $build_dir/python: PYTHONPATH=$build_dir/python python3 -c \"import stvd\" (docs/python.md)"

@@ -9,7 +9,8 @@ set -euo pipefail
 # Python with NiBabel and NumPy for the tests that check written NIfTI files
 # independently of ITK; for the Python package stvd, its headers and
 # pybind11, and what its tests and example use (DIPY, pytest, tqdm,
-# matplotlib; pip, setuptools and wheel for the test of `pip install
+# matplotlib, which also draws the QC reports that the tests open in
+# headless Chromium; pip, setuptools and wheel for the test of `pip install
 # --no-build-isolation .`); clang with its sanitizer and libFuzzer runtimes
 # for the sanitizer and fuzzing builds (scripts/sanitize.sh,
 # scripts/fuzz.sh); CGAL (header-only, GPL) for the exact-geodesic oracle of
@@ -24,6 +25,7 @@ packages=(
   python3-pip python3-setuptools python3-wheel
   libcgal-dev libcgal-demo
   python3-distributed python3-nipype
+  chromium
 )
 # Scripts with needs of their own name extra packages as arguments
 # (scripts/evaluate.sh: gnuplot for its plots).

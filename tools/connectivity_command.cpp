@@ -13,7 +13,9 @@
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
 #include "memory_check.hpp"
+#include "report_request.hpp"
 #include "run_files.hpp"
+#include "run_statistics.hpp"
 #include "stvd/files/file_contents.hpp"
 #include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/scalar_image.hpp"
@@ -60,6 +62,10 @@ const char* kConnectivityHelp =
     "                          (defaults stvd, 6, segment, 26, 6).\n"
     "  --no-memory-check       run even when the memory the propagations need (one per thread)\n"
     "                          exceeds the memory available.\n"
+    "  --stats FILE.json       parameters, counts and seconds as JSON (as stvd distance writes).\n"
+    "  --report FILE.html      a self-contained QC page: the regions over FA, the matrices as heat\n"
+    "                          maps, the statistics and the warnings (Python 3 and matplotlib;\n"
+    "                          docs/report.md).\n"
     "  -q, --quiet             no summary on stdout.\n"
     "\n"
     "%TENSOR%"
@@ -74,6 +80,8 @@ struct ConnectivityOptions : PropagationChoice {
   std::string output;
   std::string matrix;       // --matrix
   std::string matrixIndex;  // --matrix-index
+  std::string statsPath;
+  std::string reportPath;
   TensorInputOptions tensor;
   unsigned threads = 0;
   bool quiet = false;
@@ -93,6 +101,10 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
       o.matrix = args.value(a);
     } else if (a == "--matrix-index") {
       o.matrixIndex = args.value(a);
+    } else if (a == "--stats") {
+      o.statsPath = args.value(a);
+    } else if (a == "--report") {
+      o.reportPath = args.value(a);
     } else if (a == "--threads") {
       const int n = parseInteger(a, args.value(a));
       if (n < 1 || n > 1024) usageError("--threads must be between 1 and 1024");
@@ -148,7 +160,11 @@ int runConnectivity(int argc, char** argv) {
   files.outputFile("connectivity table", o.output);
   files.outputFile("distance matrix", o.matrix);
   files.outputFile("connectivity-index matrix", o.matrixIndex);
+  files.outputFile("statistics file", o.statsPath);
+  files.outputFile("QC report", o.reportPath);
   files.check();
+  ReportRequest report;
+  report.start(o.reportPath);
   const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
   imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.input, input, o.tensor);
@@ -162,10 +178,11 @@ int runConnectivity(int argc, char** argv) {
 
   // One propagation at a time on each thread, each with its own state and result.
   const unsigned threadCount = threadCountFor(o.threads, regions.size());
-  checkMemory(o.input, threadCount * propagationMemoryEstimate(g.voxelCount(), built.counts.domain),
-              std::to_string(threadCount) + (threadCount == 1 ? " propagation" : " propagations at once") + " on " +
-                  withThousands(built.counts.domain) + " domain voxels",
-              !o.memoryCheck);
+  const MemoryCheck memory = checkMemory(
+      o.input, threadCount * propagationMemoryEstimate(g.voxelCount(), built.counts.domain),
+      std::to_string(threadCount) + (threadCount == 1 ? " propagation" : " propagations at once") + " on " +
+          withThousands(built.counts.domain) + " domain voxels",
+      !o.memoryCheck);
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain, o.connectivity);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   const std::size_t n = regions.size();
@@ -187,11 +204,27 @@ int runConnectivity(int argc, char** argv) {
           << "\t" << number(r.straight) << "\t" << number(index) << "\t" << regions[a].voxels.size() << "\t"
           << regions[b].voxels.size() << "\n";
     }
-  // The table and the matrices appear together or not at all.
+  report.requireReady();  // nothing is written when the report could not be drawn
+  RunStatistics run;
+  run.command = "connectivity";
+  run.commandLine = commandLineText(argc, argv);
+  run.input = o.input;
+  run.output = o.output;
+  run.choice = &o;
+  run.tensor = &o.tensor;
+  run.tensorInput = &input;
+  run.counts = built.counts;
+  run.labels = o.labels;
+  run.memory = &memory;
+  run.extraMembers = {"\"regions\": {\"count\": " + std::to_string(n) + ", \"left_out\": " + std::to_string(empty) +
+                      ", \"threads\": " + std::to_string(threadCount) + "}"};
+  run.seconds = {{"total", std::chrono::duration<double>(Clock::now() - start).count()}};
+  // The table, the matrices and the statistics appear together or not at all.
   std::vector<std::pair<std::string, std::string>> texts{{o.output, tsv.str()}};
   if (!o.matrix.empty()) texts.emplace_back(o.matrix, matrixCsv("geodesic distance (mm)", regions, table, false));
   if (!o.matrixIndex.empty())
     texts.emplace_back(o.matrixIndex, matrixCsv("connectivity index (path_mm / geodesic_mm)", regions, table, true));
+  if (!o.statsPath.empty()) texts.emplace_back(o.statsPath, statisticsJson(run));
   files::OutputTransaction outputs;
   try {
     for (const auto& [path, text] : texts)
@@ -209,6 +242,16 @@ int runConnectivity(int argc, char** argv) {
               << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s. Wrote " << o.output
               << (o.matrix.empty() ? "" : ", " + o.matrix) << (o.matrixIndex.empty() ? "" : ", " + o.matrixIndex)
               << "." << std::endl;
+  if (report.requested()) {
+    ScratchFolder scratch;
+    const std::string statsPath = o.statsPath.empty() ? scratch.file("run.json") : o.statsPath;
+    try {
+      if (o.statsPath.empty()) files::writeFileContents(statsPath, statisticsJson(run));
+    } catch (const std::runtime_error& e) {
+      throw ToolError(kExitOutput, e.what());
+    }
+    report.write({"--stats", statsPath}, o.quiet);
+  }
   return kExitOk;
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <sstream>
@@ -12,7 +13,9 @@
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
 #include "memory_check.hpp"
+#include "report_request.hpp"
 #include "run_files.hpp"
+#include "run_statistics.hpp"
 #include "stvd/files/file_contents.hpp"
 #include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/scalar_image.hpp"
@@ -96,6 +99,9 @@ const char* kDistanceHelp =
     "  --unreachable-value V   value of voxels not reached: a number or nan (default -1; nan keeps\n"
     "                          them out of mrstats and most viewers' statistics).\n"
     "  --stats FILE.json       parameters, counts, seconds per phase and peak memory as JSON.\n"
+    "  --report FILE.html      a self-contained QC page: slices of the map over FA through the\n"
+    "                          seed, the statistics and the warnings (Python 3 and matplotlib;\n"
+    "                          docs/report.md).\n"
     "  -q, --quiet             no summary on stdout, no progress bar.\n"
     "  -h, --help              this text.\n"
     "\n"
@@ -127,6 +133,7 @@ struct DistanceOptions : SeedOptions, PropagationChoice {
   TensorInputOptions tensor;
   float unreachableValue = static_cast<float>(kDefaultUnreachableValue);
   std::string statsPath;
+  std::string reportPath;
   bool quiet = false;
 };
 
@@ -151,6 +158,8 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
       o.unreachableValue = static_cast<float>(parseUnreachableValue(a, v));
     } else if (a == "--stats") {
       o.statsPath = args.value(a);
+    } else if (a == "--report") {
+      o.reportPath = args.value(a);
     } else if (a == "-q" || a == "--quiet") {
       args.noValue(a);
       o.quiet = true;
@@ -206,120 +215,35 @@ class ProgressBar {
 };
 
 
-struct DistanceStatistics {
-  std::size_t reached = 0;
-  double maximum = 0.0;
-  double median = 0.0;
-};
-
-DistanceStatistics summarise(const std::vector<double>& distance) {
-  DistanceStatistics s;
-  std::vector<double> finite;
-  finite.reserve(distance.size());
-  for (double d : distance)
-    if (std::isfinite(d)) finite.push_back(d);
-  s.reached = finite.size();
-  if (finite.empty()) return s;
-  s.maximum = *std::max_element(finite.begin(), finite.end());
-  const std::size_t mid = finite.size() / 2;
-  std::nth_element(finite.begin(), finite.begin() + mid, finite.end());
-  s.median = finite[mid];
-  if (finite.size() % 2 == 0) {
-    const double below = *std::max_element(finite.begin(), finite.begin() + mid);
-    s.median = 0.5 * (s.median + below);
-  }
-  return s;
-}
-
-std::string terminationName(Termination t) {
-  switch (t) {
-    case Termination::Completed: return "completed";
-    case Termination::MaxDistanceReached: return "max_distance_reached";
-    case Termination::TargetsReached: return "targets_reached";
-    case Termination::Cancelled: return "cancelled";
-  }
-  return "?";
-}
-
 struct Timings {
   double read = 0, metric = 0, propagate = 0, write = 0, total = 0;
 };
 
-std::string statsJson(const DistanceOptions& o, const TensorInput& input, const imaging::MetricVoxelCounts& counts,
-                      const std::vector<Seed>& seeds, std::size_t labelSeedsLeftOut, const PropagationResult& result,
-                      const DistanceStatistics& stats, const MemoryCheck& memory, const Timings& t) {
-  const GridGeometry& g = input.read.volume.geometry;
-  const imaging::TensorFileInfo& info = input.read.info;
-  std::ostringstream j;
-  j << "{\n";
-  j << "  \"input\": " << jsonString(o.input) << ",\n";
-  j << "  \"output\": " << jsonString(o.output) << ",\n";
-  j << "  \"parameters\": {\n";
-  j << "    \"method\": " << jsonString(o.lanthier ? "lanthier" : o.method == Method::Dijkstra ? "dijkstra" : "stvd")
-    << ",\n";
-  if (o.lanthier) j << "    \"steiner_points\": " << o.steinerPoints << ",\n";
-  j << "    \"k\": " << (o.lanthier ? std::string("null") : std::to_string(memoryDepthOf<VoxelGridDomain>(o)))
-    << ",\n";
-  if (!o.lanthier) {  // lanthier measures cells, not stencil edges or chains
-    j << "    \"chain_measure\": \"" << chainMeasureName(o.chainMeasure) << "\",\n";
-    j << "    \"stencil\": " << jsonString(o.stencil) << ",\n";
-  }
-  j << "    \"domain_connectivity\": " << static_cast<int>(o.connectivity) << ",\n";
-  j << "    \"max_distance_mm\": " << jsonNumber(o.maxDistance) << ",\n";
-  j << "    \"tensor_kind\": " << jsonString(imaging::tensorKindName(o.tensor.metric.kind)) << ",\n";
-  j << "    \"diffusion_metric\": " << jsonString(imaging::diffusionMetricName(o.tensor.metric.diffusionMetric))
-    << ",\n";
-  j << "    \"metric_formula\": "
-    << jsonString(imaging::metricFormula(o.tensor.metric.kind, o.tensor.metric.diffusionMetric)) << ",\n";
-  j << "    \"max_anisotropy\": " << jsonNumber(imaging::anisotropyCap(o.tensor.metric).value_or(NAN)) << ",\n";
-  j << "    \"fa_threshold\": " << jsonNumber(o.tensor.metric.faThreshold.value_or(NAN)) << ",\n";
-  j << "    \"tensor_layout\": " << jsonString(imaging::tensorFileLayoutName(info.layout)) << ",\n";
-  j << "    \"tensor_order\": " << jsonString(imaging::tensorOrderName(info.order)) << ",\n";
-  j << "    \"tensor_frame\": " << jsonString(imaging::tensorFrameName(info.frame)) << ",\n";
-  j << "    \"mask\": " << jsonString(o.tensor.maskPath) << ",\n";
-  j << "    \"seed_labels\": " << jsonString(o.seedLabels) << ",\n";
-  j << "    \"unreachable_value\": " << jsonNumber(o.unreachableValue) << "\n";
-  j << "  },\n";
-  j << "  \"grid\": {\"size\": [" << g.size[0] << ", " << g.size[1] << ", " << g.size[2] << "], \"spacing_mm\": ["
-    << jsonNumber(g.spacing[0]) << ", " << jsonNumber(g.spacing[1]) << ", " << jsonNumber(g.spacing[2])
-    << "], \"origin_lps_mm\": [" << jsonNumber(g.origin[0]) << ", " << jsonNumber(g.origin[1]) << ", "
-    << jsonNumber(g.origin[2]) << "]},\n";
-  j << "  \"seeds\": [";
-  const std::size_t listed = std::min<std::size_t>(seeds.size(), 100);
-  for (std::size_t s = 0; s < listed; ++s) {
-    const Vec3d ras = lpsToRas(g.indexToPhysicalPoint(seeds[s].index.i, seeds[s].index.j, seeds[s].index.k));
-    j << (s ? ", " : "") << "{\"voxel\": [" << seeds[s].index.i << ", " << seeds[s].index.j << ", "
-      << seeds[s].index.k << "], \"ras_mm\": [" << jsonNumber(ras.x) << ", " << jsonNumber(ras.y) << ", "
-      << jsonNumber(ras.z) << "]}";
-  }
-  j << "],\n";
-  j << "  \"seed_count\": " << seeds.size() << ",\n";
-  j << "  \"label_seeds_left_out\": " << labelSeedsLeftOut << ",\n";
-  j << "  \"voxels\": {\"total\": " << counts.total << ", \"domain\": " << counts.domain
-    << ", \"masked\": " << counts.masked << ", \"zero_tensor\": " << counts.zero
-    << ", \"non_finite_tensor\": " << counts.nonFinite
-    << ", \"no_positive_eigenvalue\": " << counts.noPositiveEigenvalue
-    << ", \"below_fa_threshold\": " << counts.belowFaThreshold << ", \"repaired\": " << counts.repaired()
-    << ", \"repaired_non_positive\": " << counts.repairedNonPositive
-    << ", \"repaired_anisotropy\": " << counts.repairedAnisotropy << "},\n";
-  j << "  \"propagation\": {\"vertices\": " << g.voxelCount() << ", \"domain_vertices\": " << counts.domain
-    << ", \"finalized_vertices\": " << result.finalizedVertices << ", \"relaxed_edges\": " << result.relaxedEdges
-    << ", \"measured_candidates\": " << result.measuredCandidates
-    << ", \"refused_candidates\": " << result.refusedCandidates << ", \"termination\": " << jsonString(terminationName(result.termination))
-    << ", \"peak_state_bytes\": " << result.peakStateBytes << "},\n";
-  j << "  \"distance_mm\": {\"reached\": " << stats.reached << ", \"min\": " << (stats.reached ? "0" : "null")
-    << ", \"median\": " << (stats.reached ? jsonNumber(stats.median) : "null")
-    << ", \"max\": " << (stats.reached ? jsonNumber(stats.maximum) : "null") << "},\n";
-  j << "  \"warnings\": [";
-  for (std::size_t w = 0; w < inputWarnings().size(); ++w) j << (w ? ", " : "") << jsonString(inputWarnings()[w]);
-  j << "],\n";
-  j << "  \"seconds\": {\"read\": " << jsonNumber(t.read) << ", \"metric\": " << jsonNumber(t.metric)
-    << ", \"propagate\": " << jsonNumber(t.propagate) << ", \"write\": " << jsonNumber(t.write)
-    << ", \"total\": " << jsonNumber(t.total) << "},\n";
-  j << "  \"memory\": " << memoryCheckJson(memory) << ",\n";
-  j << "  \"peak_memory_bytes\": " << peakMemoryBytes() << "\n";
-  j << "}\n";
-  return j.str();
+/// The statistics file's record of the run.
+RunStatistics runStatistics(const DistanceOptions& o, const std::string& commandLine, const TensorInput& input,
+                            const imaging::MetricVoxelCounts& counts, const std::vector<Seed>& seeds,
+                            std::size_t labelSeedsLeftOut, const PropagationResult& result,
+                            const MemoryCheck& memory, const Timings& t) {
+  RunStatistics run;
+  run.command = "distance";
+  run.commandLine = commandLine;
+  run.input = o.input;
+  run.output = o.output;
+  run.choice = &o;
+  run.maxDistance = o.maxDistance;
+  run.tensor = &o.tensor;
+  run.tensorInput = &input;
+  run.counts = counts;
+  run.seedLabels = o.seedLabels;
+  run.withUnreachableValue = true;
+  run.unreachableValue = o.unreachableValue;
+  run.seeds = &seeds;
+  run.labelSeedsLeftOut = labelSeedsLeftOut;
+  run.result = &result;
+  run.memory = &memory;
+  run.seconds = {{"read", t.read}, {"metric", t.metric}, {"propagate", t.propagate}, {"write", t.write},
+                 {"total", t.total}};
+  return run;
 }
 
 std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
@@ -385,6 +309,24 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
   return s.str();
 }
 
+/// The report reads the statistics and a NIfTI distance map: the run's own
+/// files when it wrote them, copies in a scratch folder otherwise.
+void writeDistanceReport(ReportRequest& report, const DistanceOptions& o, const RunStatistics& run,
+                         const GridGeometry& g, const std::vector<float>& values) {
+  ScratchFolder scratch;
+  std::string statsPath = o.statsPath, mapPath = o.output;
+  try {
+    if (statsPath.empty()) files::writeFileContents(statsPath = scratch.file("run.json"), statisticsJson(run));
+    const std::string name = std::filesystem::path(o.output).filename().string();
+    const bool nifti = name.size() > 4 && (name.substr(name.size() - 4) == ".nii" ||
+                                           (name.size() > 7 && name.substr(name.size() - 7) == ".nii.gz"));
+    if (!nifti) imaging::writeScalarImage(mapPath = scratch.file("distance.nii"), g, values);
+  } catch (const std::runtime_error& e) {
+    throw ToolError(kExitOutput, e.what());
+  }
+  report.write({"--stats", statsPath, "--distance", mapPath}, o.quiet);
+}
+
 }  // namespace
 
 int runDistance(int argc, char** argv) {
@@ -408,7 +350,10 @@ int runDistance(int argc, char** argv) {
   else
     files.outputImage("distance map", o.output);
   files.outputFile("statistics file", o.statsPath);
+  files.outputFile("QC report", o.reportPath);
   files.check();
+  ReportRequest report;
+  report.start(o.reportPath);
 
   Clock::time_point phase = Clock::now();
   const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
@@ -468,13 +413,15 @@ int runDistance(int argc, char** argv) {
   bar.finish();
   t.propagate = secondsSince(phase);
 
+  report.requireReady();  // nothing is written when the report could not be drawn
   phase = Clock::now();
   std::vector<float> values(result.distance.size());
   for (std::size_t v = 0; v < values.size(); ++v)
     values[v] = std::isfinite(result.distance[v]) ? static_cast<float>(result.distance[v]) : o.unreachableValue;
-  const DistanceStatistics stats = summarise(result.distance);
+  const DistanceStatistics stats = summariseDistances(result.distance);
   // The map and the statistics appear together or not at all.
   files::OutputTransaction outputs;
+  RunStatistics run;
   try {
     if (isVdbPath(o.output)) {
 #ifdef STVD_WITH_VDB_OUTPUT
@@ -487,8 +434,10 @@ int runDistance(int argc, char** argv) {
     }
     t.write = secondsSince(phase);
     t.total = secondsSince(start);
+    run = runStatistics(o, commandLineText(argc, argv), input, built.counts, seeds, labelSeedsLeftOut, result, memory,
+                        t);
     if (!o.statsPath.empty()) {
-      const std::string json = statsJson(o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, memory, t);
+      const std::string json = statisticsJson(run);
       outputs.write(o.statsPath, [&](const std::string& staging) { files::writeFileContents(staging, json); });
     }
     outputs.commit();
@@ -497,6 +446,7 @@ int runDistance(int argc, char** argv) {
   }
   if (!o.quiet)
     std::cout << summaryParagraph(o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, t) << std::endl;
+  if (report.requested()) writeDistanceReport(report, o, run, g, values);
   return kExitOk;
 }
 

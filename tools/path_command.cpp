@@ -10,7 +10,9 @@
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
 #include "memory_check.hpp"
+#include "report_request.hpp"
 #include "run_files.hpp"
+#include "run_statistics.hpp"
 #include "stvd/files/file_contents.hpp"
 #include "stvd/files/output_transaction.hpp"
 #include "stvd/geodesic_path.hpp"
@@ -81,6 +83,10 @@ const char* kPathHelp =
     "                          entries), and FA per point (.trk scalars, .vtk point data).\n"
     "  --tsv FILE              the per-path summary table (default: FILE with the extension\n"
     "                          replaced by .tsv).\n"
+    "  --stats FILE.json       parameters, counts and seconds as JSON (as stvd distance writes).\n"
+    "  --report FILE.html      a self-contained QC page: the paths over the distance map and FA,\n"
+    "                          their figures, the statistics and the warnings (Python 3 and\n"
+    "                          matplotlib; docs/report.md).\n"
     "  -q, --quiet             no summary on stdout.\n"
     "  -h, --help              this text.\n"
     "\n"
@@ -93,6 +99,8 @@ struct PathOptions : SeedOptions, PropagationChoice {
   std::string input;
   std::string output;
   std::string tsvPath;
+  std::string statsPath;
+  std::string reportPath;
   std::vector<std::array<int, 3>> targetVoxels;
   std::vector<std::array<double, 3>> targetPoints;
   std::string targetLabels;
@@ -119,6 +127,10 @@ PathOptions parsePathOptions(int argc, char** argv) {
       o.output = args.value(a);
     } else if (a == "--tsv") {
       o.tsvPath = args.value(a);
+    } else if (a == "--stats") {
+      o.statsPath = args.value(a);
+    } else if (a == "--report") {
+      o.reportPath = args.value(a);
     } else if (a == "--target-voxel") {
       o.targetVoxels.push_back(parseIntegerTriple(a, args.value(a)));
     } else if (a == "--target-point") {
@@ -176,7 +188,11 @@ int runPath(int argc, char** argv) {
   files.inputImage("target labels", o.targetLabels);
   files.outputFile("paths file", o.output);
   files.outputFile("path table", o.tsvPath);
+  files.outputFile("statistics file", o.statsPath);
+  files.outputFile("QC report", o.reportPath);
   files.check();
+  ReportRequest report;
+  report.start(o.reportPath);
 
   const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
   const GridGeometry& g = input.read.volume.geometry;
@@ -194,11 +210,11 @@ int runPath(int argc, char** argv) {
       resolveSeeds(o.input, targetGiven, input, o.tensor.metric, built.inDomain, unused, "target");
 
   // The propagation, FA per voxel and the paths.
-  checkMemory(o.input,
-              propagationMemoryEstimate(g.voxelCount(), built.counts.domain) + 2 * sizeof(float) * g.voxelCount(),
-              methodText(o, memoryDepthOf<VoxelGridDomain>(o)) + " on " + withThousands(built.counts.domain) +
-                  " domain voxels",
-              !o.memoryCheck);
+  const MemoryCheck memory = checkMemory(
+      o.input, propagationMemoryEstimate(g.voxelCount(), built.counts.domain) + 2 * sizeof(float) * g.voxelCount(),
+      methodText(o, memoryDepthOf<VoxelGridDomain>(o)) + " on " + withThousands(built.counts.domain) +
+          " domain voxels",
+      !o.memoryCheck);
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain, o.connectivity);
   const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
   const std::vector<VertexId> sources = imaging::sourceVertices(domain, seeds);
@@ -277,12 +293,36 @@ int runPath(int argc, char** argv) {
   }
   const double tracingSeconds = std::chrono::duration<double>(Clock::now() - tracingStart).count();
 
-  // The paths and their table appear together or not at all.
+  report.requireReady();  // nothing is written when the report could not be drawn
+  RunStatistics run;
+  run.command = "path";
+  run.commandLine = commandLineText(argc, argv);
+  run.input = o.input;
+  run.output = o.output;
+  run.outputs = {{"paths", o.output}, {"paths_table", o.tsvPath}};
+  run.choice = &o;
+  run.tensor = &o.tensor;
+  run.tensorInput = &input;
+  run.counts = built.counts;
+  run.seedLabels = o.seedLabels;
+  run.seeds = &seeds;
+  run.labelSeedsLeftOut = leftOut;
+  run.result = &result;
+  run.memory = &memory;
+  run.extraMembers = {"\"path_count\": " + std::to_string(targets.size())};
+  run.seconds = {{"propagate", propagationSeconds},
+                 {"paths", tracingSeconds},
+                 {"total", std::chrono::duration<double>(Clock::now() - start).count()}};
+  // The paths, their table and the statistics appear together or not at all.
   files::OutputTransaction outputs;
   try {
     imaging::writeStreamlines(outputs, o.output, set);
     const std::string table = tsv.str();
     outputs.write(o.tsvPath, [&](const std::string& staging) { files::writeFileContents(staging, table); });
+    if (!o.statsPath.empty()) {
+      const std::string json = statisticsJson(run);
+      outputs.write(o.statsPath, [&](const std::string& staging) { files::writeFileContents(staging, json); });
+    }
     outputs.commit();
   } catch (const std::runtime_error& e) {  // files::OutputError, imaging::ImageIoError
     throw ToolError(kExitOutput, e.what());
@@ -294,7 +334,25 @@ int runPath(int argc, char** argv) {
               << (seeds.size() == 1 ? " seed voxel" : " seed voxels") << ". Took "
               << fixed(std::chrono::duration<double>(Clock::now() - start).count(), 2) << " s (propagation "
               << fixed(propagationSeconds, 2) << ", paths " << fixed(tracingSeconds, 3) << "). Wrote " << o.output
-              << " and " << o.tsvPath << "." << std::endl;
+              << " and " << o.tsvPath << (o.statsPath.empty() ? "" : " and " + o.statsPath) << "." << std::endl;
+  }
+  if (report.requested()) {
+    // The report shows the paths over the distance map, which `stvd path`
+    // does not write: it goes to a scratch folder, with the statistics when
+    // they were not asked for.
+    ScratchFolder scratch;
+    const std::string statsPath = o.statsPath.empty() ? scratch.file("run.json") : o.statsPath;
+    std::vector<float> values(result.distance.size());
+    for (std::size_t v = 0; v < values.size(); ++v)
+      values[v] = std::isfinite(result.distance[v]) ? static_cast<float>(result.distance[v])
+                                                    : std::numeric_limits<float>::quiet_NaN();
+    try {
+      if (o.statsPath.empty()) files::writeFileContents(statsPath, statisticsJson(run));
+      imaging::writeScalarImage(scratch.file("distance.nii"), g, values);
+    } catch (const std::runtime_error& e) {
+      throw ToolError(kExitOutput, e.what());
+    }
+    report.write({"--stats", statsPath, "--distance", scratch.file("distance.nii")}, o.quiet);
   }
   return kExitOk;
 }

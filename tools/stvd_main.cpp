@@ -8,6 +8,7 @@
 #include "stvd/files/termination_signals.hpp"
 #include "stvd/front_end_errors.hpp"
 #include "stvd/itk/image_io_error.hpp"
+#include "report_request.hpp"
 #include "subcommands.hpp"
 #include "tet_mesh_commands.hpp"
 
@@ -28,6 +29,8 @@ const char* kToolHelp =
     "                                       maps) on a Dask cluster, resumable (docs/cohorts.md)\n"
     "  info INPUT [options]                 geometry, layout, order, frame and eigenvalue\n"
     "                                       statistics of a tensor volume\n"
+    "  report --stats RUN.json -o R.html    a self-contained HTML QC page of a run (also\n"
+    "                                       --report R.html on distance, path, connectivity)\n"
     "  tetrahedralize SURFACE -o MESH       quality tet mesh of a closed surface (TetGen); then\n"
     "                                       `stvd distance MESH.node` (docs/tet_meshes.md)\n"
     "  help [COMMAND]                       this text, or a command's (also COMMAND --help)\n"
@@ -54,6 +57,7 @@ int dispatch(int argc, char** argv) {
   if (command == "path") return runPath(argc, argv);
   if (command == "connectivity") return runConnectivity(argc, argv);
   if (command == "cohort") return runCohort(argc, argv);
+  if (command == "report") return runReport(argc, argv);
   if (command == "-h" || command == "--help" || command == "help") {
     if (command == "help" && argc > 2) {
       char* helpArgv[] = {argv[0], argv[2], const_cast<char*>("--help")};
@@ -67,7 +71,7 @@ int dispatch(int argc, char** argv) {
     return kExitOk;
   }
   usageError("unknown command '" + command +
-             "' (commands: distance, path, connectivity, cohort, info, tetrahedralize; see stvd --help)");
+             "' (commands: distance, path, connectivity, cohort, report, info, tetrahedralize; see stvd --help)");
 }
 
 /// One line on stderr, and the exit code.

@@ -2,7 +2,7 @@
 // before anything is read or computed, every output is compared with every
 // input (and with the files an input brings: a NRRD or MRtrix .mih
 // header's data file, a mesh's .ele and .face files, a .poly surface's
-// points) by what file it is.
+// points) by what file it is; the QC report (--report) too.
 // A match is one line naming both roles, exit code 2, and no file written
 // or changed.
 #include <gtest/gtest.h>
@@ -122,6 +122,24 @@ TEST_F(ToolFileIdentity, ConnectivityMatricesAreNeverInputsNorTheTable) {
   run = connectivityRun(out("c.tsv"));
   run.insert(run.end(), {"--matrix", out("d.csv"), "--matrix-index", path("out/./c.tsv")});
   expectRefused(run, path("out/./c.tsv"), "connectivity-index matrix", "connectivity table");
+}
+
+TEST_F(ToolFileIdentity, TheQcReportIsNeverAnInputNorAnotherOutput) {
+  // --report goes through the same check as every other output, before
+  // anything is computed (and before Python is asked whether it can draw).
+  fs::create_symlink(in("t.nii"), out("link.html"));
+  std::vector<std::string> run = distanceRun(out("d.nii"));
+  run.insert(run.end(), {"--report", out("link.html")});
+  expectRefused(run, out("link.html"), "QC report", "tensor input");
+  run = distanceRun(out("d.nii"), out("s.json"));
+  run.insert(run.end(), {"--report", path("out/./s.json")});
+  expectRefused(run, path("out/./s.json"), "QC report", "statistics file");
+  run = pathRun(out("p.trk"), out("p.tsv"));
+  run.insert(run.end(), {"--report", path("out/../out/p.tsv")});
+  expectRefused(run, path("out/../out/p.tsv"), "QC report", "path table");
+  run = connectivityRun(out("c.tsv"));
+  run.insert(run.end(), {"--report", path("out/../in/labels.nii")});
+  expectRefused(run, path("out/../in/labels.nii"), "QC report", "label image");
 }
 
 TEST_F(ToolFileIdentity, TetMeshOutputsAreNeverTheTensorOrReferenceImage) {

@@ -1,0 +1,900 @@
+"""Visual quality-control reports: one self-contained HTML page per run of
+``stvd distance``, ``stvd path`` or ``stvd connectivity`` (or of the same
+calls from Python), and a cohort index page over many of them.
+
+A run page shows axial, coronal and sagittal slices through the seed of the
+distance map over FA (computed from the tensors when no FA image is given)
+with the seeds marked and the paths projected, the connectivity matrix as a
+heat map, the run's statistics with the stvd version and command line, and
+the warnings a reviewer must see. Slices are shown in a stated convention
+(neurological by default) with L/R/A/P/S/I letters from the image's direction
+cosines. Images are embedded as data URIs; nothing is fetched.
+
+Entry points:
+
+- ``write_report(output, result, ...)``: from Python objects
+  (``stvd.Propagation``, ``stvd.Paths``, ``stvd.Connectivity``);
+- ``write_run_report(output, statistics, ...)``: from the files of a tool run
+  (its ``--stats`` JSON and outputs); ``stvd report`` and ``--report`` call it;
+- ``write_cohort_index(output, subjects)`` and ``cohort_index_from_folder``:
+  the cohort index;
+- ``python3 -m stvd.report``: the command line behind ``stvd report``.
+
+See docs/report.md.
+"""
+
+import argparse
+import csv
+import datetime
+import json
+import math
+import os
+import sys
+import time
+
+import numpy as np
+
+from . import __version__
+from ._inputs import is_image, is_path, tensor_field
+from ._output_files import OutputError, OutputIsInput, check_output, same_file, write_atomically
+from . import _report_page as page
+from ._report_slices import CONVENTIONS, PLANES, DisplayGrid, Panel, contour_step, draw_panel
+
+__all__ = ["write_report", "write_run_report", "write_cohort_index", "cohort_index_from_folder",
+           "cohort_entries_from_folder", "ReportError", "CONVENTIONS", "main"]
+
+# Exit codes of docs/cli.md.
+EXIT_INTERNAL, EXIT_USAGE, EXIT_INPUT, EXIT_OUTPUT = 1, 2, 3, 5
+
+
+class ReportError(Exception):
+    """A report that cannot be made: ``str(error)`` is the one-line message
+    (naming the file), ``exit_code`` the tool's exit code for it."""
+
+    def __init__(self, message, exit_code=EXIT_INPUT):
+        super().__init__(message)
+        self.exit_code = exit_code
+
+
+# ---------------------------------------------------------------------------
+# What a page shows
+
+
+class _RunContent:
+    """What a run page shows, gathered from files or from Python objects."""
+
+    def __init__(self, kind, statistics, affine, shape, fa, fa_source):
+        self.kind = kind                    # distance, path or connectivity
+        self.statistics = statistics        # the --stats record (dict)
+        self.affine = np.asarray(affine, dtype=np.float64)
+        self.shape = tuple(int(n) for n in shape[:3])
+        self.fa = fa                        # on the tensors' grid
+        self.fa_source = fa_source
+        self.distance = None                # float, NaN where not reached
+        self.seeds = np.zeros((0, 3), np.int64)  # voxel indices
+        self.seed_region = None             # bool array of label seeds
+        self.paths = []                     # (N, 3) RAS millimetres
+        self.path_rows = []                 # per-path figures (dicts)
+        self.connectivity = None            # dict: labels, geodesic_mm, connectivity
+        self.regions = None                 # label array of connectivity runs
+        self.notes = []                     # what the reviewer should know besides warnings
+
+
+class _SliceLayers:
+    """The arrays and overlays of the slices, on the turned grid."""
+
+    def __init__(self, content, grid):
+        import matplotlib
+
+        self.fa = grid.turn(np.nan_to_num(content.fa, nan=0.0))
+        self.distance = grid.turn(content.distance) if content.distance is not None else None
+        finite = self.distance[np.isfinite(self.distance)] if self.distance is not None else np.zeros(0)
+        self.distance_max = float(finite.max()) if finite.size else 1.0
+        self.contour_step = contour_step(self.distance_max) if finite.size else None
+        self.regions = None
+        self.region_colours = []
+        if content.regions is not None:
+            values = np.unique(content.regions[content.regions != 0])
+            rank = np.zeros(content.regions.shape, np.int32)
+            for n, value in enumerate(values, start=1):
+                rank[content.regions == value] = n
+            self.regions = grid.turn(rank)
+            palette = matplotlib.colormaps["tab20"].colors
+            self.region_colours = [matplotlib.colors.to_hex(palette[n % len(palette)]) for n in range(len(values) + 1)]
+        self.seed_region = grid.turn(content.seed_region) if content.seed_region is not None else None
+        self.seeds = grid.index_of_voxels(content.seeds) if len(content.seeds) else np.zeros((0, 3), np.int64)
+        self.paths = [grid.index_of_points(points) for points in content.paths]
+        self.path_colours = path_colours(len(content.paths))
+
+
+def path_colours(count):
+    """The colour of each path, by its order (tab10, repeating)."""
+    import matplotlib
+
+    palette = matplotlib.colormaps["tab10"].colors
+    return [matplotlib.colors.to_hex(palette[n % len(palette)]) for n in range(count)]
+
+
+def _centre_voxel(content):
+    """The voxel the three slices go through: the seed (the seed voxel
+    nearest to the seeds' centre when there are several), or for
+    connectivity the region voxel nearest to the regions' centre."""
+    if len(content.seeds):
+        voxels = content.seeds
+    elif content.regions is not None and np.any(content.regions):
+        voxels = np.argwhere(content.regions != 0)
+    elif content.seed_region is not None and np.any(content.seed_region):
+        voxels = np.argwhere(content.seed_region)
+    else:
+        return np.array(content.shape) // 2
+    centre = voxels.mean(axis=0)
+    return voxels[np.argmin(((voxels - centre) ** 2).sum(axis=1))]
+
+
+# ---------------------------------------------------------------------------
+# Warnings and key figures
+
+
+def _count(value):
+    return int(value) if value is not None else 0
+
+
+def reviewer_warnings(content):
+    """The warnings of a run (what a reviewer must look at) and the notes
+    (how the tensors were read), as two lists of one-line texts."""
+    s = content.statistics
+    warnings, notes = [], list(content.notes)
+    voxels = s.get("voxels", {})
+    parameters = s.get("parameters", {})
+    repaired = _count(voxels.get("repaired"))
+    if repaired:
+        warnings.append(
+            f"{repaired:,} of {_count(voxels.get('domain')):,} domain voxels had their tensors repaired "
+            f"({_count(voxels.get('repaired_non_positive')):,} with a non-positive eigenvalue, "
+            f"{_count(voxels.get('repaired_anisotropy')):,} beyond the eigenvalue-ratio cap of "
+            f"{page.number_text(parameters.get('max_anisotropy'), 0)}).")
+    if _count(voxels.get("no_positive_eigenvalue")):
+        warnings.append(f"{_count(voxels['no_positive_eigenvalue']):,} voxels have no positive eigenvalue and are "
+                        "outside the domain.")
+    if _count(s.get("label_seeds_left_out")):
+        warnings.append(f"{_count(s['label_seeds_left_out']):,} seed label voxels lie outside the domain and were "
+                        "left out.")
+    propagation = s.get("propagation", {})
+    reached, domain = propagation.get("finalized_vertices"), propagation.get("domain_vertices")
+    if reached is not None and domain and reached < domain:
+        why = (" (the propagation stopped at --max-distance)"
+               if propagation.get("termination") == "max_distance_reached" else
+               " (they are not connected to the seeds)")
+        warnings.append(f"{domain - reached:,} of {domain:,} domain voxels ({100.0 * (domain - reached) / domain:.1f} %) "
+                        f"were not reached{why}.")
+    for row in content.path_rows:
+        if row.get("fallbacks") not in (None, "", "none"):
+            warnings.append(f"Path {row['path']} (to {row['target']}) fell back to the discrete path: "
+                            f"{row['fallbacks']}.")
+    if content.connectivity is not None:
+        matrix = content.connectivity["geodesic_mm"]
+        n = len(content.connectivity["labels"])
+        missing = int(np.sum(~np.isfinite(matrix))) - n
+        if missing:
+            warnings.append(f"{missing} of {n * (n - 1)} ordered region pairs are not connected (n/a in the table).")
+    regions = s.get("regions", {})
+    if _count(regions.get("left_out")):
+        warnings.append(f"{_count(regions['left_out'])} labelled regions have no voxel in the domain and were left "
+                        "out.")
+    layout, order, frame = (parameters.get("tensor_layout"), parameters.get("tensor_order"),
+                            parameters.get("tensor_frame"))
+    if layout or order or frame:
+        stated = parameters.get("tensor_frame_stated")
+        how = "" if stated is None else (" (stated)" if stated else " (the default for this layout: check it)")
+        notes.insert(0, f"Tensors read as {layout or '?'}, component order {order or '?'}, in the {frame or '?'} "
+                        f"frame{how}; metric {parameters.get('metric_formula', '?')}.")
+    return warnings, notes
+
+
+def key_figures(content):
+    """The figures a cohort table shows for a run."""
+    s = content.statistics
+    figures = {}
+    voxels, propagation, distance = s.get("voxels", {}), s.get("propagation", {}), s.get("distance_mm", {})
+    if "domain" in voxels:
+        figures["domain_voxels"] = _count(voxels["domain"])
+        figures["repaired_voxels"] = _count(voxels.get("repaired"))
+    if propagation.get("domain_vertices"):
+        figures["reached_percent"] = round(100.0 * propagation["finalized_vertices"] / propagation["domain_vertices"],
+                                           2)
+    if distance.get("max") is not None:
+        figures["max_distance_mm"] = round(float(distance["max"]), 2)
+        figures["median_distance_mm"] = round(float(distance["median"]), 2)
+    if content.kind == "path":
+        figures["paths"] = len(content.path_rows)
+    if content.connectivity is not None:
+        figures["regions"] = len(content.connectivity["labels"])
+    seconds = s.get("seconds", {}).get("total")
+    if seconds is not None:
+        figures["seconds"] = round(float(seconds), 2)
+    return figures
+
+
+# ---------------------------------------------------------------------------
+# The page
+
+
+_FIGURE_LABELS = {
+    "domain_voxels": "domain voxels", "repaired_voxels": "repaired voxels", "reached_percent": "reached %",
+    "max_distance_mm": "max distance (mm)", "median_distance_mm": "median distance (mm)", "paths": "paths",
+    "regions": "regions", "seconds": "seconds",
+}
+
+
+def _statistics_rows(statistics, prefix=""):
+    """The statistics record flattened into (key, value text) rows."""
+    rows = []
+    for key, value in statistics.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, dict):
+            rows.extend(_statistics_rows(value, name + "."))
+        elif isinstance(value, list):
+            text = json.dumps(value[:10])
+            rows.append((name, text + (f" ... ({len(value)} in all)" if len(value) > 10 else "")))
+        elif isinstance(value, float):
+            rows.append((name, f"{value:.6g}"))
+        else:
+            rows.append((name, "null" if value is None else str(value)))
+    return rows
+
+
+def _render(content, subject, convention):
+    """The page's HTML and its summary."""
+    grid = DisplayGrid(content.affine, content.shape)
+    layers = _SliceLayers(content, grid)
+    centre = grid.index_of_voxels(_centre_voxel(content))[0]
+    panels = [Panel(grid, plane, centre, convention) for plane in PLANES]
+    pictures = [draw_panel(panel, layers) for panel in panels]
+    thumbnail = draw_panel(panels[0], layers, scale=0.4)
+
+    warnings, notes = reviewer_warnings(content)
+    status = "warnings" if warnings else "ok"
+    figures = key_figures(content)
+    s = content.statistics
+    title = f"stvd {content.kind}: {subject}"
+    body = [f"<h1>{page.escape(title)} {page.status_badge(status)}</h1>",
+            f"<p>Input <code>{page.escape(s.get('input', '?'))}</code>; stvd {page.escape(s.get('stvd_version', '?'))}; "
+            f"report made {datetime.datetime.now().strftime('%Y-%m-%d %H:%M')}.</p>",
+            f"<p>Command line: <code id=\"stvd-command-line\">{page.escape(s.get('command_line', '?'))}</code></p>"]
+    if warnings:
+        body.append("<h2>Warnings</h2>" + page.item_list(warnings, "warnings", "stvd-warnings"))
+    body.append(page.item_list(notes, "notes", "stvd-notes"))
+
+    # The slices.
+    oblique = grid.obliquity_degrees()
+    orientation = (f"Slices in <b id=\"stvd-convention\" data-convention=\"{convention}\">{convention}</b> convention: "
+                   f"{page.escape(CONVENTIONS[convention])} (sagittal slices: anterior on the left). Edge letters "
+                   f"from the image's direction cosines: orientation {grid.orientation_code()}")
+    if oblique >= 0.05:
+        orientation += f", oblique by {oblique:.1f} degrees (each slice is the voxel plane nearest to it)"
+    orientation += "."
+    source_voxel = _centre_voxel(content)
+    what = "distance map over FA" if content.distance is not None else "FA"
+    body.append(f"<h2>Slices through voxel ({', '.join(str(int(c)) for c in source_voxel)}): {what}</h2>")
+    body.append(f"<p>{orientation} FA: {page.escape(content.fa_source)}.</p>")
+    legend = []
+    if content.distance is not None:
+        import matplotlib
+
+        viridis = matplotlib.colormaps["viridis"]
+        stops = [matplotlib.colors.to_hex(viridis(x)) for x in np.linspace(0, 1, 9)]
+        legend.append("Distance " + page.colour_bar(stops, "0", f"{layers.distance_max:.1f}", "mm") +
+                      (f"; white contours every {layers.contour_step:g} mm" if layers.contour_step else "") +
+                      "; not reached: FA only.")
+    if len(content.seeds) or content.seed_region is not None:
+        legend.append(f"Seeds: <span class=\"swatch\" style=\"background:{page.escape('#ff00ff')}\"></span> magenta "
+                      "cross (the seed voxels in the slice) and voxels (label seeds).")
+    if content.paths:
+        legend.append("Paths: projected onto each slice, coloured by their order (table below); a dot marks the "
+                      "target end.")
+    if content.regions is not None:
+        legend.append("Regions: the labelled regions in the slice, coloured by label (heat map below).")
+    body.append("<p>" + "<br>".join(legend) + "</p>")
+    captions = {"axial": "axial", "coronal": "coronal", "sagittal": "sagittal"}
+    body.append("<div class=\"panels\">" + "".join(
+        page.slice_figure(panel, picture, f"{captions[panel.plane]} slice {panel.index}")
+        for panel, picture in zip(panels, pictures)) + "</div>")
+
+    if content.path_rows:
+        rows = []
+        for row, colour in zip(content.path_rows, layers.path_colours):
+            rows.append([f"<span class=\"swatch\" style=\"background:{colour}\"></span> {page.escape(row['path'])}",
+                         row["target"], row["geodesic_mm"], row["euclidean_mm"], row["mean_fa"], row["fallbacks"]])
+        body.append("<h2>Geodesic paths</h2>" + page.table(
+            ["path", "target", "geodesic (mm)", "length (mm)", "mean FA", "fallbacks"], rows, "stvd-paths",
+            raw_columns=(0,)))
+
+    if content.connectivity is not None:
+        from ._report_matrix import draw_heatmap
+
+        c = content.connectivity
+        labels = [str(label) for label in c["labels"]]
+        maps = [draw_heatmap(c["geodesic_mm"], labels, "geodesic distance d(a, b)", "magma_r", "mm"),
+                draw_heatmap(c["connectivity"], labels, "connectivity index (path length / geodesic)", "viridis",
+                             "index")]
+        body.append("<h2>Connectivity</h2><div class=\"panels\">" + "".join(
+            f"<img src=\"{page.data_uri(png)}\" alt=\"{page.escape(name)} heat map\">"
+            for png, name in zip(maps, ["geodesic distance", "connectivity index"])) + "</div>")
+
+    body.append("<h2>Statistics and parameters</h2>" +
+                page.key_value_table(_statistics_rows(s), "stvd-statistics"))
+    summary = {"subject": subject, "kind": content.kind, "status": status, "warnings": len(warnings),
+               "figures": figures, "thumbnail": page.data_uri(thumbnail), "input": s.get("input"),
+               "stvd_version": s.get("stvd_version")}
+    body.append(page.summary_block(summary))
+    return page.page(title, "\n".join(body)), summary
+
+
+# ---------------------------------------------------------------------------
+# From the files of a tool run
+
+
+def _resolve(path, statistics_folder):
+    """A path recorded in a statistics file: as given (relative to the
+    current folder), or else relative to the statistics file's folder."""
+    if not path:
+        return None
+    if os.path.isabs(path) or os.path.exists(path) or statistics_folder is None:
+        return path
+    beside = os.path.join(statistics_folder, path)
+    return beside if os.path.exists(beside) else path
+
+
+def _load_nifti(path, role):
+    import nibabel
+
+    try:
+        return nibabel.load(path)
+    except FileNotFoundError:
+        raise ReportError(f"{path}: the {role} file does not exist") from None
+    except Exception as error:  # NiBabel raises many kinds for files it cannot read
+        raise ReportError(f"{path}: cannot read the {role} image (NIfTI expected): {error}") from None
+
+
+def _on_grid(image, path, role, affine, shape):
+    data = np.asanyarray(image.dataobj)
+    while data.ndim > 3 and data.shape[-1] == 1:
+        data = data[..., 0]
+    if tuple(data.shape[:3]) != tuple(shape) or data.ndim != 3:
+        raise ReportError(f"{path}: the {role} image is {'x'.join(map(str, data.shape))} voxels, the tensors "
+                          f"{'x'.join(map(str, shape))}")
+    if not np.allclose(image.affine, affine, atol=1e-3 * float(np.abs(affine[:3, :3]).max())):
+        raise ReportError(f"{path}: the {role} image is not on the grid of the tensors (another affine)")
+    return data
+
+
+def read_streamlines(path):
+    """Streamlines in RAS millimetres from a .trk or .tck file (NiBabel), or
+    from the ASCII legacy VTK polydata that ``stvd path`` writes."""
+    if str(path).lower().endswith(".vtk"):
+        return _read_vtk_lines(path)
+    import nibabel
+
+    try:
+        return [np.asarray(line, dtype=np.float64) for line in nibabel.streamlines.load(str(path)).streamlines]
+    except FileNotFoundError:
+        raise ReportError(f"{path}: the paths file does not exist") from None
+    except Exception as error:
+        raise ReportError(f"{path}: cannot read the paths: {error}") from None
+
+
+def _read_vtk_lines(path):
+    try:
+        with open(path, encoding="ascii") as file:
+            words = file.read().split()
+    except FileNotFoundError:
+        raise ReportError(f"{path}: the paths file does not exist") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise ReportError(f"{path}: cannot read the paths: {error}") from None
+    try:
+        at = words.index("POINTS")
+        count = int(words[at + 1])
+        points = np.array(words[at + 3:at + 3 + 3 * count], dtype=np.float64).reshape(count, 3)
+        at = words.index("LINES")
+        lines, cursor = [], at + 3
+        for _ in range(int(words[at + 1])):
+            size = int(words[cursor])
+            lines.append(points[np.array(words[cursor + 1:cursor + 1 + size], dtype=np.int64)])
+            cursor += size + 1
+        return lines
+    except (ValueError, IndexError):
+        raise ReportError(f"{path}: not the ASCII VTK polydata of stvd path") from None
+
+
+def _read_tsv(path, role):
+    try:
+        with open(path, newline="", encoding="utf-8") as file:
+            return list(csv.DictReader(file, delimiter="\t"))
+    except FileNotFoundError:
+        raise ReportError(f"{path}: the {role} does not exist") from None
+    except (OSError, UnicodeDecodeError, csv.Error) as error:
+        raise ReportError(f"{path}: cannot read the {role}: {error}") from None
+
+
+def _table_number(text):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def _path_rows(rows):
+    return [{"path": row.get("path", str(n + 1)), "target": row.get("target", ""),
+             "geodesic_mm": _table_number(row.get("geodesic_mm")), "euclidean_mm": _table_number(row.get("euclidean_mm")),
+             "mean_fa": _table_number(row.get("mean_fa")), "fallbacks": row.get("fallbacks", "")}
+            for n, row in enumerate(rows)]
+
+
+def connectivity_from_table(path):
+    """The matrices of a ``stvd connectivity`` table: labels in the table's
+    order, and geodesic_mm and connectivity with NaN on the diagonal and for
+    pairs that are not connected."""
+    rows = _read_tsv(path, "connectivity table")
+    if rows and not {"region_a", "region_b", "geodesic_mm", "connectivity"} <= set(rows[0]):
+        raise ReportError(f"{path}: not a stvd connectivity table (columns region_a, region_b, geodesic_mm, "
+                          "connectivity)")
+    labels = []
+    for row in rows:
+        for key in ("region_a", "region_b"):
+            if row[key] not in labels:
+                labels.append(row[key])
+    where = {label: n for n, label in enumerate(labels)}
+    geodesic = np.full((len(labels), len(labels)), np.nan)
+    index = np.full_like(geodesic, np.nan)
+    for row in rows:
+        a, b = where[row["region_a"]], where[row["region_b"]]
+        geodesic[a, b] = _table_number(row["geodesic_mm"])
+        index[a, b] = _table_number(row["connectivity"])
+    return {"labels": [int(label) if label.lstrip("-").isdigit() else label for label in labels],
+            "geodesic_mm": geodesic, "connectivity": index}
+
+
+def _fa_of_tensors(tensors, parameters, mask):
+    """FA computed from the tensors as the tool read them, and the grid."""
+    options = {"tensor_order": parameters.get("tensor_order") or None,
+               "tensor_frame": parameters.get("tensor_frame") or None,
+               "tensor_kind": parameters.get("tensor_kind") or None}
+    try:
+        field = tensor_field(tensors, None, mask, options)
+    except (ValueError, TypeError, OSError) as error:
+        raise ReportError(str(error)) from None
+    return field
+
+
+def _content_from_files(statistics_path, distance, paths, paths_table, table, labels, fa):
+    try:
+        with open(statistics_path, encoding="utf-8") as file:
+            statistics = json.load(file)
+    except FileNotFoundError:
+        raise ReportError(f"{statistics_path}: the statistics file does not exist") from None
+    except (OSError, UnicodeDecodeError, ValueError) as error:
+        raise ReportError(f"{statistics_path}: cannot read the statistics (JSON of --stats): {error}") from None
+    if not isinstance(statistics, dict) or "input" not in statistics:
+        raise ReportError(f"{statistics_path}: not the --stats file of a stvd run (no \"input\")")
+    folder = os.path.dirname(os.path.abspath(statistics_path))
+    parameters = statistics.get("parameters", {})
+    outputs = statistics.get("outputs", {})
+    kind = statistics.get("command", "distance")
+    tensors = _resolve(statistics["input"], folder)
+    mask = _resolve(parameters.get("mask"), folder)
+    field = _fa_of_tensors(tensors, parameters, mask)
+    affine, shape = field.affine, field.shape
+    if fa is not None:
+        fa_data = _on_grid(_load_nifti(fa, "FA"), fa, "FA", affine, shape).astype(np.float64)
+        fa_source = f"the image {fa}"
+    else:
+        fa_data = np.array(field.fractional_anisotropy, dtype=np.float64)
+        fa_source = "computed from the tensors (0 outside the domain)"
+    content = _RunContent(kind, statistics, affine, shape, fa_data, fa_source)
+
+    if distance is None and kind == "distance":
+        distance = _resolve(statistics.get("output"), folder)
+    if distance is not None:
+        values = _on_grid(_load_nifti(distance, "distance map"), distance, "distance map", affine, shape)
+        values = values.astype(np.float64)
+        unreachable = parameters.get("unreachable_value")
+        values[~np.isfinite(values) | (values < 0)] = np.nan
+        if unreachable is not None and np.isfinite(unreachable):
+            values[values == unreachable] = np.nan
+        content.distance = values
+    content.seeds = np.array([seed["voxel"] for seed in statistics.get("seeds", [])], dtype=np.int64).reshape(-1, 3)
+    seed_labels = _resolve(parameters.get("seed_labels"), folder)
+    if seed_labels:
+        content.seed_region = _on_grid(_load_nifti(seed_labels, "seed label"), seed_labels, "seed label", affine,
+                                       shape) != 0
+        content.seeds = np.zeros((0, 3), np.int64)  # the region is drawn instead of the first 100 voxels
+
+    if kind == "path" and paths is None:
+        paths = _resolve(outputs.get("paths"), folder)
+        paths_table = paths_table or _resolve(outputs.get("paths_table"), folder)
+    if paths is not None:
+        content.paths = read_streamlines(paths)
+        if paths_table is not None:
+            content.path_rows = _path_rows(_read_tsv(paths_table, "paths table"))
+        else:
+            content.path_rows = _path_rows([{} for _ in content.paths])
+    if kind == "connectivity" and table is None:
+        table = _resolve(statistics.get("output"), folder)
+    if table is not None:
+        content.connectivity = connectivity_from_table(table)
+        labels = labels or _resolve(parameters.get("labels"), folder)
+    if labels is not None:
+        content.regions = _on_grid(_load_nifti(labels, "label"), labels, "label", affine, shape).astype(np.int64)
+    inputs = {"tensor": tensors, "statistics": statistics_path, "distance map": distance, "paths": paths,
+              "paths table": paths_table, "connectivity table": table, "label": labels, "FA": fa, "mask": mask,
+              "seed label": seed_labels}
+    return content, inputs
+
+
+def write_run_report(output, statistics, *, distance=None, paths=None, paths_table=None, table=None, labels=None,
+                     fa=None, subject=None, convention="neurological"):
+    """The report page of a run of the ``stvd`` tool, from its files.
+
+    statistics: the run's ``--stats`` JSON; it names the tensors (``input``)
+        and, by default, the other files: the distance map of a ``distance``
+        run (its ``output``), the paths and their table of a ``path`` run,
+        the table and labels of a ``connectivity`` run. Paths in it are taken
+        as given, or else relative to the JSON's folder.
+    distance: a distance map (NIfTI) on the tensors' grid, e.g. for a path run.
+    paths, paths_table: streamlines (.trk, .tck, .vtk) and their TSV.
+    table, labels: a connectivity table and its label image.
+    fa: an FA image on the tensors' grid; computed from the tensors otherwise.
+    subject: the name on the page (default: the tensor file's name).
+    convention: 'neurological' (default) or 'radiological'.
+
+    Writes ``output`` atomically (never over an input) and returns the
+    page's summary (what the cohort index shows).
+    """
+    _check_convention(convention)
+    check = {"statistics": statistics, "distance map": distance, "paths": paths, "paths table": paths_table,
+             "connectivity table": table, "label": labels, "FA": fa}
+    _check_output(output, check)
+    content, inputs = _content_from_files(statistics, distance, paths, paths_table, table, labels, fa)
+    _check_output(output, inputs)
+    subject = subject or _subject_of(content.statistics.get("input"))
+    text, summary = _render(content, subject, convention)
+    _write(output, text)
+    return summary
+
+
+# ---------------------------------------------------------------------------
+# From Python objects
+
+
+def _statistics_of_propagation(result, kind, command_line, name):
+    counts = dict(result.voxel_counts)
+    info = result.tensor_info
+    distances = np.asarray(result.distance)
+    finite = distances[np.isfinite(distances)]
+    statistics = {
+        "command": kind, "stvd_version": __version__, "command_line": command_line, "input": name,
+        "parameters": {"method": result.method, "k": result.k, "chain_measure": result.chain_measure,
+                       "stencil": result.stencil, "tensor_layout": info["layout"], "tensor_order": info["order"],
+                       "tensor_frame": info["frame"], "tensor_frame_stated": info["frame_was_stated"],
+                       "tensor_kind": info["tensor_kind"], "metric_formula": info["metric_formula"],
+                       "mask": info["mask"]},
+        "seeds": [{"voxel": [int(c) for c in seed]} for seed in np.asarray(result.seeds)[:100]],
+        "seed_count": int(len(result.seeds)),
+        "label_seeds_left_out": int(result.label_seeds_left_out),
+        "voxels": counts,
+        "propagation": {"vertices": int(np.prod(result.shape)), "domain_vertices": counts["domain"],
+                        "finalized_vertices": int(result.finalized_vertices), "relaxed_edges": int(result.relaxed_edges),
+                        "termination": result.termination, "peak_state_bytes": int(result.peak_state_bytes)},
+    }
+    if finite.size:
+        statistics["distance_mm"] = {"reached": int(finite.size), "min": float(finite.min()),
+                                     "median": float(np.median(finite)), "max": float(finite.max())}
+    return statistics
+
+
+def _input_name(tensors):
+    if is_path(tensors):
+        return os.fspath(tensors)
+    if is_image(tensors) and tensors.get_filename():
+        return tensors.get_filename()
+    return "an array"
+
+
+def write_report(output, result=None, *, paths=None, connectivity=None, labels=None, tensors=None, fa=None,
+                 subject=None, convention="neurological", command_line=None):
+    """The report page of a run made from Python.
+
+    result: the ``stvd.Propagation`` of ``stvd.propagate`` (the distance map,
+        seeds, statistics and grid); ``tensors`` (what ``stvd.distance``
+        takes, with ``affine=`` given through ``stvd.propagate`` instead) is
+        enough for a connectivity-only page.
+    paths: the ``stvd.Paths`` of ``stvd.trace_paths``.
+    connectivity, labels: the ``stvd.Connectivity`` of ``stvd.connectivity``
+        and its label image (path, NiBabel image or array on the grid).
+    fa: an FA array or image on the grid; computed from the tensors otherwise.
+    subject, convention: as for ``write_run_report``; command_line: what the
+        page records as the command (default: this process's ``sys.argv``).
+
+    Writes ``output`` atomically and returns the page's summary.
+    """
+    from . import Propagation
+
+    _check_convention(convention)
+    if result is None and tensors is None:
+        raise TypeError("write_report: give the stvd.Propagation (result=) or, for connectivity alone, tensors=")
+    if result is not None and not isinstance(result, Propagation):
+        raise TypeError("result: expected the stvd.Propagation that stvd.propagate returns")
+    if command_line is None:
+        command_line = "python3 " + " ".join(sys.argv)
+    kind = "connectivity" if connectivity is not None and paths is None else ("path" if paths is not None else "distance")
+    input_paths = {"tensor": tensors if is_path(tensors) else None, "label": labels if is_path(labels) else None,
+                   "FA": fa if is_path(fa) else None}
+    _check_output(output, input_paths)
+
+    if result is not None:
+        field = result._result.field
+        name = _input_name(tensors) if tensors is not None else field.name
+        statistics = _statistics_of_propagation(result, kind, command_line, name)
+    else:
+        field = tensor_field(tensors, None, None, {})
+        name = _input_name(tensors)
+        info = field.tensor_info
+        statistics = {"command": kind, "stvd_version": __version__, "command_line": command_line, "input": name,
+                      "parameters": {"tensor_layout": info["layout"], "tensor_order": info["order"],
+                                     "tensor_frame": info["frame"], "tensor_frame_stated": info["frame_was_stated"],
+                                     "metric_formula": info["metric_formula"]},
+                      "voxels": dict(field.voxel_counts)}
+    affine, shape = field.affine, field.shape
+    if fa is not None:
+        fa_data, fa_source = _array_on_grid(fa, "fa", affine, shape).astype(np.float64), "given"
+    else:
+        fa_data, fa_source = np.array(field.fractional_anisotropy, np.float64), "computed from the tensors (0 outside the domain)"
+    content = _RunContent(kind, statistics, affine, shape, fa_data, fa_source)
+    if result is not None:
+        content.distance = np.where(np.isfinite(result.distance), result.distance, np.nan)
+        content.seeds = np.asarray(result.seeds, dtype=np.int64).reshape(-1, 3)
+        if len(content.seeds) > 100:  # label seeds: the region is drawn instead
+            content.seed_region = np.zeros(shape, bool)
+            content.seed_region[tuple(content.seeds.T)] = True
+            content.seeds = np.zeros((0, 3), np.int64)
+    if paths is not None:
+        content.paths = [np.asarray(points, np.float64) for points in paths]
+        fallbacks = [",".join(f"{k}={v}" for k, v in f.items() if v) or "none" for f in paths.fallbacks]
+        content.path_rows = [{"path": str(n + 1), "target": paths.targets[n], "geodesic_mm": float(paths.geodesic_mm[n]),
+                              "euclidean_mm": float(paths.euclidean_mm[n]), "mean_fa": float(paths.mean_fa[n]),
+                              "fallbacks": fallbacks[n]} for n in range(len(paths))]
+    if connectivity is not None:
+        content.connectivity = {"labels": [int(v) for v in connectivity.labels],
+                                "geodesic_mm": np.asarray(connectivity.geodesic_mm),
+                                "connectivity": np.asarray(connectivity.connectivity)}
+        statistics["regions"] = {"count": len(connectivity.labels),
+                                 "left_out": int(getattr(connectivity, "labels_left_out", 0))}
+        if labels is not None:
+            content.regions = _array_on_grid(labels, "labels", affine, shape).astype(np.int64)
+    subject = subject or _subject_of(name)
+    text, summary = _render(content, subject, convention)
+    _write(output, text)
+    return summary
+
+
+def _array_on_grid(value, name, affine, shape):
+    if is_path(value):
+        return _on_grid(_load_nifti(value, name), value, name, affine, shape)
+    if is_image(value):
+        return _on_grid(value, _input_name(value), name, affine, shape)
+    array = np.asarray(value)
+    if array.shape[:3] != tuple(shape):
+        raise ValueError(f"{name}: an array of shape {array.shape} on a grid of {shape}")
+    return array
+
+
+# ---------------------------------------------------------------------------
+# The cohort index
+
+
+def cohort_entries_from_folder(folder):
+    """The cohort index's entries for a folder of reports: every ``.html``
+    page with a run summary in the folder and its subfolders (one level, as
+    a cohort's ``OUTDIR/<subject>/`` holds them), in name order. A subfolder
+    without a report is listed as ``missing``."""
+    entries = []
+    try:
+        names = sorted(os.listdir(folder))
+    except OSError as error:
+        raise ReportError(f"{folder}: cannot list the folder: {error.strerror}") from None
+    for name in names:
+        path = os.path.join(folder, name)
+        pages = []
+        if os.path.isdir(path):
+            pages = [os.path.join(path, n) for n in sorted(os.listdir(path)) if n.endswith(".html")]
+        elif name.endswith(".html"):
+            pages = [path]
+        found = False
+        for candidate in pages:
+            try:
+                with open(candidate, encoding="utf-8") as file:
+                    summary = page.read_summary(file.read())
+            except (OSError, UnicodeDecodeError, ValueError):
+                summary = None
+            if summary is not None:
+                entries.append(dict(summary, report=candidate))
+                found = True
+        if os.path.isdir(path) and not found:
+            entries.append({"subject": name, "status": "missing", "error": "no report in the folder"})
+    return entries
+
+
+def write_cohort_index(output, subjects, *, title="stvd cohort"):
+    """The cohort index page: one row per subject with its status, key
+    figures and thumbnail, linking to its page.
+
+    subjects: a list of dicts, each with ``subject`` and ``status`` (``ok``,
+    ``warnings``, ``failed`` or ``missing``) and optionally ``report`` (the
+    path of its page, linked relative to the index), ``error`` (the one-line
+    error of a failed subject), ``figures`` (a dict of key figures),
+    ``thumbnail`` (a data URI) and ``warnings`` (a count). The summaries that
+    ``write_run_report`` and ``write_report`` return, with ``report=`` added,
+    are such dicts. Writes ``output`` atomically; returns the counts per
+    status.
+    """
+    entries = list(subjects)
+    _check_output(output, {f"report of {e.get('subject')}": e.get("report") for e in entries})
+    folder = os.path.dirname(os.path.abspath(output))
+    figure_keys = []
+    for entry in entries:
+        for key in (entry.get("figures") or {}):
+            if key not in figure_keys:
+                figure_keys.append(key)
+    rows = []
+    counts = {}
+    for entry in entries:
+        status = entry.get("status") or "missing"
+        counts[status] = counts.get(status, 0) + 1
+        report = entry.get("report")
+        href = page.escape(os.path.relpath(os.path.abspath(report), folder)) if report else None
+        subject = page.escape(entry.get("subject", "?"))
+        name = f"<a href=\"{href}\">{subject}</a>" if href else subject
+        picture = ""
+        if entry.get("thumbnail"):
+            picture = f"<img src=\"{page.escape(entry['thumbnail'])}\" alt=\"axial slice of {subject}\">"
+            if href:
+                picture = f"<a href=\"{href}\">{picture}</a>"
+        detail = page.escape(entry.get("error") or "")
+        if entry.get("warnings"):
+            detail = f"{entry['warnings']} warnings" + (f"; {detail}" if detail else "")
+        figures = entry.get("figures") or {}
+        rows.append([name, page.status_badge(status), picture, detail] +
+                    [figures.get(key, "") for key in figure_keys])
+    header = ["subject", "status", "axial slice", "warnings or error"] + [_FIGURE_LABELS.get(k, k) for k in figure_keys]
+    tally = ", ".join(f"{n} {status}" for status, n in sorted(counts.items()))
+    body = (f"<h1>{page.escape(title)}</h1><p id=\"stvd-cohort-counts\">{len(entries)} subjects: {page.escape(tally)}."
+            f" Made by stvd {page.escape(__version__)} on {datetime.datetime.now().strftime('%Y-%m-%d %H:%M')}.</p>"
+            + "<div class=\"cohort\">" + page.table(header, rows, "stvd-cohort", raw_columns=(0, 1, 2)) + "</div>")
+    _write(output, page.page(title, body))
+    return counts
+
+
+def cohort_index_from_folder(folder, output=None, *, title=None):
+    """The cohort index of a folder of reports (``cohort_entries_from_folder``),
+    written to ``output`` (default: ``FOLDER/index.html``). Returns the
+    counts per status."""
+    output = output or os.path.join(folder, "index.html")
+    entries = [e for e in cohort_entries_from_folder(folder) if not same_file(e.get("report", ""), output)]
+    return write_cohort_index(output, entries, title=title or f"stvd cohort: {os.path.basename(os.path.abspath(folder))}")
+
+
+# ---------------------------------------------------------------------------
+# Shared steps
+
+
+def _subject_of(path):
+    name = os.path.basename(str(path or "run"))
+    for extension in (".nii.gz", ".nii", ".nrrd", ".nhdr"):
+        if name.endswith(extension):
+            return name[:-len(extension)]
+    return name
+
+
+def _check_convention(convention):
+    if convention not in CONVENTIONS:
+        raise ValueError(f"convention: expected one of {', '.join(CONVENTIONS)}, got {convention!r}")
+
+
+def _check_output(output, inputs):
+    if not str(output).endswith((".html", ".htm")):
+        raise ReportError(f"{output}: a report is an .html file", EXIT_USAGE)
+    try:
+        check_output(output, inputs)
+    except OutputIsInput as error:
+        raise ReportError(str(error), EXIT_USAGE) from None
+    except OutputError as error:
+        raise ReportError(str(error), EXIT_OUTPUT) from None
+
+
+def _write(output, text):
+    try:
+        write_atomically(output, text)
+    except OutputError as error:
+        raise ReportError(str(error), EXIT_OUTPUT) from None
+
+
+# ---------------------------------------------------------------------------
+# The command line (``stvd report`` runs it)
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        raise ReportError(f"report: {message} (see stvd report --help)", EXIT_USAGE)
+
+
+def _parser():
+    parser = _Parser(prog="stvd report", description=(
+        "A self-contained HTML page for a stvd run (from its --stats JSON and outputs), or the cohort index of a "
+        "folder of reports. See docs/report.md."))
+    parser.add_argument("--stats", metavar="RUN.json", help="the run's --stats file (names the tensors and outputs)")
+    parser.add_argument("--distance", metavar="MAP", help="a distance map (NIfTI) on the tensors' grid")
+    parser.add_argument("--paths", metavar="PATHS", help="streamlines of stvd path (.trk, .tck, .vtk)")
+    parser.add_argument("--paths-table", metavar="TSV", help="their TSV summary")
+    parser.add_argument("--table", metavar="TSV", help="a stvd connectivity table")
+    parser.add_argument("--labels", metavar="LABELS", help="the connectivity run's label image")
+    parser.add_argument("--fa", metavar="FA", help="an FA image on the tensors' grid (default: computed)")
+    parser.add_argument("--subject", help="the name on the page (default: the tensor file's name)")
+    parser.add_argument("--convention", choices=list(CONVENTIONS), default="neurological",
+                        help="how slices are shown (default neurological)")
+    parser.add_argument("--index", metavar="FOLDER", help="make the cohort index of a folder of reports instead")
+    parser.add_argument("--check", action="store_true", help=argparse.SUPPRESS)  # what stvd --report checks first
+    parser.add_argument("-o", "--output", metavar="REPORT.html", help="the page to write")
+    parser.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    return parser
+
+
+def _check_dependencies():
+    """The packages drawing needs; one line naming what is missing."""
+    missing = []
+    for module, package in (("matplotlib", "python3-matplotlib"), ("nibabel", "python3-nibabel")):
+        try:
+            __import__(module)
+        except ImportError:
+            missing.append(f"{module} (Debian: {package})")
+    if missing:
+        raise ReportError("report: the report needs " + " and ".join(missing) + " for " + sys.executable,
+                          EXIT_INTERNAL)
+    import matplotlib
+
+    matplotlib.use("Agg")
+
+
+def main(argv=None):
+    """``stvd report``: returns the exit code; failures print one line."""
+    start = time.perf_counter()
+    try:
+        arguments = _parser().parse_args(argv)
+        _check_dependencies()
+        if arguments.check:
+            return 0
+        if not arguments.output:
+            raise ReportError("report: no output: add -o REPORT.html", EXIT_USAGE)
+        if arguments.index:
+            counts = cohort_index_from_folder(arguments.index, arguments.output)
+            message = f"Wrote the cohort index {arguments.output}: " + ", ".join(f"{n} {s}" for s, n in counts.items())
+        else:
+            if not arguments.stats:
+                raise ReportError("report: no run: add --stats RUN.json (or --index FOLDER)", EXIT_USAGE)
+            summary = write_run_report(arguments.output, arguments.stats, distance=arguments.distance,
+                                       paths=arguments.paths, paths_table=arguments.paths_table, table=arguments.table,
+                                       labels=arguments.labels, fa=arguments.fa, subject=arguments.subject,
+                                       convention=arguments.convention)
+            message = (f"Wrote the report {arguments.output} ({summary['status']}, {summary['warnings']} warnings) "
+                       f"in {time.perf_counter() - start:.2f} s.")
+        if not arguments.quiet:
+            print(message)
+        return 0
+    except ReportError as error:
+        print(f"stvd: {error}", file=sys.stderr)
+        return error.exit_code
+    except KeyboardInterrupt:
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,212 @@
+"""The QC report (stvd.report, `stvd report`, `--report`): what a page shows,
+where its letters come from, and what it never does (fetch anything,
+overwrite an input, leave half a file)."""
+
+import base64
+import io
+import os
+import re
+import subprocess
+
+import nibabel as nib
+import numpy as np
+import pytest
+
+import stvd
+import stvd.report
+from conftest import CC_BODY, CST_L, DIPY_5D, MASK, TOOL, run_tool
+
+FIGURE = re.compile(r"<figure class=\"slice\" data-plane=\"(\w+)\" data-left=\"(\w)\" data-right=\"(\w)\" "
+                    r"data-top=\"(\w)\" data-bottom=\"(\w)\">.*?<img src=\"data:image/png;base64,([^\"]+)\"")
+
+
+def slices(page_text):
+    """plane -> (letters left, right, top, bottom; the picture as an RGB array)."""
+    import matplotlib.image
+
+    found = {}
+    for plane, left, right, top, bottom, data in FIGURE.findall(page_text):
+        picture = matplotlib.image.imread(io.BytesIO(base64.b64decode(data)), format="png")
+        found[plane] = ((left, right, top, bottom), picture[:, :, :3])
+    return found
+
+
+def seed_marker_x(picture):
+    """Where the magenta seed marker is across the picture, 0 (left) to 1 (right)."""
+    r, g, b = picture[:, :, 0], picture[:, :, 1], picture[:, :, 2]
+    columns = np.nonzero((r > 0.85) & (g < 0.25) & (b > 0.85))[1]
+    assert columns.size > 20, "no seed marker in the picture"
+    return columns.mean() / picture.shape[1]
+
+
+@pytest.fixture(scope="module")
+def flipped_brain(tmp_path_factory):
+    """The shipped brain with its header flipped left-right: the same voxels,
+    the first world axis negated, so that what was the patient's left is now
+    the patient's right."""
+    image = nib.load(DIPY_5D)
+    flip = np.diag([-1.0, 1.0, 1.0, 1.0])
+    header = image.header.copy()
+    flipped = nib.Nifti1Image(np.asanyarray(image.dataobj), flip @ image.affine, header)
+    flipped.set_sform(flip @ image.affine, code=1)
+    flipped.set_qform(flip @ image.affine, code=1)
+    path = tmp_path_factory.mktemp("flipped") / "flipped.nii.gz"
+    nib.save(flipped, path)
+    return path
+
+
+def distance_report(tmp_path, tensors, seed, *options):
+    page = tmp_path / "report.html"
+    run_tool("distance", tensors, "--seed-voxel", ",".join(map(str, seed)), "-o", tmp_path / "d.nii.gz", "-q",
+             "--report", page, *options)
+    return page.read_text()
+
+
+@pytest.mark.parametrize("convention", ["neurological", "radiological"])
+def test_letters_and_picture_follow_the_header(tmp_path, flipped_brain, convention):
+    # CST_L lies in the left hemisphere of the shipped brain (RAS x = -19 mm):
+    # the seed marker must be on the side of the axial and coronal slices that
+    # is lettered L. Flipped in the header, the same voxel lies in the right
+    # hemisphere, and the marker must be on the side lettered R. A report
+    # that ignored the direction cosines (letters or picture) fails one case.
+    for tensors, side in ((DIPY_5D, "L"), (flipped_brain, "R")):
+        folder = tmp_path / side
+        folder.mkdir()
+        stvd.report.write_run_report(folder / "report.html", _stats_of_run(folder, tensors, CST_L),
+                                     convention=convention)
+        page_text = (folder / "report.html").read_text()
+        assert f"data-convention=\"{convention}\"" in page_text
+        shown = slices(page_text)
+        for plane in ("axial", "coronal"):
+            (left, right, top, bottom), picture = shown[plane]
+            assert {left, right} == {"L", "R"}
+            marker_side = left if seed_marker_x(picture) < 0.5 else right
+            assert marker_side == side, (plane, convention, tensors)
+            # Neurological: the patient's left on the left of the screen.
+            assert left == ("L" if convention == "neurological" else "R")
+        assert shown["axial"][0][2:] == ("A", "P")
+        assert shown["coronal"][0][2:] == ("S", "I")
+        assert shown["sagittal"][0] == ("A", "P", "S", "I")
+
+
+def _stats_of_run(folder, tensors, seed):
+    stats = folder / "run.json"
+    run_tool("distance", tensors, "--seed-voxel", ",".join(map(str, seed)), "-o", folder / "d.nii.gz", "-q",
+             "--stats", stats)
+    return stats
+
+
+def test_the_tools_page_shows_the_run(tmp_path):
+    text = distance_report(tmp_path, DIPY_5D, CC_BODY, "--mask", MASK)
+    # Version and command line, the statistics table, the warnings.
+    assert f"stvd {stvd.__version__}" in text
+    assert re.search(r"id=\"stvd-command-line\">stvd distance \S+dti_tensor_dipy5d.nii.gz --seed-voxel 55,54,15", text)
+    assert "<table id=\"stvd-statistics\">" in text and "parameters.tensor_frame" in text
+    assert "873 of 132,892 domain voxels had their tensors repaired" in text
+    assert "in the voxel frame (the default for this layout: check it)" in text
+    assert "orientation LAS, oblique by 5.7 degrees" in text
+    assert len(slices(text)) == 3
+    summary = stvd.report.cohort_entries_from_folder(tmp_path)[0]
+    assert summary["status"] == "warnings" and summary["figures"]["max_distance_mm"] == pytest.approx(91.6, abs=0.05)
+
+
+def test_a_page_fetches_nothing(tmp_path):
+    text = distance_report(tmp_path, DIPY_5D, CC_BODY)
+    sources = re.findall(r"(?:src|href)=\"([^\"]*)\"", text)
+    assert sources and all(s.startswith("data:image/png;base64,") for s in sources)
+    assert "<link" not in text and "@import" not in text and "url(" not in text
+
+
+def test_warnings_name_what_a_reviewer_must_see(tmp_path):
+    # Label seeds partly outside the domain, and a distance limit that
+    # leaves most of the brain unreached.
+    image = nib.load(DIPY_5D)
+    labels = np.zeros(image.shape[:3], np.uint8)
+    labels[53:58, 52:57, 14:17] = 1
+    labels[0:2, 0:2, 0:2] = 1  # a corner of the image: no tensor there
+    nib.save(nib.Nifti1Image(labels, image.affine), tmp_path / "seeds.nii.gz")
+    page = tmp_path / "r.html"
+    run_tool("distance", DIPY_5D, "--seeds", tmp_path / "seeds.nii.gz", "--max-distance", "20", "-o",
+             tmp_path / "d.nrrd", "-q", "--report", page)
+    text = page.read_text()
+    assert "8 seed label voxels lie outside the domain and were left out." in text
+    assert re.search(r"[\d,]+ of 132,892 domain voxels \([\d.]+ %\) were not reached \(the propagation stopped at "
+                     r"--max-distance\)", text)
+
+
+def test_path_and_connectivity_pages(tmp_path):
+    image = nib.load(DIPY_5D)
+    regions = np.zeros(image.shape[:3], np.int16)
+    for label, (i, j, k) in ((3, CC_BODY), (5, CST_L), (8, (41, 51, 12))):
+        regions[i - 1:i + 2, j - 1:j + 2, k - 1:k + 2] = label
+    nib.save(nib.Nifti1Image(regions, image.affine), tmp_path / "regions.nii.gz")
+    run_tool("path", DIPY_5D, "--seed-voxel", "55,54,15", "--target-voxel", "68,50,11", "--target-voxel", "41,51,12",
+             "-o", tmp_path / "p.vtk", "-q", "--report", tmp_path / "path.html")
+    text = (tmp_path / "path.html").read_text()
+    assert "<table id=\"stvd-paths\">" in text and text.count("voxel (68, 50, 11)") == 1
+    assert "Slices through voxel (55, 54, 15): distance map over FA" in text
+    run_tool("connectivity", DIPY_5D, "--labels", tmp_path / "regions.nii.gz", "-o", tmp_path / "c.tsv", "-q",
+             "--report", tmp_path / "connectivity.html")
+    text = (tmp_path / "connectivity.html").read_text()
+    assert "geodesic distance heat map" in text and "Regions: the labelled regions" in text
+
+
+def test_python_objects_give_the_page_of_the_tool(tmp_path):
+    result = stvd.propagate(DIPY_5D, CC_BODY)
+    paths = stvd.trace_paths(result, [CST_L])
+    summary = stvd.report.write_report(tmp_path / "python.html", result, paths=paths, command_line="test")
+    assert summary["kind"] == "path" and summary["figures"]["paths"] == 1
+    text = (tmp_path / "python.html").read_text()
+    assert "873 of 132,892 domain voxels had their tensors repaired" in text
+    tool = tmp_path / "tool"
+    tool.mkdir()
+    distance_report(tool, DIPY_5D, CC_BODY)
+    tool_summary = stvd.report.cohort_entries_from_folder(tool)[0]
+    for key in ("domain_voxels", "repaired_voxels", "reached_percent", "max_distance_mm", "median_distance_mm"):
+        assert summary["figures"][key] == tool_summary["figures"][key], key
+
+
+def test_cohort_index_from_entries_and_from_a_folder(tmp_path):
+    for subject in ("sub-01", "sub-02"):
+        folder = tmp_path / subject
+        folder.mkdir()
+        distance_report(folder, DIPY_5D, CC_BODY)
+    (tmp_path / "sub-03").mkdir()  # a subject whose run left no page
+    counts = stvd.report.cohort_index_from_folder(tmp_path)
+    assert counts == {"warnings": 2, "missing": 1}
+    text = (tmp_path / "index.html").read_text()
+    assert text.count("<a href=\"sub-01/report.html\">") == 2  # the name and the thumbnail
+    assert "3 subjects: 1 missing, 2 warnings." in text
+    # The cohort run's form: entries with a failed subject and its error.
+    entries = stvd.report.cohort_entries_from_folder(tmp_path)[:2]
+    entries.append({"subject": "sub-04", "status": "failed", "error": "t.nii.gz: cannot read"})
+    stvd.report.write_cohort_index(tmp_path / "cohort.html", entries)
+    assert "t.nii.gz: cannot read" in (tmp_path / "cohort.html").read_text()
+
+
+def test_an_output_is_never_an_input(tmp_path):
+    page = tmp_path / "report.html"
+    distance_report(tmp_path, DIPY_5D, CC_BODY)
+    before = page.read_bytes()
+    os.symlink(page, tmp_path / "link.html")
+    with pytest.raises(stvd.report.ReportError, match=r"link.html: the output is the report of sub input"):
+        stvd.report.write_cohort_index(tmp_path / "link.html", [{"subject": "sub", "status": "ok", "report": page}])
+    assert page.read_bytes() == before
+    message = run_tool("report", "--stats", tmp_path / "d.nii.gz", "-o", tmp_path / "d.nii.gz", check=False)
+    assert message.returncode == 2 and message.stderr.strip().endswith("d.nii.gz: a report is an .html file")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.nii.gz", "link.html", "report.html"]
+
+
+def test_without_matplotlib_nothing_is_written(tmp_path):
+    # A matplotlib that cannot be imported comes first on the path.
+    fake = tmp_path / "fake" / "matplotlib"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text("raise ImportError('no matplotlib here')\n")
+    environment = dict(os.environ, PYTHONPATH=str(tmp_path / "fake"))
+    process = subprocess.run([str(TOOL), "distance", str(DIPY_5D), "--seed-voxel", "55,54,15", "-o",
+                              str(tmp_path / "d.nii.gz"), "--report", str(tmp_path / "r.html")],
+                             capture_output=True, text=True, env=environment)
+    assert process.returncode == 1
+    assert process.stderr.startswith("stvd: report: the report needs matplotlib (Debian: python3-matplotlib) for ")
+    assert process.stderr.count("\n") == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fake"]

@@ -1,0 +1,64 @@
+// The statistics file (--stats) of the geodesic subcommands: the run's
+// command line, parameters, voxel counts, seeds, propagation and timings as
+// JSON, in one layout for distance, path and connectivity, so that
+// `stvd report` reads any of them.
+#pragma once
+
+#include <cstddef>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "command_line.hpp"
+#include "geodesic_options.hpp"
+#include "memory_check.hpp"
+#include "stvd/propagation.hpp"
+#include "stvd/propagation_choice.hpp"
+
+namespace stvd::tool {
+
+/// What a statistics file records; pointers that are null leave their
+/// sections out.
+struct RunStatistics {
+  std::string command;      ///< distance, path or connectivity
+  std::string commandLine;  ///< as typed (commandLineText)
+  std::string input;
+  std::string output;
+  /// Further outputs by role ("paths", "paths_table"), written as "outputs".
+  std::vector<std::pair<std::string, std::string>> outputs;
+  const PropagationChoice* choice = nullptr;
+  double maxDistance = std::numeric_limits<double>::infinity();
+  const TensorInputOptions* tensor = nullptr;
+  const TensorInput* tensorInput = nullptr;
+  imaging::MetricVoxelCounts counts;
+  std::string seedLabels;  ///< --seeds
+  std::string labels;      ///< --labels of connectivity
+  bool withUnreachableValue = false;
+  float unreachableValue = 0.f;
+  const std::vector<Seed>* seeds = nullptr;
+  std::size_t labelSeedsLeftOut = 0;
+  const PropagationResult* result = nullptr;  ///< also gives "distance_mm"
+  const MemoryCheck* memory = nullptr;        ///< the check before the propagation
+  /// Sections of the command's own, as `"name": value` JSON members.
+  std::vector<std::string> extraMembers;
+  /// Seconds per phase, in order ("total" last).
+  std::vector<std::pair<std::string, double>> seconds;
+};
+
+/// The JSON text of the statistics file, its "warnings" inputWarnings().
+std::string statisticsJson(const RunStatistics& run);
+
+/// The command line as one line a shell reads back (arguments quoted where
+/// needed).
+std::string commandLineText(int argc, char** argv);
+
+/// Reached voxels, largest and median finite distance.
+struct DistanceStatistics {
+  std::size_t reached = 0;
+  double maximum = 0.0;
+  double median = 0.0;
+};
+DistanceStatistics summariseDistances(const std::vector<double>& distance);
+
+}  // namespace stvd::tool
