@@ -14,24 +14,6 @@
 #include "subcommands.hpp"
 
 namespace stvd::tool {
-#ifdef STVD_PYTHON_EXECUTABLE
-namespace {
-
-/// The folder that holds the package stvd for this executable: next to it in
-/// the build tree (<build>/tools/stvd, <build>/python/stvd), or under the
-/// install prefix (<prefix>/bin/stvd, <prefix>/<install dir>/stvd). Empty
-/// when neither holds it (a package installed by pip, found by the
-/// interpreter itself).
-std::string packageFolder() {
-  const std::string here = executableFolder();
-  for (const std::string& folder : {here + "/../python", here + "/../" STVD_PYTHON_INSTALL_DIR}) {
-    if (::access((folder + "/stvd/cohort.py").c_str(), R_OK) == 0) return folder;
-  }
-  return {};
-}
-
-}  // namespace
-#endif
 
 int runCohort(int argc, char** argv) {
 #ifndef STVD_PYTHON_EXECUTABLE
@@ -40,7 +22,8 @@ int runCohort(int argc, char** argv) {
   throw ToolError(kExitInternal,
                   "cohort: this stvd was built without its Python package (STVD_WITH_PYTHON), which runs cohorts");
 #else
-  const std::string folder = packageFolder();
+  // Without the package next to the tool, the interpreter's own (pip).
+  const std::string folder = pythonPackageFolder("cohort.py");
   if (!folder.empty()) {
     const char* path = std::getenv("PYTHONPATH");
     const std::string value = folder + (path && *path ? ":" + std::string(path) : std::string());

@@ -288,4 +288,16 @@ std::string executableFolder() {
   return slash == std::string::npos ? "." : path.substr(0, slash);
 }
 
+std::string pythonPackageFolder(const std::string& module) {
+#ifdef STVD_PYTHON_INSTALL_DIR
+  const std::string here = executableFolder();
+  for (const std::string& folder : {here + "/../python", here + "/../" STVD_PYTHON_INSTALL_DIR}) {
+    if (::access((folder + "/stvd/" + module).c_str(), R_OK) == 0) return folder;
+  }
+#else
+  (void)module;
+#endif
+  return {};
+}
+
 }  // namespace stvd::tool
