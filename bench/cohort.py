@@ -2,8 +2,9 @@
 tests/python/synthetic_cohort.py at the shipped resolution, run serially in
 one process (the package's calls, no Dask), on an embedded LocalCluster of 1
 and of 2 workers (cluster start-up included), and on an already running
-cluster of 1 worker (the Dask layer alone); then one subject resampled to
-1.25 mm isotropic, for the planning figures of docs/cohorts.md.
+cluster of 1 worker (the Dask layer alone), all without QC pages; the serial
+run once more with them (their cost); then one subject resampled to 1.25 mm
+isotropic, for the planning figures of docs/cohorts.md.
 
     PYTHONPATH=build/python python3 bench/cohort.py [--subjects 16] [--folder DIR]
 """
@@ -27,10 +28,10 @@ import stvd.cohort  # noqa: E402
 from synthetic_cohort import make_cohort  # noqa: E402
 
 
-def timed(label, manifest, outdir, **options):
+def timed(label, manifest, outdir, report=False, **options):
     shutil.rmtree(outdir, ignore_errors=True)
     start = time.perf_counter()
-    result = stvd.cohort.run(manifest, outdir, **options)
+    result = stvd.cohort.run(manifest, outdir, report=report, **options)
     seconds = time.perf_counter() - start
     ok = len(result.subjects) - len(result.failed)
     tasks = [json.loads(p.read_text()) for p in pathlib.Path(outdir).glob("*/run.json")]
@@ -82,8 +83,12 @@ def main():
     manifest = make_cohort(root / "data", subjects=args.subjects)
     print(f"{args.subjects} subjects at the shipped resolution in {root}; {os.cpu_count()} cores, "
           f"load average {os.getloadavg()[0]:.1f}", flush=True)
+    import matplotlib
+
+    matplotlib.use("Agg")
 
     serial, compute, result = timed("serial, one process, no Dask", manifest, root / "serial", serial=True)
+    with_pages, _, _ = timed("serial, with QC pages and index", manifest, root / "pages", serial=True, report=True)
     one, _, _ = timed("LocalCluster, 1 worker (start-up in)", manifest, root / "dask1", workers=1)
     two, _, _ = timed("LocalCluster, 2 workers (start-up in)", manifest, root / "dask2", workers=2)
     from distributed import Client, LocalCluster
@@ -98,13 +103,15 @@ def main():
           f"{100 * (running - serial) / serial:.1f} % of the serial run "
           f"(compute per complete subject {compute / complete:.2f} s)")
     stored = sum(p.stat().st_size for p in (root / "serial").rglob("*") if p.is_file()) / complete
-    print(f"outputs per subject: {stored / 1e6:.2f} MB")
+    print(f"outputs per subject: {stored / 1e6:.2f} MB; QC pages: {(with_pages - serial) / complete:.2f} s and "
+          f"{sum(p.stat().st_size for p in (root / 'pages').rglob('*.html')) / complete / 1e6:.2f} MB per subject")
 
     hires_manifest, shape = resampled_subject(root / "data" / "base", root / "data" / "base_1.25mm", 1.25)
     hires, hires_compute, hires_result = timed(f"1.25 mm subject {shape}, serial", hires_manifest, root / "hires",
                                                serial=True)
     assert not hires_result.failed, hires_result.subjects
     hires_stored = sum(p.stat().st_size for p in (root / "hires").rglob("*") if p.is_file())
+    print(f"load average at the end: {' '.join(f'{v:.1f}' for v in os.getloadavg())}")
     for label, per_subject, size in (("shipped 2 mm", compute / complete, stored),
                                      ("1.25 mm", hires_compute, hires_stored)):
         print(f"40,000 subjects at {label}: {40000 * per_subject / 3600:.0f} core-hours, "

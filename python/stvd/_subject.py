@@ -24,6 +24,7 @@ import numpy as np
 
 CONNECTIVITY = "connectivity"
 CONNECTIVITY_FILE = "connectivity.tsv"
+REPORT_FILE = "report.html"
 
 # The tool's table (stvd connectivity): columns, and numbers with four
 # decimals or n/a, so that the cohort's table and the tool's are the same
@@ -138,28 +139,46 @@ def _connectivity_summary(result):
             "mean_geodesic_mm": _round(geodesic.mean()) if geodesic.size else None}
 
 
-def output_files(folder, parts):
-    """The outputs of ``parts`` in ``folder``: ``{file name: (role, path)}``."""
+def output_files(folder, parts, report=False):
+    """The outputs of ``parts`` in ``folder`` (and with ``report`` the QC
+    page): ``{file name: (role, path)}``."""
     files = {}
     for part in parts:
         name = CONNECTIVITY_FILE if part == CONNECTIVITY else map_file(part)
         role = "connectivity table" if part == CONNECTIVITY else f"distance map of seed set {part}"
         files[name] = (role, os.path.join(folder, name))
+    if report:
+        files[REPORT_FILE] = ("QC page", os.path.join(folder, REPORT_FILE))
     return files
 
 
-def compute_parts(subject, parts, seed_sets, folder, options):
+def _write_report(out, path, subject, tensors, propagation, connectivity):
+    """Stages the subject's QC page (``stvd.report``): the first distance map
+    of the task over FA, with its seeds, and the connectivity heat maps."""
+    from . import report
+
+    def write(staging):
+        report.write_report(staging, propagation, connectivity=connectivity,
+                            labels=subject.labels if connectivity is not None else None,
+                            tensors=tensors if propagation is None else None, subject=subject.id,
+                            command_line="stvd cohort")
+
+    out.write(path, write)
+
+
+def compute_parts(subject, parts, seed_sets, folder, options, report=False):
     """Computes ``parts`` of ``subject`` (a ``_manifest.Subject``) and writes
     their outputs into ``folder``. ``seed_sets``: ``{name: [(i, j, k), ...]
     or {'label': value}}`` of the parts that are seed sets; ``options``: the
-    keywords of the package's calls. Returns ``{'parts': {part: summary},
+    keywords of the package's calls; ``report``: write the subject's QC page
+    too (what this task computed). Returns ``{'parts': {part: summary},
     'outputs': {file: {'bytes', 'sha256'}}, 'run': {...}}``, or ``{'error':
     one line}`` for a subject that cannot be computed. Never raises for bad
     input: a bad subject must not stop the others."""
     import stvd
 
     start = time.perf_counter()
-    files = output_files(folder, parts)
+    files = output_files(folder, parts, report)
     try:
         tensor_options = {name: options.get(name) for name in (
             "tensor_kind", "diffusion_metric", "max_anisotropy", "fa_threshold")}
@@ -169,13 +188,14 @@ def compute_parts(subject, parts, seed_sets, folder, options):
         summaries = {}
         with stvd.OutputFiles(dict(files.values()), inputs=subject.input_roles()) as out:
             tensors = _load_tensors(subject.tensors)
-            seed_labels = None
+            seed_labels, first_map, table = None, None, None
             for part in parts:
                 path = files[CONNECTIVITY_FILE if part == CONNECTIVITY else map_file(part)][1]
                 if part == CONNECTIVITY:
                     result = stvd.connectivity(tensors, subject.labels, threads=options.get("threads"), **common)
                     out.write_text(path, connectivity_table(result))
                     summaries[part] = _connectivity_summary(result)
+                    table = result
                     continue
                 seeds = seed_sets[part]
                 if isinstance(seeds, dict):
@@ -189,6 +209,10 @@ def compute_parts(subject, parts, seed_sets, folder, options):
                     propagation = stvd.propagate(tensors, seeds, max_distance=options.get("max_distance"), **common)
                 propagation.save(path, options.get("unreachable_value"), outputs=out)
                 summaries[part] = _map_summary(propagation, seeds)
+                if first_map is None:
+                    first_map = propagation
+            if report:
+                _write_report(out, files[REPORT_FILE][1], subject, tensors, first_map, table)
         outputs = {name: _file_record(path) for name, (_, path) in files.items()}
     except (ValueError, TypeError, OSError, MemoryError, EOFError) as error:
         return {"error": one_line(error)}

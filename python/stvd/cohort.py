@@ -14,11 +14,14 @@ the package's calls and the tool's options. Per subject it writes into
   complete when it is there, names the same request and its outputs have
   their sizes. It holds nothing that depends on where or when the subject
   ran, so a run on any cluster gives the bytes of a serial run;
+- ``report.html``: its QC page (``stvd.report``), unless ``report=False``;
 - ``run.json``: where and how long it ran and the worker's peak memory;
 - ``error.txt``: the one-line error of a subject that failed (and nothing
   else).
 
-``OUTDIR/cohort.tsv`` gathers every subject's summary or error. Every file is
+``OUTDIR/cohort.tsv`` gathers every subject's summary or error, and
+``OUTDIR/index.html`` (with reports) is the cohort index page linking to
+every subject's QC page. Every file is
 written through the package's ``stvd.OutputFiles`` (staged, flushed and
 renamed into place by the library) and no output may be an input. A
 re-run skips complete subjects and computes the others again; a subject that
@@ -38,12 +41,13 @@ import time
 
 from ._manifest import ManifestError, read_manifest, read_seed_sets
 from ._outputs import OutputFiles, check_outputs_are_not_inputs, remove_leftover_staging_folders
-from ._subject import CONNECTIVITY, CONNECTIVITY_FILE, compute_parts, one_line, output_files
+from ._subject import CONNECTIVITY, CONNECTIVITY_FILE, REPORT_FILE, compute_parts, one_line, output_files
 
 STATISTICS_FILE = "statistics.json"
 RUN_FILE = "run.json"
 ERROR_FILE = "error.txt"
 COHORT_TABLE = "cohort.tsv"
+COHORT_INDEX = "index.html"
 LOCK_FILE = ".stvd-cohort.lock"
 TABLE_COLUMNS = ("subject", "status", "regions", "pairs_connected", "mean_geodesic_mm", "maps", "map_max_mm",
                  "error")
@@ -61,11 +65,12 @@ class Cohort:
     manifest's order (the columns of ``cohort.tsv``, and ``computed``:
     False for a subject complete from an earlier run); ``table``, the path
     of ``cohort.tsv``; ``seconds``; ``workers`` (0 for a serial run);
-    ``dashboard`` (Dask's dashboard link, or None)."""
+    ``dashboard`` (Dask's dashboard link, or None); ``index``, the path of
+    the cohort index page (None without reports)."""
 
-    def __init__(self, subjects, table, seconds, workers, dashboard):
-        self.subjects, self.table, self.seconds, self.workers, self.dashboard = (
-            subjects, table, seconds, workers, dashboard)
+    def __init__(self, subjects, table, seconds, workers, dashboard, index=None):
+        self.subjects, self.table, self.seconds, self.workers, self.dashboard, self.index = (
+            subjects, table, seconds, workers, dashboard, index)
 
     @property
     def failed(self):
@@ -87,10 +92,11 @@ class _Plan:
     def __init__(self, subject, folder, parts, seed_sets, request, error=None):
         self.subject, self.folder, self.parts, self.seed_sets, self.request, self.error = (
             subject, folder, parts, seed_sets, request, error)
+        self.report = request["report"]
 
     def output_files(self):
         files = {name: os.path.join(self.folder, name) for name in (STATISTICS_FILE, RUN_FILE, ERROR_FILE)}
-        files.update({name: path for name, (_, path) in output_files(self.folder, self.parts).items()})
+        files.update({name: path for name, (_, path) in output_files(self.folder, self.parts, self.report).items()})
         return files
 
 
@@ -104,7 +110,7 @@ def _input_record(path, cell):
         return {"path": cell, "bytes": None, "mtime_ns": None}
 
 
-def _plan(subject, outdir, options, connectivity, maps):
+def _plan(subject, outdir, options, connectivity, maps, report):
     from . import __version__
 
     folder = os.path.join(outdir, subject.id)
@@ -124,7 +130,7 @@ def _plan(subject, outdir, options, connectivity, maps):
         "work": {"connectivity": connectivity,
                  "seed_sets": {name: seeds if isinstance(seeds, dict) else [list(v) for v in seeds]
                                for name, seeds in seed_sets.items()}},
-        "options": options, "stvd": __version__}
+        "options": options, "report": report, "stvd": __version__}
     return _Plan(subject, folder, parts, seed_sets, request, error)
 
 
@@ -196,7 +202,7 @@ def _finish_subject(plan, results):
     # a complete one not those of an earlier request (a seed set renamed).
     keep = set() if errors else set(outputs)
     for name in os.listdir(plan.folder):
-        ours = name == CONNECTIVITY_FILE or (name.startswith("distance_") and name.endswith(".nii.gz"))
+        ours = name in (CONNECTIVITY_FILE, REPORT_FILE) or (name.startswith("distance_") and name.endswith(".nii.gz"))
         if ours and name not in keep:
             os.remove(os.path.join(plan.folder, name))
     if errors:
@@ -294,7 +300,7 @@ def _locked(outdir):
         yield
 
 
-def _check_files(manifest, outdir, plans):
+def _check_files(manifest, outdir, plans, report):
     """No output of the run is an input of any subject, nor the manifest,
     nor another output: the library's check (``stvd.FileConflictError``)
     over the whole run, before any folder is made."""
@@ -304,6 +310,8 @@ def _check_files(manifest, outdir, plans):
                    for column, path in plan.subject.inputs().items()]
     outputs = [(f"output {COHORT_TABLE}", os.path.join(outdir, COHORT_TABLE)),
                (f"lock file {LOCK_FILE}", os.path.join(outdir, LOCK_FILE))]
+    if report:
+        outputs.append((f"output {COHORT_INDEX}", os.path.join(outdir, COHORT_INDEX)))
     for plan in plans:
         outputs += [(f"output {name} of subject {plan.subject.id}", path)
                     for name, path in plan.output_files().items()]
@@ -311,7 +319,7 @@ def _check_files(manifest, outdir, plans):
 
 
 def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=False, connectivity=True, maps=True,
-        split_seed_sets=False, threads=1, progress=False, method=None, k=None, chain_measure=None, stencil=None,
+        split_seed_sets=False, threads=1, progress=False, report=True, method=None, k=None, chain_measure=None, stencil=None,
         max_distance=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None, fa_threshold=None,
         unreachable_value=None):
     """Runs every subject of ``manifest`` and writes into ``outdir``
@@ -330,6 +338,9 @@ def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=F
     get none). ``split_seed_sets=True`` makes a task of each part (the
     connectivity, each seed set) instead of one per subject.
     ``threads``: regions propagated at once within a connectivity task.
+    ``report``: a QC page per subject (``stvd.report``: the connectivity and
+    the first map, which ``split_seed_sets`` then computes in one task) and
+    the cohort index ``OUTDIR/index.html``.
 
     Options as in ``stvd.distance`` (None: ``stvd.defaults``): ``method``,
     ``k``, ``chain_measure``, ``stencil``, ``max_distance`` (maps),
@@ -356,8 +367,9 @@ def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=F
             if subject.seeds is None:
                 raise ManifestError(f"{manifest}, row {subject.row}, column seeds: no seeds, and the run computes "
                                     "maps only (nothing to compute for this subject)")
-    plans = [_plan(subject, outdir, options, connectivity, maps) for subject in subjects]
-    _check_files(manifest, outdir, plans)
+    report = bool(report)
+    plans = [_plan(subject, outdir, options, connectivity, maps, report) for subject in subjects]
+    _check_files(manifest, outdir, plans, report)
     os.makedirs(outdir, exist_ok=True)
 
     with _locked(outdir):
@@ -376,7 +388,8 @@ def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=F
             if serial:
                 for plan in pending:
                     results = [] if plan.error else [compute_parts(plan.subject, plan.parts, plan.seed_sets,
-                                                                   plan.folder, _with_threads(options, threads))]
+                                                                   plan.folder, _with_threads(options, threads),
+                                                                   plan.report)]
                     rows[plan.subject.id] = dict(_finish_subject(plan, results), computed=True)
                     bar.subject(rows[plan.subject.id])
             elif pending:
@@ -394,7 +407,27 @@ def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=F
         ordered = [rows[plan.subject.id] for plan in plans]
         table = os.path.join(outdir, COHORT_TABLE)
         _write_text(table, _table_text(ordered))
-    return Cohort(ordered, table, time.perf_counter() - start, worker_count, dashboard)
+        index = _write_index(outdir, plans, ordered) if report else None
+    return Cohort(ordered, table, time.perf_counter() - start, worker_count, dashboard, index)
+
+
+def _write_index(outdir, plans, rows):
+    """The cohort index page (``stvd.report.write_cohort_index``): every
+    subject in the manifest's order, its QC page's summary, or its error."""
+    from . import report
+
+    pages = {os.path.dirname(os.path.abspath(entry["report"])): entry
+             for entry in report.cohort_entries_from_folder(outdir) if entry.get("report")}
+    entries = []
+    for plan, row in zip(plans, rows):
+        if row["status"] != "ok":
+            entries.append({"subject": plan.subject.id, "status": "failed", "error": row["error"]})
+        else:
+            entries.append(pages.get(os.path.abspath(plan.folder),
+                                     {"subject": plan.subject.id, "status": "missing", "error": "no QC page"}))
+    path = os.path.join(outdir, COHORT_INDEX)
+    report.write_cohort_index(path, entries, title=f"stvd cohort: {os.path.basename(outdir)}")
+    return path
 
 
 def _with_threads(options, threads):
@@ -416,12 +449,15 @@ def _run_on_dask(client, plans, options, split_seed_sets, rows, bar):
             bar.subject(rows[plan.subject.id])
             continue
         groups = [[part] for part in plan.parts] if split_seed_sets else [plan.parts]
+        if plan.report and len(groups) > 1 and groups[0] == [CONNECTIVITY]:
+            # The QC page shows the connectivity and the first map: one task.
+            groups[:2] = [groups[0] + groups[1]]
         waiting[plan.subject.id] = len(groups)
         results[plan.subject.id] = []
-        for parts in groups:
+        for group, parts in enumerate(groups):
             seed_sets = {name: plan.seed_sets[name] for name in parts if name != CONNECTIVITY}
             future = client.submit(compute_parts, plan.subject, parts, seed_sets, plan.folder, options,
-                                   pure=False, priority=-order,
+                                   plan.report and group == 0, pure=False, priority=-order,
                                    key=f"stvd-cohort-{plan.subject.id}-{'+'.join(parts)}-{os.urandom(4).hex()}")
             futures[future] = plan
     for future in as_completed(list(futures)):
@@ -450,14 +486,16 @@ regions of its label image (the table of `stvd connectivity`) and a distance
 map from each seed set of its seeds table (the map of `stvd distance`), on an
 embedded Dask cluster of one worker process per core, or on a running Dask
 cluster (--scheduler). Writes OUTDIR/<subject>/ (connectivity.tsv,
-distance_<set>.nii.gz, statistics.json, run.json; error.txt for a subject
-that failed) and OUTDIR/cohort.tsv. A second run skips complete subjects and
+distance_<set>.nii.gz, report.html, statistics.json, run.json; error.txt for
+a subject that failed), OUTDIR/cohort.tsv and the cohort index
+OUTDIR/index.html. A second run skips complete subjects and
 computes the missing and failed ones. See docs/cohorts.md.
 
 MANIFEST.tsv: a header row and one row per subject; columns subject, tensors,
 labels (required), mask, tensor_order, tensor_frame, seeds (optional); paths
 relative to the manifest's folder. Seeds: a TSV with columns name, i, j, k
-(voxel indices from 0); rows with the same name form one seed set."""
+(voxel indices from 0), rows with the same name forming one seed set; or a
+label image on the tensors' grid, each non-zero value a seed set (label_<v>)."""
 
 EPILOG = """\
 Exit codes: 0 every subject complete; 1 internal error (or the cluster could
@@ -485,7 +523,8 @@ def _parser():
                        help="worker processes of the embedded cluster (default: one per core)")
     where.add_argument("--serial", action="store_true", help="one subject after the other in this process, no Dask")
     where.add_argument("--split-seed-sets", action="store_true",
-                       help="a task per seed set and per connectivity table, not per subject")
+                       help="a task per seed set and per connectivity table, not per subject (with QC pages "
+                       "the table goes with the first seed set)")
     where.add_argument("--threads", type=int, default=1, metavar="N",
                        help="regions propagated at once within a connectivity task (default 1)")
     work = parser.add_argument_group("what it computes (options as in stvd distance; defaults: the tool's)")
@@ -499,6 +538,10 @@ def _parser():
     shown.add_argument("--progress", dest="progress", action="store_true", default=None,
                        help="a progress bar (default: when stderr is a terminal)")
     shown.add_argument("--no-progress", dest="progress", action="store_false")
+    shown.add_argument("--report", dest="report", action="store_true", default=True,
+                       help="a QC page per subject and the cohort index (the default)")
+    shown.add_argument("--no-report", dest="report", action="store_false",
+                       help="no QC pages (about 1-2 s less per subject)")
     shown.add_argument("-q", "--quiet", action="store_true", help="no summary on stdout")
     return parser
 
@@ -518,7 +561,8 @@ def main(argv=None):
     try:
         cohort = run(args.manifest, args.output, scheduler=args.scheduler, workers=args.workers, serial=args.serial,
                      connectivity=not args.no_connectivity, maps=not args.no_maps,
-                     split_seed_sets=args.split_seed_sets, threads=args.threads, progress=progress, **options)
+                     split_seed_sets=args.split_seed_sets, threads=args.threads, progress=progress,
+                     report=args.report, **options)
     except ValueError as error:  # the manifest, an output that is an input, options
         print(f"stvd: {one_line(error)}", file=sys.stderr)
         return EXIT_USAGE
@@ -534,7 +578,8 @@ def main(argv=None):
         print(f"Cohort of {len(cohort.subjects)} subjects: {len(cohort.computed)} computed {where}, "
               f"{len(cohort.subjects) - len(cohort.computed)} complete from an earlier run, {len(failed)} failed"
               + (f" ({', '.join(failed[:5])}{', ...' if len(failed) > 5 else ''})" if failed else "")
-              + f". Took {cohort.seconds:.1f} s. Wrote {cohort.table}.")
+              + f". Took {cohort.seconds:.1f} s. Wrote {cohort.table}"
+              + (f" and the index {cohort.index}." if cohort.index else "."))
     return EXIT_SUBJECTS_FAILED if failed else EXIT_OK
 
 

@@ -3,6 +3,7 @@ shipped brain (synthetic_cohort.py, cropped): the manifest's checks, the
 outputs against the tool's, the embedded Dask cluster against a serial run
 (the same bytes), re-runs, and outputs that would be inputs."""
 
+import html
 import json
 import os
 import pathlib
@@ -14,6 +15,7 @@ import numpy as np
 import pytest
 
 import stvd.cohort
+import stvd.report
 from conftest import TOOL, run_tool
 from synthetic_cohort import make_cohort
 
@@ -28,10 +30,11 @@ def run_cohort_command(*args):
 
 def folder_bytes(folder):
     """Every file under ``folder`` by relative path, with its bytes; the
-    run.json files (where and how long) are left out."""
+    run.json files (where and how long) and the cohort index (when it was
+    made) are left out."""
     folder = pathlib.Path(folder)
     return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*"))
-            if p.is_file() and p.name != "run.json"}
+            if p.is_file() and p.name not in ("run.json", "index.html")}
 
 
 @pytest.fixture(scope="module")
@@ -62,7 +65,7 @@ def test_every_subject_is_computed_and_bad_ones_are_recorded_with_their_error(se
         else:
             assert row["status"] == "ok" and row["error"] == "" and row["regions"] == "4" and row["maps"] == "2"
             assert files == ["connectivity.tsv", "distance_CC_body.nii.gz", "distance_CST_L.nii.gz",
-                             "run.json", "statistics.json"]
+                             "report.html", "run.json", "statistics.json"]
     assert "corrupt/tensors.nii.gz: cannot read the tensors" in rows["corrupt"]["error"]
     assert "seed voxel" in rows["seed_outside"]["error"] and "outside the domain" in rows["seed_outside"]["error"]
 
@@ -86,6 +89,33 @@ def test_a_subjects_outputs_are_the_tools(serial, cohort, tmp_path):
             outdir / "base" / f"distance_{seed_set}.nii.gz")
 
 
+def test_every_good_subject_has_a_qc_page_and_the_index_lists_all_in_the_manifests_order(serial):
+    outdir, result = serial
+    assert result.index == str(outdir / "index.html")
+    entries = {e["subject"]: e for e in stvd.report.cohort_entries_from_folder(outdir)}
+    for row in result.subjects:
+        subject = row["subject"]
+        if subject in BAD:
+            assert entries[subject]["status"] == "missing"  # no page; the index says why (below)
+        else:
+            # The page's summary: this subject's map (the first seed set) and
+            # its four regions.
+            entry = entries[subject]
+            assert entry["report"] == str(outdir / subject / "report.html")
+            assert entry["status"] in ("ok", "warnings") and entry["figures"]["regions"] == 4
+            assert entry["figures"]["max_distance_mm"] == pytest.approx(
+                json.loads((outdir / subject / "statistics.json").read_text())["parts"]["CC_body"]["max_mm"],
+                abs=0.01)
+    index = (outdir / "index.html").read_text()
+    rows = [index.index(f">{s['subject']}<") for s in result.subjects]
+    assert rows == sorted(rows)  # the manifest's order
+    for row in result.subjects:
+        if row["subject"] in BAD:
+            assert html.escape(row["error"]) in index
+        else:
+            assert f'href="{row["subject"]}/report.html"' in index
+
+
 def test_the_same_brain_under_a_flipped_header_gives_the_same_geodesic_distances(serial):
     outdir, _ = serial
 
@@ -104,6 +134,7 @@ def test_the_embedded_cluster_writes_the_bytes_of_the_serial_run(serial, cohort,
     process = run_cohort_command(cohort, "-o", outdir, "--workers", "2", "--no-progress")
     assert process.returncode == 3, process.stderr  # two subjects failed
     assert "7 subjects: 7 computed on 2 Dask workers" in process.stdout
+    assert f"and the index {outdir / 'index.html'}" in process.stdout
     assert folder_bytes(outdir) == folder_bytes(serial[0])
     assert not list(outdir.rglob(".stvd-staging-*"))
 
@@ -111,7 +142,7 @@ def test_the_embedded_cluster_writes_the_bytes_of_the_serial_run(serial, cohort,
 def test_split_seed_sets_makes_a_task_of_each_part_with_the_same_outputs(serial, cohort, tmp_path):
     result = stvd.cohort.run(cohort, tmp_path / "out", workers=2, split_seed_sets=True)
     assert set(result.failed) == BAD
-    assert folder_bytes(tmp_path / "out") == folder_bytes(serial[0])
+    assert folder_bytes(tmp_path / "out") == folder_bytes(serial[0])  # QC pages included
 
 
 def test_a_second_run_computes_only_what_is_missing_or_failed(cohort, tmp_path):
@@ -119,12 +150,12 @@ def test_a_second_run_computes_only_what_is_missing_or_failed(cohort, tmp_path):
     data = tmp_path / "data"
     shutil.copytree(cohort.parent, data)
     manifest, outdir = data / "manifest.tsv", tmp_path / "out"
-    first = stvd.cohort.run(manifest, outdir, serial=True)
-    assert len(first.computed) == SUBJECTS
+    first = stvd.cohort.run(manifest, outdir, serial=True, report=False)
+    assert len(first.computed) == SUBJECTS and first.index is None and not list(outdir.rglob("*.html"))
     stamps = {p: p.stat().st_mtime_ns for p in outdir.rglob("statistics.json")}
     table = (outdir / "cohort.tsv").read_text()
 
-    second = stvd.cohort.run(manifest, outdir, serial=True)
+    second = stvd.cohort.run(manifest, outdir, serial=True, report=False)
     assert set(second.computed) == BAD and set(second.failed) == BAD
     assert {p: p.stat().st_mtime_ns for p in outdir.rglob("statistics.json")} == stamps
     assert (outdir / "cohort.tsv").read_text() == table
@@ -136,14 +167,14 @@ def test_a_second_run_computes_only_what_is_missing_or_failed(cohort, tmp_path):
     leftover.mkdir()
     (leftover / "distance_CST_L.nii.gz").write_bytes(b"half")
     shutil.copy(data / "base" / "tensors.nii.gz", data / "corrupt" / "tensors.nii.gz")
-    third = stvd.cohort.run(manifest, outdir, serial=True)
+    third = stvd.cohort.run(manifest, outdir, serial=True, report=False)
     assert set(third.computed) == {"s03", "corrupt", "seed_outside"} and third.failed == ["seed_outside"]
     assert (outdir / "s03" / "distance_CST_L.nii.gz").is_file() and not leftover.exists()
     assert (outdir / "corrupt" / "connectivity.tsv").read_bytes() == (outdir / "base" / "connectivity.tsv").read_bytes()
     assert not (outdir / "corrupt" / "error.txt").exists()
 
     # Other options are another request: everything is computed again.
-    fourth = stvd.cohort.run(manifest, outdir, serial=True, k=4)
+    fourth = stvd.cohort.run(manifest, outdir, serial=True, k=4, report=False)
     assert len(fourth.computed) == SUBJECTS
     assert json.loads((outdir / "base" / "statistics.json").read_text())["request"]["options"]["k"] == 4
 
@@ -170,7 +201,7 @@ def test_seeds_given_as_a_label_image_make_a_map_per_region(serial, cohort, tmp_
     manifest.write_text(f"subject\ttensors\tlabels\tmask\tseeds\nregions\t{files}\tseeds.nii.gz\n"
                         f"region_outside\t{files}\tseeds_outside.nii.gz\n")
 
-    result = stvd.cohort.run(manifest, tmp_path / "out", serial=True, connectivity=False)
+    result = stvd.cohort.run(manifest, tmp_path / "out", serial=True, connectivity=False, report=False)
     assert result.failed == ["region_outside"]
     assert sorted(p.name for p in (tmp_path / "out" / "regions").glob("distance_*")) == [
         "distance_label_1.nii.gz", "distance_label_2.nii.gz"]
