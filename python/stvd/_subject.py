@@ -213,13 +213,16 @@ def compute_parts(subject, parts, seed_sets, folder, options, report=False):
                     first_map = propagation
             if report:
                 _write_report(out, files[REPORT_FILE][1], subject, tensors, first_map, table)
-        outputs = {name: _file_record(path) for name, (_, path) in files.items()}
+        # The QC page says when it was made: its record goes with the run's
+        # (where and when), not with the statistics (the same on any cluster).
+        outputs = {name: _file_record(path) for name, (_, path) in files.items() if name != REPORT_FILE}
+        page = {"qc_page": _file_record(files[REPORT_FILE][1])} if report else {}
     except (ValueError, TypeError, OSError, MemoryError, EOFError) as error:
         return {"error": one_line(error)}
     except Exception as error:  # anything else from reading a hostile file is still this subject's failure
         return {"error": f"{type(error).__name__}: {one_line(error)}"}
     return {"parts": summaries, "outputs": outputs,
             "run": {"seconds": round(time.perf_counter() - start, 3), "host": socket.gethostname(),
-                    "pid": os.getpid(),
+                    "pid": os.getpid(), **page,
                     # ru_maxrss is in KiB on Linux: the worker's peak so far.
                     "worker_peak_rss_mib": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)}}

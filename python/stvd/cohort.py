@@ -10,12 +10,15 @@ the package's calls and the tool's options. Per subject it writes into
 - ``connectivity.tsv``: the table of ``stvd connectivity``, the same bytes;
 - ``distance_<seed set>.nii.gz``: the map of ``stvd distance``;
 - ``statistics.json``: what was asked (inputs, options), a summary of each
-  part and the size and SHA-256 of each output. Written last: a subject is
-  complete when it is there, names the same request and its outputs have
-  their sizes. It holds nothing that depends on where or when the subject
-  ran, so a run on any cluster gives the bytes of a serial run;
+  part and the size and SHA-256 of each output but the QC page. Written
+  last: a subject is complete when it is there, names the same request and
+  its outputs have their sizes (and the page is there). It holds nothing
+  that depends on where or when the subject ran, so a run on any cluster
+  gives the bytes of a serial run;
 - ``report.html``: its QC page (``stvd.report``), unless ``report=False``;
-- ``run.json``: where and how long it ran and the worker's peak memory;
+  it says when it was made;
+- ``run.json``: where and how long it ran, the worker's peak memory and the
+  QC page's size and SHA-256;
 - ``error.txt``: the one-line error of a subject that failed (and nothing
   else).
 
@@ -145,6 +148,8 @@ def _complete_statistics(plan):
         for name, record in statistics["outputs"].items():
             if os.path.getsize(os.path.join(plan.folder, name)) != record["bytes"]:
                 return None
+        if plan.report and not os.path.isfile(os.path.join(plan.folder, REPORT_FILE)):
+            return None
         return statistics
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return None
@@ -200,7 +205,7 @@ def _finish_subject(plan, results):
     # The folder keeps the outputs of this request only: a failed subject
     # none (the parts that did finish are computed again with the others),
     # a complete one not those of an earlier request (a seed set renamed).
-    keep = set() if errors else set(outputs)
+    keep = set() if errors else set(outputs) | ({REPORT_FILE} if plan.report else set())
     for name in os.listdir(plan.folder):
         ours = name in (CONNECTIVITY_FILE, REPORT_FILE) or (name.startswith("distance_") and name.endswith(".nii.gz"))
         if ours and name not in keep:

@@ -30,11 +30,16 @@ def run_cohort_command(*args):
 
 def folder_bytes(folder):
     """Every file under ``folder`` by relative path, with its bytes; the
-    run.json files (where and how long) and the cohort index (when it was
-    made) are left out."""
+    run.json files (where and how long) and the QC pages and cohort index
+    (which say when they were made) are left out."""
     folder = pathlib.Path(folder)
     return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*"))
-            if p.is_file() and p.name not in ("run.json", "index.html")}
+            if p.is_file() and p.name not in ("run.json", "report.html", "index.html")}
+
+
+def qc_pages(folder):
+    """The subjects with a QC page in ``folder``, and its status."""
+    return {e["subject"]: e["status"] for e in stvd.report.cohort_entries_from_folder(folder)}
 
 
 @pytest.fixture(scope="module")
@@ -136,13 +141,15 @@ def test_the_embedded_cluster_writes_the_bytes_of_the_serial_run(serial, cohort,
     assert "7 subjects: 7 computed on 2 Dask workers" in process.stdout
     assert f"and the index {outdir / 'index.html'}" in process.stdout
     assert folder_bytes(outdir) == folder_bytes(serial[0])
+    assert qc_pages(outdir) == qc_pages(serial[0])
     assert not list(outdir.rglob(".stvd-staging-*"))
 
 
 def test_split_seed_sets_makes_a_task_of_each_part_with_the_same_outputs(serial, cohort, tmp_path):
     result = stvd.cohort.run(cohort, tmp_path / "out", workers=2, split_seed_sets=True)
     assert set(result.failed) == BAD
-    assert folder_bytes(tmp_path / "out") == folder_bytes(serial[0])  # QC pages included
+    assert folder_bytes(tmp_path / "out") == folder_bytes(serial[0])
+    assert qc_pages(tmp_path / "out") == qc_pages(serial[0])
 
 
 def test_a_second_run_computes_only_what_is_missing_or_failed(cohort, tmp_path):

@@ -16,7 +16,7 @@ from distributed import Client
 import stvd.cohort
 from conftest import TOOL
 from synthetic_cohort import make_cohort
-from test_cohort import BAD, folder_bytes
+from test_cohort import BAD, folder_bytes, qc_pages
 
 
 def start(module, *args, log):
@@ -104,6 +104,7 @@ def test_a_worker_killed_mid_task_loses_nothing_and_duplicates_nothing(dask_clus
     assert run.returncode == 3, stderr  # the two bad subjects
     assert "10 subjects: 10 computed on 2 Dask workers" in stdout
     assert folder_bytes(outdir) == folder_bytes(tmp_path / "serial")
+    assert qc_pages(outdir) == qc_pages(tmp_path / "serial")  # a page for every good subject, none for the bad
     assert not list(outdir.rglob(".stvd-staging-*"))
     assert set(stvd.cohort.run(cohort, outdir, serial=True).computed) == BAD  # every other subject complete
 
