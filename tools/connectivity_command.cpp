@@ -243,14 +243,8 @@ int runConnectivity(int argc, char** argv) {
               << (o.matrix.empty() ? "" : ", " + o.matrix) << (o.matrixIndex.empty() ? "" : ", " + o.matrixIndex)
               << "." << std::endl;
   if (report.requested()) {
-    ScratchFolder scratch;
-    const std::string statsPath = o.statsPath.empty() ? scratch.file("run.json") : o.statsPath;
-    try {
-      if (o.statsPath.empty()) files::writeFileContents(statsPath, statisticsJson(run));
-    } catch (const std::runtime_error& e) {
-      throw ToolError(kExitOutput, e.what());
-    }
-    report.write({"--stats", statsPath}, o.quiet);
+    const ScratchFolder scratch;
+    report.write({"--stats", scratch.statisticsFile(o.statsPath, statisticsJson(run))}, o.quiet);
   }
   return kExitOk;
 }

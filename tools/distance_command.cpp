@@ -313,10 +313,10 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
 /// files when it wrote them, copies in a scratch folder otherwise.
 void writeDistanceReport(ReportRequest& report, const DistanceOptions& o, const RunStatistics& run,
                          const GridGeometry& g, const std::vector<float>& values) {
-  ScratchFolder scratch;
-  std::string statsPath = o.statsPath, mapPath = o.output;
+  const ScratchFolder scratch;
+  const std::string statsPath = scratch.statisticsFile(o.statsPath, statisticsJson(run));
+  std::string mapPath = o.output;
   try {
-    if (statsPath.empty()) files::writeFileContents(statsPath = scratch.file("run.json"), statisticsJson(run));
     const std::string name = std::filesystem::path(o.output).filename().string();
     const bool nifti = name.size() > 4 && (name.substr(name.size() - 4) == ".nii" ||
                                            (name.size() > 7 && name.substr(name.size() - 7) == ".nii.gz"));

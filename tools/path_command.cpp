@@ -340,14 +340,13 @@ int runPath(int argc, char** argv) {
     // The report shows the paths over the distance map, which `stvd path`
     // does not write: it goes to a scratch folder, with the statistics when
     // they were not asked for.
-    ScratchFolder scratch;
-    const std::string statsPath = o.statsPath.empty() ? scratch.file("run.json") : o.statsPath;
+    const ScratchFolder scratch;
+    const std::string statsPath = scratch.statisticsFile(o.statsPath, statisticsJson(run));
     std::vector<float> values(result.distance.size());
     for (std::size_t v = 0; v < values.size(); ++v)
       values[v] = std::isfinite(result.distance[v]) ? static_cast<float>(result.distance[v])
                                                     : std::numeric_limits<float>::quiet_NaN();
     try {
-      if (o.statsPath.empty()) files::writeFileContents(statsPath, statisticsJson(run));
       imaging::writeScalarImage(scratch.file("distance.nii"), g, values);
     } catch (const std::runtime_error& e) {
       throw ToolError(kExitOutput, e.what());

@@ -15,6 +15,7 @@
 #include <iostream>
 
 #include "command_line.hpp"
+#include "stvd/files/file_contents.hpp"
 
 extern char** environ;
 
@@ -46,7 +47,8 @@ std::string interpreter() {
 
 /// Starts python -m stvd.report ARGS with the package on PYTHONPATH; the
 /// child's stderr goes to a pipe whose read end is returned in `errors`.
-pid_t spawnReport(const std::vector<std::string>& arguments, int& errors) {
+/// With `input`, its stdin is a pipe too, whose write end is returned there.
+pid_t spawnReport(const std::vector<std::string>& arguments, int& errors, int* input = nullptr) {
   const std::string python = interpreter();
 #ifdef STVD_PYTHON_EXECUTABLE
   std::string pythonPath = packageFolder();
@@ -66,29 +68,47 @@ pid_t spawnReport(const std::vector<std::string>& arguments, int& errors) {
   for (std::string& e : environment) envp.push_back(e.data());
   envp.push_back(nullptr);
 
-  int pipeEnds[2];
-  if (::pipe2(pipeEnds, O_CLOEXEC) != 0)
+  int pipeEnds[2], inputEnds[2] = {-1, -1};
+  if (::pipe2(pipeEnds, O_CLOEXEC) != 0 || (input && ::pipe2(inputEnds, O_CLOEXEC) != 0))
     throw ToolError(kExitInternal, "report: cannot make a pipe: " + std::string(std::strerror(errno)));
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, pipeEnds[1], STDERR_FILENO);
+  if (input) posix_spawn_file_actions_adddup2(&actions, inputEnds[0], STDIN_FILENO);
   pid_t child = -1;
   const int spawned = ::posix_spawnp(&child, python.c_str(), &actions, nullptr, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&actions);
   ::close(pipeEnds[1]);
+  if (input) ::close(inputEnds[0]);
   if (spawned != 0) {
     ::close(pipeEnds[0]);
+    if (input) ::close(inputEnds[1]);
     throw ToolError(kExitInternal, "report: cannot run " + python + " (Python 3 with matplotlib draws reports): " +
                                        std::strerror(spawned));
   }
   errors = pipeEnds[0];
+  if (input) *input = inputEnds[1];
   return child;
 }
 
-/// Waits for the child; ToolError with its last stderr line and exit code
-/// when it failed.
-void finish(pid_t child, int errors) {
-  std::string text;
+/// Reads one line of the child's stderr (byte by byte, so that nothing
+/// after it is taken from the pipe) into `text`; nothing at its end.
+void readLine(int errors, std::string& text) {
+  char c = 0;
+  for (;;) {
+    const ssize_t n = ::read(errors, &c, 1);
+    if (n == 1) {
+      text += c;
+      if (c == '\n') return;
+    } else if (n == 0 || errno != EINTR) {
+      return;
+    }
+  }
+}
+
+/// Waits for the child; ToolError with its last stderr line (`text` holds
+/// what was read of it already) and exit code when it failed.
+void finish(pid_t child, int errors, std::string text = "") {
   char buffer[4096];
   for (;;) {
     const ssize_t n = ::read(errors, buffer, sizeof buffer);
@@ -122,11 +142,12 @@ int runReport(int argc, char** argv) {
 }
 
 ReportRequest::~ReportRequest() {
-  if (check_ > 0) {
-    ::kill(check_, SIGTERM);
-    ::close(checkErrors_);
+  if (child_ > 0) {  // the run stopped: the child is told so (no arguments) and ended
+    ::close(arguments_);
+    ::kill(child_, SIGTERM);
+    ::close(errors_);
     int status = 0;
-    ::waitpid(check_, &status, 0);
+    ::waitpid(child_, &status, 0);
   }
 }
 
@@ -135,23 +156,55 @@ void ReportRequest::start(const std::string& path) {
   if (path.empty()) return;
   const std::string extension = std::filesystem::path(path).extension().string();
   if (extension != ".html" && extension != ".htm") usageError(path + ": --report writes an .html page");
-  check_ = spawnReport({"--check"}, checkErrors_);
+  child_ = spawnReport({"--prepare"}, errors_, &arguments_);
 }
 
 void ReportRequest::requireReady() {
-  if (check_ <= 0) return;
-  const pid_t child = check_;
-  check_ = -1;
-  finish(child, checkErrors_);
+  if (child_ <= 0 || ready_) return;
+  // Lines before "ready" are what the imports said (matplotlib's first run
+  // builds its font cache and says so): shown only when the child fails.
+  std::string text;
+  for (;;) {
+    std::string line;
+    readLine(errors_, line);
+    if (line == "ready\n") {
+      ready_ = true;
+      return;
+    }
+    if (line.empty()) break;  // the child ended
+    text += line;
+  }
+  // It could not draw: its message, and its exit code.
+  const pid_t child = child_;
+  child_ = -1;
+  ::close(arguments_);
+  finish(child, errors_, text);
+  throw ToolError(kExitInternal, "report: the Python report stopped before it was ready");
 }
 
 void ReportRequest::write(std::vector<std::string> arguments, bool quiet) {
   requireReady();
   arguments.insert(arguments.end(), {"-o", path_});
   if (quiet) arguments.push_back("-q");
-  int errors = -1;
-  const pid_t child = spawnReport(arguments, errors);
-  finish(child, errors);
+  std::string text;
+  for (const std::string& a : arguments) text += a + '\0';
+  // A child that died would turn the write into SIGPIPE: EPIPE instead,
+  // and its own message from finish().
+  struct sigaction ignore {}, previous {};
+  ignore.sa_handler = SIG_IGN;
+  ::sigaction(SIGPIPE, &ignore, &previous);
+  for (std::size_t done = 0; done < text.size();) {
+    const ssize_t n = ::write(arguments_, text.data() + done, text.size() - done);
+    if (n > 0)
+      done += static_cast<std::size_t>(n);
+    else if (errno != EINTR)
+      break;
+  }
+  ::sigaction(SIGPIPE, &previous, nullptr);
+  ::close(arguments_);
+  const pid_t child = child_;
+  child_ = -1;
+  finish(child, errors_);
 }
 
 ScratchFolder::ScratchFolder() {
@@ -159,6 +212,16 @@ ScratchFolder::ScratchFolder() {
   if (!::mkdtemp(pattern.data()))
     throw ToolError(kExitOutput, "report: cannot make a temporary folder: " + std::string(std::strerror(errno)));
   path_ = pattern;
+}
+
+std::string ScratchFolder::statisticsFile(const std::string& statsPath, const std::string& json) const {
+  if (!statsPath.empty()) return statsPath;
+  try {
+    files::writeFileContents(file("run.json"), json);
+  } catch (const std::runtime_error& e) {
+    throw ToolError(kExitOutput, e.what());
+  }
+  return file("run.json");
 }
 
 ScratchFolder::~ScratchFolder() {

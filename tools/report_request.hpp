@@ -17,11 +17,13 @@ int runReport(int argc, char** argv);
 
 /// A report asked for with --report FILE.html, an output of the run that the
 /// command declares in its RunFiles like every other (never an input, never
-/// another output). start() starts checking, in the background while the
-/// run computes, that Python can draw; requireReady() waits for that check
+/// another output). start() starts `python3 -m stvd.report --prepare`,
+/// which while the run computes checks that it can draw and does the
+/// imports and the first drawing that every page costs, then waits for the
+/// page's arguments on its stdin; requireReady() waits until it says so
 /// (call it before writing any output, so that a missing package stops the
-/// run with nothing written); write() draws the page from the run's files,
-/// and stvd.report writes it atomically.
+/// run with nothing written); write() hands it the run's files, and it draws
+/// the page and writes it atomically. A run that stops ends the child.
 class ReportRequest {
  public:
   ReportRequest() = default;
@@ -41,8 +43,10 @@ class ReportRequest {
 
  private:
   std::string path_;
-  pid_t check_ = -1;
-  int checkErrors_ = -1;  // read end of the check's stderr
+  pid_t child_ = -1;   // python -m stvd.report --prepare, started by start()
+  int errors_ = -1;     // read end of its stderr
+  int arguments_ = -1;  // write end of its stdin: the page's arguments
+  bool ready_ = false;
 };
 
 /// A private folder in the system's temporary folder for the files a
@@ -55,6 +59,9 @@ class ScratchFolder {
   ScratchFolder& operator=(const ScratchFolder&) = delete;
   ~ScratchFolder();
   std::string file(const std::string& name) const { return path_ + "/" + name; }
+  /// The statistics file a report reads: `statsPath` when the run wrote
+  /// one, otherwise `json` written here as run.json.
+  std::string statisticsFile(const std::string& statsPath, const std::string& json) const;
 
  private:
   std::string path_;

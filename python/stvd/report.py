@@ -36,7 +36,7 @@ import numpy as np
 
 from . import __version__
 from ._inputs import is_image, is_path, tensor_field
-from ._output_files import OutputError, OutputIsInput, check_output, same_file, write_atomically
+from ._outputs import FileConflictError, OutputError, OutputFiles
 from . import _report_page as page
 from ._report_slices import CONVENTIONS, PLANES, DisplayGrid, Panel, contour_step, draw_panel
 
@@ -525,9 +525,9 @@ def _content_from_files(statistics_path, distance, paths, paths_table, table, la
         labels = labels or _resolve(parameters.get("labels"), folder)
     if labels is not None:
         content.regions = _on_grid(_load_nifti(labels, "label"), labels, "label", affine, shape).astype(np.int64)
-    inputs = {"tensor": tensors, "statistics": statistics_path, "distance map": distance, "paths": paths,
-              "paths table": paths_table, "connectivity table": table, "label": labels, "FA": fa, "mask": mask,
-              "seed label": seed_labels}
+    inputs = {"tensor input": tensors, "statistics file": statistics_path, "distance map": distance, "paths": paths,
+              "paths table": paths_table, "connectivity table": table, "label image": labels, "FA image": fa,
+              "mask": mask, "seed labels": seed_labels}
     return content, inputs
 
 
@@ -551,14 +551,12 @@ def write_run_report(output, statistics, *, distance=None, paths=None, paths_tab
     page's summary (what the cohort index shows).
     """
     _check_convention(convention)
-    check = {"statistics": statistics, "distance map": distance, "paths": paths, "paths table": paths_table,
-             "connectivity table": table, "label": labels, "FA": fa}
-    _check_output(output, check)
+    _check_extension(output)
     content, inputs = _content_from_files(statistics, distance, paths, paths_table, table, labels, fa)
-    _check_output(output, inputs)
+    outputs = _report_output(output, inputs)
     subject = subject or _subject_of(content.statistics.get("input"))
     text, summary = _render(content, subject, convention)
-    _write(output, text)
+    _write(outputs, output, text)
     return summary
 
 
@@ -627,9 +625,7 @@ def write_report(output, result=None, *, paths=None, connectivity=None, labels=N
     if command_line is None:
         command_line = "python3 " + " ".join(sys.argv)
     kind = "connectivity" if connectivity is not None and paths is None else ("path" if paths is not None else "distance")
-    input_paths = {"tensor": tensors if is_path(tensors) else None, "label": labels if is_path(labels) else None,
-                   "FA": fa if is_path(fa) else None}
-    _check_output(output, input_paths)
+    outputs = _report_output(output, {"tensor input": tensors, "label image": labels, "FA image": fa})
 
     if result is not None:
         field = result._result.field
@@ -673,7 +669,7 @@ def write_report(output, result=None, *, paths=None, connectivity=None, labels=N
             content.regions = _array_on_grid(labels, "labels", affine, shape).astype(np.int64)
     subject = subject or _subject_of(name)
     text, summary = _render(content, subject, convention)
-    _write(output, text)
+    _write(outputs, output, text)
     return summary
 
 
@@ -738,7 +734,7 @@ def write_cohort_index(output, subjects, *, title="stvd cohort"):
     status.
     """
     entries = list(subjects)
-    _check_output(output, {f"report of {e.get('subject')}": e.get("report") for e in entries})
+    outputs = _report_output(output, [(f"report of {e.get('subject')}", e.get("report")) for e in entries])
     folder = os.path.dirname(os.path.abspath(output))
     figure_keys = []
     for entry in entries:
@@ -770,7 +766,7 @@ def write_cohort_index(output, subjects, *, title="stvd cohort"):
     body = (f"<h1>{page.escape(title)}</h1><p id=\"stvd-cohort-counts\">{len(entries)} subjects: {page.escape(tally)}."
             f" Made by stvd {page.escape(__version__)} on {datetime.datetime.now().strftime('%Y-%m-%d %H:%M')}.</p>"
             + "<div class=\"cohort\">" + page.table(header, rows, "stvd-cohort", raw_columns=(0, 1, 2)) + "</div>")
-    _write(output, page.page(title, body))
+    _write(outputs, output, page.page(title, body))
     return counts
 
 
@@ -779,7 +775,9 @@ def cohort_index_from_folder(folder, output=None, *, title=None):
     written to ``output`` (default: ``FOLDER/index.html``). Returns the
     counts per status."""
     output = output or os.path.join(folder, "index.html")
-    entries = [e for e in cohort_entries_from_folder(folder) if not same_file(e.get("report", ""), output)]
+    entries = cohort_entries_from_folder(folder)
+    if os.path.exists(output):  # an index made before is not a subject's page
+        entries = [e for e in entries if "report" not in e or not os.path.samefile(e["report"], output)]
     return write_cohort_index(output, entries, title=title or f"stvd cohort: {os.path.basename(os.path.abspath(folder))}")
 
 
@@ -800,22 +798,37 @@ def _check_convention(convention):
         raise ValueError(f"convention: expected one of {', '.join(CONVENTIONS)}, got {convention!r}")
 
 
-def _check_output(output, inputs):
+def _check_extension(output):
     if not str(output).endswith((".html", ".htm")):
         raise ReportError(f"{output}: a report is an .html file", EXIT_USAGE)
+
+
+def _report_output(output, inputs):
+    """The page as the package writes every output (``stvd.OutputFiles``):
+    compared with every input by identity before anything is drawn; a
+    conflict is a usage error, as in the tool. ``inputs``: role and path (or
+    NiBabel image, or None) pairs, or a dict of them."""
+    _check_extension(output)
     try:
-        check_output(output, inputs)
-    except OutputIsInput as error:
+        return OutputFiles({"QC report": output}, inputs=inputs)
+    except FileConflictError as error:
         raise ReportError(str(error), EXIT_USAGE) from None
     except OutputError as error:
         raise ReportError(str(error), EXIT_OUTPUT) from None
 
 
-def _write(output, text):
+def _write(outputs, output, text):
+    """Writes the page through ``outputs`` (staged, flushed, renamed)."""
+    def write(staging):
+        with open(staging, "w", encoding="utf-8") as file:
+            file.write(text)
+
     try:
-        write_atomically(output, text)
+        with outputs:
+            outputs.write(output, write)
     except OutputError as error:
         raise ReportError(str(error), EXIT_OUTPUT) from None
+
 
 
 # ---------------------------------------------------------------------------
@@ -842,7 +855,8 @@ def _parser():
     parser.add_argument("--convention", choices=list(CONVENTIONS), default="neurological",
                         help="how slices are shown (default neurological)")
     parser.add_argument("--index", metavar="FOLDER", help="make the cohort index of a folder of reports instead")
-    parser.add_argument("--check", action="store_true", help=argparse.SUPPRESS)  # what stvd --report checks first
+    # stvd --report starts this while the run computes (see _prepare).
+    parser.add_argument("--prepare", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("-o", "--output", metavar="REPORT.html", help="the page to write")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     return parser
@@ -864,14 +878,35 @@ def _check_dependencies():
     matplotlib.use("Agg")
 
 
+def _prepare():
+    """For ``stvd ... --report``, started while the run computes: checks that
+    drawing works and does what every page costs first (the imports, one
+    small picture), says ``ready`` on stderr, then reads the page's
+    arguments, separated by NUL bytes, from stdin. None: the run stopped, and
+    there is nothing to draw."""
+    from ._report_slices import new_figure, png_bytes
+
+    figure, axes = new_figure(10, 10)
+    axes.imshow(np.zeros((2, 2)), cmap="gray")
+    axes.contour(np.arange(9.0).reshape(3, 3), levels=[4.0])
+    png_bytes(figure)
+    print("ready", file=sys.stderr, flush=True)
+    text = sys.stdin.buffer.read().decode("utf-8", "surrogateescape")
+    return [a for a in text.split("\0") if a] if text else None
+
+
 def main(argv=None):
     """``stvd report``: returns the exit code; failures print one line."""
     start = time.perf_counter()
     try:
         arguments = _parser().parse_args(argv)
         _check_dependencies()
-        if arguments.check:
-            return 0
+        if arguments.prepare:
+            page_arguments = _prepare()
+            if page_arguments is None:
+                return 0
+            start = time.perf_counter()
+            arguments = _parser().parse_args(page_arguments)
         if not arguments.output:
             raise ReportError("report: no output: add -o REPORT.html", EXIT_USAGE)
         if arguments.index:

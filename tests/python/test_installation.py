@@ -34,16 +34,18 @@ def test_cmake_install_puts_the_package_under_the_prefix(tmp_path):
     subprocess.run(["cmake", "--install", str(BUILD), "--prefix", str(prefix)], check=True, capture_output=True)
     site = prefix / "lib" / f"python{sys.version_info.major}.{sys.version_info.minor}" / "dist-packages"
     assert sorted(p.name for p in (site / "stvd").iterdir() if p.suffix == ".py") == [
-        "__init__.py", "_inputs.py", "_manifest.py", "_output_files.py", "_outputs.py", "_paths.py", "_progress.py",
-        "_report_matrix.py", "_report_page.py", "_report_slices.py", "_subject.py", "cohort.py", "interfaces.py",
-        "report.py"]
+        "__init__.py", "_inputs.py", "_manifest.py", "_outputs.py", "_paths.py", "_progress.py", "_report_matrix.py",
+        "_report_page.py", "_report_slices.py", "_subject.py", "cohort.py", "interfaces.py", "report.py"]
     version, farthest = run_isolated(site, tmp_path)
     assert farthest == "91.6"
-    # The installed tool draws reports with the installed package (nothing
-    # else on PYTHONPATH). cmake --install does not install libstvd_vdb.so,
-    # which the tool links, so it comes from the build tree here.
-    environment = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    environment["LD_LIBRARY_PATH"] = str(BUILD / "lib" / "vdb")
+    # The installed tool needs nothing from the build tree: no library of
+    # the project's own is loaded from there (the adapters are linked in),
+    # and it draws reports with the installed package (nothing on
+    # PYTHONPATH, no LD_LIBRARY_PATH).
+    libraries = subprocess.run(["ldd", str(prefix / "bin" / "stvd")], check=True, capture_output=True,
+                               text=True).stdout
+    assert "not found" not in libraries and str(BUILD.resolve()) not in libraries, libraries
+    environment = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "LD_LIBRARY_PATH")}
     (tmp_path / "reports").mkdir()
     report = subprocess.run([str(prefix / "bin" / "stvd"), "report", "--index", str(tmp_path / "reports"), "-o",
                              str(tmp_path / "index.html")], cwd=tmp_path, env=environment, capture_output=True,

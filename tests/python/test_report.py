@@ -189,12 +189,27 @@ def test_an_output_is_never_an_input(tmp_path):
     distance_report(tmp_path, DIPY_5D, CC_BODY)
     before = page.read_bytes()
     os.symlink(page, tmp_path / "link.html")
-    with pytest.raises(stvd.report.ReportError, match=r"link.html: the output is the report of sub input"):
+    with pytest.raises(stvd.report.ReportError, match=r"link.html: the QC report is the report of sub "):
         stvd.report.write_cohort_index(tmp_path / "link.html", [{"subject": "sub", "status": "ok", "report": page}])
     assert page.read_bytes() == before
     message = run_tool("report", "--stats", tmp_path / "d.nii.gz", "-o", tmp_path / "d.nii.gz", check=False)
     assert message.returncode == 2 and message.stderr.strip().endswith("d.nii.gz: a report is an .html file")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["d.nii.gz", "link.html", "report.html"]
+
+
+def test_what_python_says_while_importing_does_not_stop_the_report(tmp_path):
+    # matplotlib's first run on a machine says on stderr that it builds its
+    # font cache; the tool waits for the child's "ready" past such lines.
+    site = tmp_path / "site"
+    site.mkdir()
+    (site / "sitecustomize.py").write_text(
+        "import sys\nprint('Matplotlib is building the font cache; this may take a moment.', file=sys.stderr)\n")
+    environment = dict(os.environ, PYTHONPATH=str(site))
+    process = subprocess.run([str(TOOL), "distance", str(DIPY_5D), "--seed-voxel", "55,54,15", "-o",
+                              str(tmp_path / "d.nii.gz"), "-q", "--report", str(tmp_path / "r.html")],
+                             capture_output=True, text=True, env=environment)
+    assert process.returncode == 0, process.stderr
+    assert "stvd-report-summary" in (tmp_path / "r.html").read_text()
 
 
 def test_without_matplotlib_nothing_is_written(tmp_path):
