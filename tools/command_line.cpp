@@ -1,6 +1,7 @@
 #include "command_line.hpp"
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -11,8 +12,6 @@
 #include <limits>
 #include <sstream>
 #include <vector>
-
-#include <unistd.h>
 
 #include "stvd/itk/mrtrix_image.hpp"
 #include "stvd/itk/scalar_image.hpp"
