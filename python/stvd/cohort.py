@@ -324,9 +324,9 @@ def _check_files(manifest, outdir, plans, report):
 
 
 def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=False, connectivity=True, maps=True,
-        split_seed_sets=False, threads=1, progress=False, report=True, method=None, k=None, chain_measure=None, stencil=None,
-        max_distance=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None, fa_threshold=None,
-        unreachable_value=None):
+        split_seed_sets=False, threads=1, progress=False, report=True, method=None, k=None, chain_measure=None,
+        stencil=None, max_distance=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None,
+        fa_threshold=None, unreachable_value=None):
     """Runs every subject of ``manifest`` and writes into ``outdir``
     (created if needed). Returns a ``Cohort``.
 

@@ -100,7 +100,8 @@ class _StvdInterface(BaseInterface):
 
 class _DistanceInputSpec(_SeedInputSpec):
     unreachable_value = traits.Float(desc="value of voxels not reached (--unreachable-value)")
-    out_file = File("distance.nii.gz", usedefault=True, desc="the distance map (float32 mm; NIfTI, NRRD or MRtrix by the extension)")
+    out_file = File("distance.nii.gz", usedefault=True,
+                    desc="the distance map (float32 mm; NIfTI, NRRD or MRtrix by the extension)")
 
 
 class Distance(_StvdInterface):
@@ -119,7 +120,8 @@ class _PathInputSpec(_SeedInputSpec):
     target_voxels = traits.List(_VOXEL, desc="target voxels (i, j, k) (--target-voxel)")
     target_points = traits.List(_POINT, desc="target points in RAS millimetres (--target-point)")
     target_file = File(exists=True, desc="label image: one path to each region (--targets)")
-    out_file = File("paths.trk", usedefault=True, desc="the paths as stvd path writes them: .trk, .tck or .vtk in RAS millimetres")
+    out_file = File("paths.trk", usedefault=True,
+                    desc="the paths as stvd path writes them: .trk, .tck or .vtk in RAS millimetres")
 
 
 class Path(_StvdInterface):
