@@ -120,10 +120,10 @@ def main():
     print("| method | voxels | median | 5th percentile | 95th percentile |")
     print("|---|---|---|---|---|")
     reference = lanthier["6"]
-    print(deviation_row("STVD (default: k = 8, segment measure)",
+    print(deviation_row("STVD (default: k = 6, segment measure)",
                         distance_map(stvd, out_dir, "stvd_fa0.2_c6", ["--fa-threshold", "0.2"]), reference))
     for measure in ("largest", "projection"):
-        print(deviation_row(f"STVD k = 8, {measure} chain measure",
+        print(deviation_row(f"STVD k = 6, {measure} chain measure",
                             distance_map(stvd, out_dir, f"stvd_{measure}_fa0.2_c6",
                                          ["--fa-threshold", "0.2", "--chain-measure", measure]), reference))
     print(deviation_row("Dijkstra-26", distance_map(stvd, out_dir, "dijkstra_fa0.2_c6",

@@ -281,14 +281,115 @@ def gbench_table(path):
 
 def gbench_medians(path):
     """The runs of a Google Benchmark JSON file in file order: the median
-    aggregates when it ran repetitions, else the single runs."""
+    aggregate of each benchmark that ran repetitions, else its single run."""
     if not os.path.exists(path):
         return []
     with open(path) as f:
         runs = json.load(f)["benchmarks"]
-    if any("aggregate_name" in b for b in runs):
-        return [b for b in runs if b.get("aggregate_name") == "median"]
-    return runs
+    aggregated = {b["run_name"] for b in runs if "aggregate_name" in b}
+    return [b for b in runs if b.get("aggregate_name") == "median"
+            or ("aggregate_name" not in b and b.get("run_name", b["name"]) not in aggregated)]
+
+
+def gbench_arguments(b):
+    """The named arguments of a benchmark run, e.g. tetMesh/k:8/morton:1 ->
+    ('tetMesh', {'k': 8, 'morton': 1})."""
+    parts = b.get("run_name", b["name"]).split("/")
+    return parts[0], {k: int(v) for k, v in (p.split(":") for p in parts[1:] if ":" in p)}
+
+
+def tet_mesh_section(run_dir):
+    tables = tet_mesh_tables(os.path.join(run_dir, "tet_mesh_speed.json"))
+    if not tables:
+        return []
+    return ["## Tetrahedral meshes", "",
+            "`stvd_tet_mesh_speed` (built with the optional TetGen module): TetGen quality "
+            "meshes of the box [−20, 20] × [−16, 16] × [−12, 12] mm with tetrahedra of at most "
+            "0.2 and 0.02 mm³, under the constant metric γ = 12 or the curved pull-back γ = 12 "
+            "(exact distances as in the tests), in TetGen's vertex numbering or the Morton order "
+            "that `stvd distance MESH.node` uses; an L-shaped prism [0, 16]² × [0, 4] mm without "
+            "the quadrant x, y > 8, which is not convex (exact distance around its notch); next "
+            "to the 128³ grid of `stvd_propagation_speed` in the same program. How candidates are "
+            "walked and measured on meshes: [tet_meshes.md](tet_meshes.md).", ""] + tables
+
+
+def tet_mesh_tables(path):
+    """The tetrahedral-mesh section from stvd_tet_mesh_speed's JSON: time per
+    relaxed edge against Dijkstra on the same mesh, and the error table of the
+    ways to measure a candidate."""
+    runs = [(gbench_arguments(b), b) for b in gbench_medians(path)]
+    if not runs:
+        return []
+    measure_name = {0: "segment", 1: "largest-norm"}
+    out = ["### Time per relaxed edge", "",
+           "CPU time, median of the repetitions, which alternate between all benchmarks "
+           "(`--benchmark_enable_random_interleaving`); × Dijkstra is the ratio to Dijkstra "
+           "on the same mesh, metric and vertex order. Measured per vertex: candidates "
+           "measured along their segment (the walk through the tetrahedra) per finalised vertex.", "",
+           "| mesh | vertices | metric | vertex order | method | CPU ns / relaxed edge | × Dijkstra | "
+           "measured per vertex | refused | mean rel. error (%) | max rel. error (%) |",
+           "|---|---|---|---|---|---|---|---|---|---|---|"]
+
+    def row(mesh, metric, order, a, b, dijkstra):
+        method = "Dijkstra" if a["k"] == 0 else f"STVD k = {a['k']}, {measure_name[a.get('measure', 0)]}"
+        ratio = f"{b['time_per_edge'] / dijkstra:.2f}" if dijkstra else "n/a"
+        # The grid runs report no errors (its exact distances are in the sections above).
+        errors = ("— | — | — | —" if "mean_error" not in b else
+                  f"{b['measured_per_vertex']:.2f} | {b['refused']:,.0f} | {100 * b['mean_error']:.3f} | "
+                  f"{100 * b['max_error']:.1f}")
+        return (f"| {mesh} | {b['vertices']:,.0f} | {metric} | {order} | {method} | "
+                f"{1e9 * b['time_per_edge']:.1f} | {ratio} | {errors} |")
+
+    grid = {a["k"]: b for (name, a), b in runs if name == "grid"}
+    for k, b in sorted(grid.items()):
+        dijkstra = grid[0]["time_per_edge"] if 0 in grid else None
+        out.append(row("grid 128³, 26-neighbourhood", "curved γ = 20", "—", {"k": k}, b, dijkstra))
+    # Per mesh, metric and vertex order (in that order): Dijkstra, then STVD
+    # by k and measure.
+    meshes = {}
+    for (name, a), b in runs:
+        if name == "tetMesh":
+            key = (0, -a["vol_milli"], a["curved"], a["morton"])
+            label = ("box, " + ("0.02" if a["vol_milli"] == 20 else "0.2") + " mm³",
+                     "curved γ = 12" if a["curved"] else "constant γ = 12", "Morton" if a["morton"] else "TetGen's")
+        elif name == "tetMeshNotch":
+            key, label = (1, 0, 0, 1), ("L-shaped prism, 0.01 mm³", "constant diag(1, 4, 2.25)", "Morton")
+        else:
+            continue
+        meshes.setdefault(key, (label, []))[1].append((a, b))
+    for key in sorted(meshes):
+        (mesh, metric, order), rows = meshes[key]
+        rows.sort(key=lambda r: (r[0]["k"], r[0].get("measure", 0)))
+        dijkstra = next((b["time_per_edge"] for a, b in rows if a["k"] == 0), None)
+        for a, b in rows:
+            out.append(row(mesh, metric, order, a, b, dijkstra))
+    out.append("")
+
+    rules = [(a, b) for (name, a), b in runs if name == "tetMeshRule"]
+    if rules:
+        scene_name = {0: "box, constant γ = 12", 1: "box, curved γ = 12", 2: "L-shaped prism"}
+        rule_name = ["segment: per tetrahedron (default)", "segment: midpoint", "segment: equal pieces",
+                     "largest-norm rule", "paper's rule"]
+        ks = sorted({a["k"] for a, _ in rules})
+        out += ["### How a candidate is measured: the error table", "",
+                "`tetMeshRule`: mean relative error in %, then the most negative signed error in % and "
+                "the vertices more than 1e-5 below the exact distance, for each way to measure a candidate "
+                "(one run each; docs/tet_meshes.md explains the choice).", ""]
+        for scene in sorted({a["scene"] for a, _ in rules}):
+            sel = {(a["rule"], a["k"]): b for a, b in rules if a["scene"] == scene}
+            vertices = next(iter(sel.values()))["vertices"]
+            out += [f"#### {scene_name.get(scene, scene)} ({vertices:,.0f} vertices)", "",
+                    "| measure | " + " | ".join(f"k = {k}" for k in ks) + " |",
+                    "|---|" + "---|" * len(ks)]
+            for rule in sorted({r for r, _ in sel}):
+                cells = []
+                for k in ks:
+                    b = sel.get((rule, k))
+                    cells.append("n/a" if b is None else
+                                 f"{100 * b['mean_error']:.3f} ({100 * b['min_signed']:+.2f}, {b['below']:,.0f})")
+                out.append(f"| {rule_name[rule]} | " + " | ".join(cells) + " |")
+            out.append("")
+    return out
 
 
 def gbench_counter_table(path, counters):
@@ -668,19 +769,7 @@ def main():
                 "`stvd_accuracy_table --size 128`: each method alternates with Dijkstra; the "
                 "ratio is the median of the per-pair ratios.", ""] + accuracy
 
-    tet = gbench_counter_table(os.path.join(run_dir, "tet_mesh_speed.json"), [
-        ("time_per_edge", "CPU ns / relaxed edge", 1e9, 1), ("relaxed_edges", "relaxed edges", 1, 0),
-        ("vertices", "vertices", 1, 0), ("mean_error", "mean rel. error (%)", 100, 3),
-        ("max_error", "max rel. error (%)", 100, 1)])
-    if tet:
-        doc += ["## Tetrahedral meshes", "",
-                "`stvd_tet_mesh_speed` (built with the optional TetGen module): TetGen quality "
-                "meshes of the box [−20, 20] × [−16, 16] × [−12, 12] mm at two sizes (arguments: "
-                "`vol_milli` the maximum tet volume in thousandths of a mm³, `curved` 0 for the "
-                "constant metric γ = 12 and 1 for the curved pull-back γ = 12, `k` with 0 for "
-                "Dijkstra, `morton` 0 for TetGen's vertex numbering and 1 for the Morton order "
-                "that `stvd distance MESH.node` uses), next to the 128³ grid of `stvd_propagation_speed` in the "
-                "same program. Time per edge is CPU time.", ""] + tet
+    doc += tet_mesh_section(run_dir)
     paths = gbench_counter_table(os.path.join(run_dir, "path_tracing.json"), [
         ("time_per_path", "ms / path", 1e3, 3), ("time_per_step", "µs / step", 1e6, 2),
         ("steps_per_path", "steps / path", 1, 0)])

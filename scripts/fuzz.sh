@@ -12,7 +12,8 @@
 # memory and 10 s per input; a crash, a leak, an escaping exception, a hang
 # or an allocation beyond the limit stops that target and leaves the input
 # in BUILD/fuzz-findings/TARGET/. STVD_FUZZ_JOBS=N runs N targets at once.
-# The last lines give executions, coverage and findings per target.
+# The last lines give executions, coverage (libFuzzer's cov and ft) and
+# findings per target.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -31,7 +32,7 @@ CC=clang-14 CXX=clang++-14 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWith
 # shellcheck disable=SC2086
 nice -n 19 cmake --build "$build_dir" -j"$(nproc)" --target $(printf 'fuzz_%s ' $targets)
 
-export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/fuzz/itk_leaks.supp}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/fuzz/itk_leaks.supp:print_suppressions=0}
 
 run_target() {
   local target=$1 binary="$build_dir/fuzz/fuzz_$1"
@@ -50,13 +51,19 @@ run_target() {
   nice -n 19 "$binary" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
     -max_len=65536 -print_final_stats=1 -artifact_prefix="$findings/" \
     "$work" "fuzz/corpus/$target" "${regressions[@]}" >"$log" 2>&1 || status=$?
-  local runs cov
+  local runs cov ft
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)
-  local found
-  found=$(find "$findings" -type f -name '[a-z]*-*' ! -name 'report*' | wc -l)
-  printf 'fuzz: %-16s %5ss  %10s executions  coverage %5s  findings %s%s\n' "$target" "$seconds" \
-    "${runs:-?}" "${cov:-?}" "$found" "$([[ $status -ne 0 ]] && echo "  (stopped, see $log)")"
+  ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)
+  # Crashes, leaks, timeouts and out-of-memory inputs are findings; a slow
+  # unit (one input over 10 s of wall time, which a busy machine alone can
+  # cause) is counted apart, to be replayed and timed by hand.
+  local found slow
+  found=$(find "$findings" -type f -name '[a-z]*-*' ! -name 'report*' ! -name 'slow-unit-*' | wc -l)
+  slow=$(find "$findings" -type f -name 'slow-unit-*' | wc -l)
+  printf 'fuzz: %-16s %5ss  %10s executions  cov %5s  ft %6s  findings %s%s%s\n' "$target" "$seconds" \
+    "${runs:-?}" "${cov:-?}" "${ft:-?}" "$found" "$( ((slow > 0)) && echo "  slow units $slow")" \
+    "$([[ $status -ne 0 ]] && echo "  (stopped, see $log)")"
   return "$status"
 }
 

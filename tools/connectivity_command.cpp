@@ -227,8 +227,10 @@ int runConnectivity(int argc, char** argv) {
   if (!o.statsPath.empty()) texts.emplace_back(o.statsPath, statisticsJson(run));
   files::OutputTransaction outputs;
   try {
-    for (const auto& [path, text] : texts)
-      outputs.write(path, [&](const std::string& staging) { files::writeFileContents(staging, text); });
+    for (const auto& pathAndText : texts) {
+      const std::string& text = pathAndText.second;  // a structured binding cannot be captured in C++17
+      outputs.write(pathAndText.first, [&](const std::string& staging) { files::writeFileContents(staging, text); });
+    }
     outputs.commit();
   } catch (const files::OutputError& e) {
     throw ToolError(kExitOutput, e.what());

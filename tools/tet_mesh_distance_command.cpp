@@ -73,10 +73,13 @@ const char* kTetDistanceHelp =
     "                          (default; exit 3) or mask (left out of the domain).\n"
     "\n"
     "Propagation: --method stvd|dijkstra|lanthier, --k N (default 6), --chain-measure\n"
-    "largest|projection, --max-distance D, as for grids. lanthier: Steiner points on the edges\n"
-    "and faces of the tetrahedra, joined through each tetrahedron (--steiner M points per edge,\n"
-    "1..16, required; docs/steiner.md). --no-memory-check: run even when the estimate of the\n"
-    "memory needed exceeds the memory available.\n"
+    "segment|projection|largest (default segment: each candidate's straight segment is walked\n"
+    "through the tetrahedra, refused where it leaves the domain and measured with the metric\n"
+    "interpolated in each tetrahedron it crosses; docs/tet_meshes.md), --max-distance D.\n"
+    "lanthier: Steiner points on the edges and faces of the tetrahedra, joined through each\n"
+    "tetrahedron (--steiner M points per edge, 1..16, required; docs/steiner.md).\n"
+    "--no-memory-check: run even when the estimate of the memory needed exceeds the memory\n"
+    "available.\n"
     "\n"
     "Output:\n"
     "  -o, --output FILE       .vtk (legacy VTK), .vtu (VTK XML) or .csv (vertex,distance with\n"
@@ -91,7 +94,8 @@ const char* kTetDistanceHelp =
     "  -q, --quiet             no summary on stdout.\n"
     "\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
-    "mesh or tensors (bad counts, indices out of range, inverted or degenerate tetrahedra);\n"
+    "mesh or tensors (bad counts, indices out of range, inverted or degenerate tetrahedra, a\n"
+    "face of more than two tetrahedra);\n"
     "4 nothing to compute (seed out of range, outside the mesh or the domain); 5 output cannot\n"
     "be written; 6 not enough memory for the run (--no-memory-check runs anyway).\n";
 
@@ -437,8 +441,10 @@ int runTetMeshDistance(int argc, char** argv) {
 
   const double setupSeconds = secondsSince(start);
   const Clock::time_point propagationStart = Clock::now();
+  // Messages about the tetrahedra (a face of more than two) name the file
+  // that holds them.
   const tetmesh::TetMeshPropagation propagation = tetmesh::propagateOverTetrahedra(
-      points, tets, metricTensors, inGraph, sources, o, o.maxDistance, o.input);
+      points, tets, metricTensors, inGraph, sources, o, o.maxDistance, eleFile);
   const double propagationSeconds = secondsSince(propagationStart);
   PropagationResult result = propagation.result;
   result.distance.resize(mesh.vertexCount());  // without points inserted for --seed-at point
@@ -480,16 +486,17 @@ int runTetMeshDistance(int argc, char** argv) {
       << (o.lanthier ? "Lanthier Steiner points, M = " + std::to_string(o.steinerPoints) + " per edge"
           : o.method == Method::Dijkstra ? std::string("Dijkstra")
                                        : "STVD k = " + std::to_string(memoryDepthOf<CellMeshDomain>(o)) + " (" +
-                                             // the segment measure needs a domain that measures along
-                                             // paths; a cell mesh takes the largest edge norm for it
-                                             (o.chainMeasure == ChainMeasure::ProjectionWeighted ? "projection-weighted"
-                                                                                                 : "largest edge norm") +
-                                             ")")
+                                             chainMeasureName(o.chainMeasure) + " measure)")
       << " from " << sources.size() << " seed vertex" << (sources.size() == 1 ? "" : "es") << ": reached "
       << withThousands(reached) << " of " << withThousands(mesh.vertexCount()) << " vertices, farthest "
       << fixed(farthest, 2) << "; " << withThousands(result.relaxedEdges)
       << (o.lanthier ? " segments measured in " : " edges relaxed in ")
-      << fixed(propagationSeconds, 3) << " s (setup " << fixed(setupSeconds, 3) << " s).\n"
+      << fixed(propagationSeconds, 3) << " s (setup " << fixed(setupSeconds, 3) << " s)"
+      << (o.lanthier || o.method == Method::Dijkstra
+              ? std::string()
+              : "; " + withThousands(result.measuredCandidates) + " candidates measured along their segments, " +
+                    withThousands(result.refusedCandidates) + " refused (leaving the domain)")
+      << ".\n"
       << "Wrote " << o.output << (o.reference.empty() ? "" : " on the grid of " + o.reference) << ".";
     std::cout << s.str() << std::endl;
   }

@@ -66,7 +66,9 @@ CellMeshDomain CellMeshDomain::fromTetrahedra(std::vector<Vec3d> points,
       }
     }
   }
-  return CellMeshDomain(std::move(points), std::move(edges));
+  CellMeshDomain mesh(std::move(points), std::move(edges));
+  mesh.region_ = TetrahedralRegion(mesh.points_, tets);
+  return mesh;
 }
 
 CellMeshDomain CellMeshDomain::fromPolyhedra(std::vector<Vec3d> points,

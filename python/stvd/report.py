@@ -919,7 +919,9 @@ def main(argv=None):
                                        paths=arguments.paths, paths_table=arguments.paths_table, table=arguments.table,
                                        labels=arguments.labels, fa=arguments.fa, subject=arguments.subject,
                                        convention=arguments.convention)
-            message = (f"Wrote the report {arguments.output} ({summary['status']}, {summary['warnings']} warnings) "
+            count = summary["warnings"]
+            message = (f"Wrote the report {arguments.output} ({summary['status']}, {count} "
+                       f"warning{'' if count == 1 else 's'}) "
                        f"in {time.perf_counter() - start:.2f} s.")
         if not arguments.quiet:
             print(message)

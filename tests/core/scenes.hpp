@@ -4,6 +4,7 @@
 // standard libraries, so they are not used).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -106,6 +107,17 @@ struct TetrahedralBox {
   VertexId id(int i, int j, int k) const {
     return static_cast<VertexId>(i + (n[0] + 1) * (j + (n[1] + 1) * k));
   }
+  /// The tetrahedra of every cube (i, j, k) (its corner of smallest
+  /// indices) for which keep(i, j, k) holds: a box with cubes cut out.
+  template <class Keep>
+  std::vector<CellMeshDomain::Tetrahedron> tetrahedraOfCubes(Keep&& keep) const {
+    std::vector<CellMeshDomain::Tetrahedron> kept;
+    for (std::size_t t = 0; t < tets.size(); ++t) {
+      const int cube = static_cast<int>(t / 6);
+      if (keep(cube % n[0], cube / n[0] % n[1], cube / (n[0] * n[1]))) kept.push_back(tets[t]);
+    }
+    return kept;
+  }
 };
 
 inline TetrahedralBox kuhnTetrahedralBox(std::array<int, 3> n, Vec3d edge, double jitter,
@@ -126,7 +138,8 @@ inline TetrahedralBox kuhnTetrahedralBox(std::array<int, 3> n, Vec3d edge, doubl
         box.points.push_back(p);
       }
   // The six monotone lattice paths from corner (0,0,0) to (1,1,1), one per
-  // order of the three axes, are the six tetrahedra.
+  // order of the three axes, are the six tetrahedra; cube (i, j, k) has
+  // tetrahedra 6 (i + n0 (j + n1 k)) .. + 5.
   const int orders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
   for (int k = 0; k < n[2]; ++k)
     for (int j = 0; j < n[1]; ++j)
@@ -143,5 +156,51 @@ inline TetrahedralBox kuhnTetrahedralBox(std::array<int, 3> n, Vec3d edge, doubl
         }
   return box;
 }
+
+/// The geodesic distance between p and q in the L-shaped prism
+/// [0, 2 half] x [0, 2 half] x [z0, z1] without the quadrant x > half,
+/// y > half, under the constant metric diag(a^2, b^2, c^2): the straight
+/// line where it stays in the prism, else around the notch x = y = half. The
+/// scaling (a x, b y, c z) turns the metric into the Euclidean one and the
+/// prism into another L-shaped prism, in which the shortest path bends
+/// once, on the notch: unfolded about it, its length is the hypotenuse of
+/// the two horizontal distances to the notch and the height difference.
+inline double lShapedPrismDistance(double half, Vec3d p, Vec3d q, double a = 1.0, double b = 1.0, double c = 1.0) {
+  // The parameters t in (0, 1) where the horizontal projection is in the
+  // open missing quadrant: (x > half) and (y > half), two open intervals.
+  double low = 0.0, high = 1.0;
+  const double from[2] = {p.x, p.y}, to[2] = {q.x, q.y};
+  for (int axis = 0; axis < 2; ++axis) {
+    const double d = to[axis] - from[axis], t = (half - from[axis]) / d;
+    if (d > 0.0) low = std::max(low, t);
+    else if (d < 0.0) high = std::min(high, t);
+    else if (from[axis] <= half) high = low;
+  }
+  const Vec3d e = q - p;
+  if (!(low < high - 1e-12)) return std::sqrt(a * a * e.x * e.x + b * b * e.y * e.y + c * c * e.z * e.z);
+  const double toP = std::hypot(a * (p.x - half), b * (p.y - half));
+  const double toQ = std::hypot(a * (q.x - half), b * (q.y - half));
+  return std::hypot(toP + toQ, c * e.z);
+}
+
+/// An L-shaped prism of unit Kuhn cubes: the box [0, 2 half] x [0, 2 half] x
+/// [0, height] without the quadrant x > half, y > half. It is not convex
+/// along one edge line, x = y = half (the notch); the vertices of the
+/// missing quadrant belong to no tetrahedron.
+struct LShapedPrism {
+  int half;
+  TetrahedralBox box;
+  std::vector<CellMeshDomain::Tetrahedron> tets;
+
+  LShapedPrism(int half, int height)
+      : half(half),
+        box(kuhnTetrahedralBox({2 * half, 2 * half, height}, {1.0, 1.0, 1.0}, 0.0, 1)),
+        tets(box.tetrahedraOfCubes([half](int i, int j, int) { return i < half || j < half; })) {}
+  /// Whether p lies in the prism (for points of the box).
+  bool contains(Vec3d p) const { return p.x <= half || p.y <= half; }
+  double distance(Vec3d p, Vec3d q, double a = 1.0, double b = 1.0, double c = 1.0) const {
+    return lShapedPrismDistance(half, p, q, a, b, c);
+  }
+};
 
 }  // namespace stvd::test

@@ -93,6 +93,21 @@ TEST_F(HostileImageFiles, SformWithAHugeOrNonFiniteEntryIsRefusedForEveryRole) {
   }
 }
 
+// Found by fuzzing (fuzz/regressions/tensor_volume and scalar_image): a
+// NIfTI-1 header with the magic of another NIfTI version ("n+2", "ni5") is
+// NIfTI to niftilib, which reads its sform; the screening took it for
+// Analyze and did not check the sform, and a NaN reached VNL's abort().
+TEST_F(HostileImageFiles, AnySformIsCheckedWhateverTheMagicSays) {
+  for (const char* magic : {"n+2", "ni5", "xyz"}) {
+    SCOPED_TRACE(magic);
+    std::string bytes = slurpBytes(maskWithSformEntry("bad.nii", std::numeric_limits<float>::quiet_NaN()));
+    std::memcpy(bytes.data() + 344, magic, 4);
+    writeBytes(path("bad.nii"), bytes);
+    expectRefused({"distance", path("tensors.nii"), "--seed-voxel=5,4,3", "--mask", path("bad.nii")}, path("bad.nii"),
+                  "srow_x[1]");
+  }
+}
+
 TEST_F(HostileImageFiles, FarOriginIsRefusedUpFrontNotAnInternalErrorOfPathTracing) {
   HandGeometry far = field.geometry;
   far.originLps = {1e17, 0, 0};

@@ -300,16 +300,21 @@ ToolRun runShellCommand(std::string command) {
 }  // namespace
 
 // A hang fails the test after two minutes instead of stalling the suite.
-constexpr const char* kTimeout = "timeout -k 5 120 ";
+// STVD_TEST_TOOL_TIMEOUT (seconds) allows more for a tool built with the
+// sanitizers (scripts/sanitize.sh), which runs several times slower.
+std::string timeoutPrefix() {
+  const char* seconds = std::getenv("STVD_TEST_TOOL_TIMEOUT");
+  return "timeout -k 5 " + shellQuote(seconds && *seconds ? seconds : "120") + " ";
+}
 
 ToolRun runTool(const std::vector<std::string>& arguments) {
-  std::string command = kTimeout + shellQuote(toolExecutable());
+  std::string command = timeoutPrefix() + shellQuote(toolExecutable());
   for (const std::string& a : arguments) command += " " + shellQuote(a);
   return runShellCommand(command);
 }
 
 ToolRun runToolInBash(const std::string& script, const std::vector<std::string>& arguments) {
-  std::string command = std::string(kTimeout) + "bash -c " + shellQuote(script) + " " + shellQuote(toolExecutable());
+  std::string command = timeoutPrefix() + "bash -c " + shellQuote(script) + " " + shellQuote(toolExecutable());
   for (const std::string& a : arguments) command += " " + shellQuote(a);
   return runShellCommand(command);
 }

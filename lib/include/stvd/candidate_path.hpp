@@ -4,6 +4,8 @@
 #pragma once
 
 #include <limits>
+#include <type_traits>
+#include <utility>
 
 #include "stvd/metric_field.hpp"
 #include "stvd/types.hpp"
@@ -30,13 +32,18 @@ inline constexpr float kRefusedCandidate = std::numeric_limits<float>::infinity(
 /// no interpolation along a segment. It accepts every candidate, and
 /// measuresPaths() is false, so ChainMeasure::Segment falls back to
 /// ChainMeasure::LargestEdgeNorm there, the chain rule that cannot go below
-/// the admissible bound (docs/architecture.md). Voxel grids specialise it.
+/// the admissible bound (docs/architecture.md). Voxel grids and tetrahedral
+/// meshes specialise it.
 template <class Domain, class Norm>
 class CandidatePath {
  public:
   CandidatePath(const Domain&, const MetricField<Norm>&) {}
 
-  /// Whether length() measures along the path (ChainMeasure::Segment).
+  /// Whether length() measures along the path (ChainMeasure::Segment). A
+  /// specialisation whose domain type covers domains of both kinds (a cell
+  /// mesh built from tetrahedra or only from edges) also defines
+  ///   static bool measuresPathsOn(const Domain&),
+  /// which the propagation asks too (measuresPathsOn below).
   static constexpr bool measuresPaths() { return false; }
   /// Whether a pending candidate's length depends on the chain between its
   /// two ends (a surface's unfolding): then the propagation rebuilds the
@@ -64,5 +71,25 @@ class CandidatePath {
   /// v -> w in the common frame.
   float length(int, VertexId, Vec3f) { return kRefusedCandidate; }
 };
+
+namespace detail {
+template <class Path, class Domain, class = void>
+struct HasMeasuresPathsOn : std::false_type {};
+template <class Path, class Domain>
+struct HasMeasuresPathsOn<Path, Domain, std::void_t<decltype(Path::measuresPathsOn(std::declval<const Domain&>()))>>
+    : std::true_type {};
+}  // namespace detail
+
+/// Whether CandidatePath<Domain, Norm> measures along paths on `domain`:
+/// measuresPaths(), and measuresPathsOn(domain) where the specialisation
+/// has it.
+template <class Domain, class Norm>
+bool measuresPathsOn(const Domain& domain) {
+  using Path = CandidatePath<Domain, Norm>;
+  if constexpr (detail::HasMeasuresPathsOn<Path, Domain>::value)
+    return Path::measuresPaths() && Path::measuresPathsOn(domain);
+  else
+    return Path::measuresPaths();
+}
 
 }  // namespace stvd

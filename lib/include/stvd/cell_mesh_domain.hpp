@@ -4,9 +4,11 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "stvd/detail/compiler.hpp"
+#include "stvd/tetrahedral_region.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd {
@@ -14,6 +16,13 @@ namespace stvd {
 /// A volumetric mesh seen as a graph: its vertices and the edges of its
 /// cells (tetrahedra, hexahedra, general polyhedra). Edge vectors are the
 /// physical displacements between vertex positions, computed on the fly.
+///
+/// A mesh built from tetrahedra also keeps them as a TetrahedralRegion, so
+/// that an STVD candidate's straight segment can be walked through them:
+/// refused where it leaves the mesh, measured along itself where it does
+/// not (cell_mesh_candidate_path.hpp). Meshes built from other cells or
+/// from edges are graphs only: every candidate is taken, and
+/// ChainMeasure::Segment falls back to ChainMeasure::LargestEdgeNorm.
 class CellMeshDomain {
  public:
   using Tetrahedron = std::array<VertexId, 4>;
@@ -21,8 +30,10 @@ class CellMeshDomain {
   /// indices (consecutive vertices, and the last and first, share an edge).
   using PolyhedralCell = std::vector<std::vector<VertexId>>;
 
-  /// The six edges of every tetrahedron. Throws std::invalid_argument for an
-  /// index out of range or a tetrahedron with a repeated vertex.
+  /// The six edges of every tetrahedron, and the tetrahedra themselves
+  /// (tetrahedra()). Throws std::invalid_argument for an index out of range,
+  /// a tetrahedron with a repeated vertex, or a face shared by more than two
+  /// tetrahedra.
   static CellMeshDomain fromTetrahedra(std::vector<Vec3d> points,
                                        const std::vector<Tetrahedron>& tets);
   /// The edges of the faces of every cell.
@@ -37,6 +48,8 @@ class CellMeshDomain {
   bool contains(VertexId v) const { return v < vertexCount(); }
   std::size_t edgeCount() const { return neighbors_.size() / 2; }
   const std::vector<Vec3d>& points() const { return points_; }
+  /// The tetrahedra of a mesh built by fromTetrahedra, else null.
+  const TetrahedralRegion* tetrahedra() const { return region_ ? &*region_ : nullptr; }
   Vec3d physicalPoint(VertexId v) const { return points_[v]; }
   Vec3f displacement(VertexId from, VertexId to) const {
     return toFloat(points_[to] - points_[from]);
@@ -73,6 +86,7 @@ class CellMeshDomain {
   std::vector<Vec3d> points_;
   std::vector<std::uint64_t> firstNeighbor_;  // CSR row starts, vertexCount + 1 entries
   std::vector<VertexId> neighbors_;
+  std::optional<TetrahedralRegion> region_;
 };
 
 }  // namespace stvd

@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "stvd/candidate_path.hpp"
+#include "stvd/cell_mesh_candidate_path.hpp"
 #include "stvd/chain_unfolding.hpp"
 #include "stvd/detail/front_queue.hpp"
 #include "stvd/large_array.hpp"
@@ -893,7 +894,7 @@ PropagationResult propagate(const Domain& domain, const MetricField<Norm>& metri
   // ChainMeasure::Segment on a domain that measures along paths defers its
   // measurements, with a record of its own per vertex.
   if (options.method == Method::ShortTermVectorDijkstra && options.chainMeasure == ChainMeasure::Segment &&
-      k > 1 && CandidatePath<Domain, Norm>::measuresPaths())
+      k > 1 && measuresPathsOn<Domain, Norm>(domain))
     return detail::Propagation<Domain, Norm, true>(domain, metric, options).run(sources);
   return detail::Propagation<Domain, Norm, false>(domain, metric, options).run(sources);
 }

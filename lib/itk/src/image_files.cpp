@@ -109,8 +109,17 @@ std::vector<std::string> nrrdDataFileNames(const std::string& path) {
       listFollows = true;
     } else if (pattern.parse(first) && (words >> min >> max >> step) && step != 0) {
       const double steps = (static_cast<double>(max) - static_cast<double>(min)) / static_cast<double>(step);
-      if (steps >= 0 && steps < kMaxGeneratedNames)
-        for (long k = 0; k <= static_cast<long>(steps); ++k) names.push_back(pattern.name(min + k * step));
+      if (steps >= 0 && steps < kMaxGeneratedNames) {
+        // The count, taken in doubles, can be one too many near the ends of
+        // the range of long; no number beyond `max` or beyond that range is
+        // named.
+        long n = min;
+        for (long k = 0; k <= static_cast<long>(steps); ++k) {
+          if (step > 0 ? n > max : n < max) break;
+          names.push_back(pattern.name(n));
+          if (__builtin_add_overflow(n, step, &n)) break;
+        }
+      }
     } else {
       names.push_back(value);
     }

@@ -49,9 +49,8 @@ TetMeshPropagation propagateOverTetrahedra(const std::vector<Vec3d>& points,
   for (VertexId v : sources) orderedSources.push_back(order.oldToNew[v]);
 
   TetMeshPropagation out;
-  const CellMeshDomain domain =
-      CellMeshDomain::fromTetrahedra(permutedPoints(points, order), permutedTets(tets, order));
-  out.edgeCount = domain.edgeCount();
+  const std::vector<Vec3d> orderedPoints = permutedPoints(points, order);
+  const std::vector<CellMeshDomain::Tetrahedron> orderedTets = permutedTets(tets, order);
   const RiemannianMetric metric(std::move(orderedTensors), &orderedInDomain);
   PropagationResult result;
   if (choice.lanthier) {
@@ -59,10 +58,11 @@ TetMeshPropagation propagateOverTetrahedra(const std::vector<Vec3d>& points,
     // corners), so vertices outside the domain are never reached.
     std::optional<TetrahedralCells> cells;
     try {
-      cells.emplace(permutedPoints(points, order), permutedTets(tets, order));
+      cells.emplace(orderedPoints, orderedTets);
     } catch (const std::invalid_argument& e) {  // e.g. a face shared by more than two tetrahedra
       throw InputError(meshName + ": " + e.what());
     }
+    out.edgeCount = cells->edges().size();
     SteinerOptions steiner;
     steiner.steinerPoints = choice.steinerPoints;
     steiner.maxDistance = maxDistance;
@@ -73,10 +73,19 @@ TetMeshPropagation propagateOverTetrahedra(const std::vector<Vec3d>& points,
       throw OptionError(meshName + ": --method lanthier: " + e.what());
     }
   } else {
+    // The edges for the propagation, and the tetrahedra that STVD walks its
+    // candidates' segments through (refused where they leave the domain).
+    std::optional<CellMeshDomain> domain;
+    try {
+      domain.emplace(CellMeshDomain::fromTetrahedra(orderedPoints, orderedTets));
+    } catch (const std::invalid_argument& e) {  // a face shared by more than two tetrahedra
+      throw InputError(meshName + ": " + e.what());
+    }
+    out.edgeCount = domain->edgeCount();
     PropagationOptions options = propagationOptions(choice);
     options.maxDistance = maxDistance;
     options.progress = std::move(progress);
-    result = propagate(domain, metric, orderedSources, options);
+    result = propagate(*domain, metric, orderedSources, options);
   }
 
   // Back to the caller's numbering.
