@@ -1,6 +1,7 @@
 #include "command_line.hpp"
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -10,6 +11,7 @@
 #include <iostream>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include "stvd/itk/mrtrix_image.hpp"
 #include "stvd/itk/scalar_image.hpp"
@@ -274,6 +276,27 @@ bool takeInputOrHelp(const std::string& argument, const ArgumentReader& args, st
     throw ToolError(kExitOk, "");
   }
   return false;
+}
+
+std::string executableFolder() {
+  std::vector<char> buffer(4096);
+  const ssize_t n = ::readlink("/proc/self/exe", buffer.data(), buffer.size() - 1);
+  if (n <= 0) return ".";
+  const std::string path(buffer.data(), static_cast<std::size_t>(n));
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? "." : path.substr(0, slash);
+}
+
+std::string pythonPackageFolder(const std::string& module) {
+#ifdef STVD_PYTHON_INSTALL_DIR
+  const std::string here = executableFolder();
+  for (const std::string& folder : {here + "/../python", here + "/../" STVD_PYTHON_INSTALL_DIR}) {
+    if (::access((folder + "/stvd/" + module).c_str(), R_OK) == 0) return folder;
+  }
+#else
+  (void)module;
+#endif
+  return {};
 }
 
 }  // namespace stvd::tool

@@ -116,6 +116,18 @@ std::string tensorInputHelp(bool withMetricOptions);
 bool takeInputOrHelp(const std::string& argument, const ArgumentReader& args, std::string& input,
                      const char* helpText, bool withMetricOptions);
 
+/// The folder of the running executable (from /proc/self/exe): where the
+/// programs and packages that `stvd` runs are found relative to it.
+std::string executableFolder();
+
+/// The folder that holds the Python package stvd (with its module `module`,
+/// such as "cohort.py") for this executable: <build>/python next to
+/// <build>/tools/stvd, or <prefix>/lib/python3.X/dist-packages next to
+/// <prefix>/bin/stvd. Empty when neither holds it (a package installed by
+/// pip, which the interpreter finds itself) or the tool was built without
+/// the package.
+std::string pythonPackageFolder(const std::string& module);
+
 // Numbers in messages and reports, as the library writes them.
 using text::fixed;
 using text::withThousands;

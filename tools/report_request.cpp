@@ -22,24 +22,12 @@ extern char** environ;
 namespace stvd::tool {
 namespace {
 
-std::string executableFolder() {
-  std::vector<char> buffer(4096);
-  const ssize_t n = ::readlink("/proc/self/exe", buffer.data(), buffer.size() - 1);
-  if (n <= 0) return ".";
-  const std::string path(buffer.data(), static_cast<std::size_t>(n));
-  const std::size_t slash = path.find_last_of('/');
-  return slash == std::string::npos ? "." : path.substr(0, slash);
-}
-
 #ifdef STVD_PYTHON_EXECUTABLE
-/// The folder that holds the package stvd: <build>/python next to
-/// <build>/tools/stvd, or <prefix>/lib/python3.X/dist-packages next to
-/// <prefix>/bin/stvd.
+/// The folder that holds the package stvd (pythonPackageFolder), or an
+/// error saying where it was looked for.
 std::string packageFolder() {
+  if (std::string folder = pythonPackageFolder("report.py"); !folder.empty()) return folder;
   const std::string here = executableFolder();
-  for (const std::string& candidate : {here + "/../python", here + "/../" STVD_PYTHON_INSTALL_DIR}) {
-    if (::access((candidate + "/stvd/report.py").c_str(), R_OK) == 0) return candidate;
-  }
   throw ToolError(kExitInternal, "report: the Python package stvd is not next to this stvd (looked in " + here +
                                      "/../python and " + here + "/../" STVD_PYTHON_INSTALL_DIR +
                                      "); build the target stvd_python or install stvd");

@@ -25,6 +25,8 @@ const char* kToolHelp =
     "                                       or .vtk streamlines with a TSV summary (docs/paths.md)\n"
     "  connectivity INPUT --labels L -o T   geodesic distance and connectivity index between\n"
     "                                       every pair of labelled regions, as a TSV table\n"
+    "  cohort MANIFEST.tsv -o OUTDIR        every subject of a manifest (connectivity, distance\n"
+    "                                       maps) on a Dask cluster, resumable (docs/cohorts.md)\n"
     "  info INPUT [options]                 geometry, layout, order, frame and eigenvalue\n"
     "                                       statistics of a tensor volume\n"
     "  report --stats RUN.json -o R.html    a self-contained HTML QC page of a run (also\n"
@@ -54,6 +56,7 @@ int dispatch(int argc, char** argv) {
   if (command == "tetrahedralize") return runTetrahedralize(argc, argv);
   if (command == "path") return runPath(argc, argv);
   if (command == "connectivity") return runConnectivity(argc, argv);
+  if (command == "cohort") return runCohort(argc, argv);
   if (command == "report") return runReport(argc, argv);
   if (command == "-h" || command == "--help" || command == "help") {
     if (command == "help" && argc > 2) {
@@ -68,7 +71,7 @@ int dispatch(int argc, char** argv) {
     return kExitOk;
   }
   usageError("unknown command '" + command +
-             "' (commands: distance, path, connectivity, report, info, tetrahedralize; see stvd --help)");
+             "' (commands: distance, path, connectivity, cohort, report, info, tetrahedralize; see stvd --help)");
 }
 
 /// One line on stderr, and the exit code.

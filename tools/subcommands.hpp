@@ -8,5 +8,7 @@ int runDistance(int argc, char** argv);
 int runInfo(int argc, char** argv);
 int runPath(int argc, char** argv);
 int runConnectivity(int argc, char** argv);
+/// `stvd cohort`: replaces the process with the Python package's cohort runner.
+int runCohort(int argc, char** argv);
 
 }  // namespace stvd::tool

@@ -24,16 +24,6 @@ namespace {
 
 const char* kHelperName = "stvd-tetrahedralize";
 
-/// The folder of the running executable (from /proc/self/exe).
-std::string executableFolder() {
-  std::vector<char> buffer(4096);
-  const ssize_t n = ::readlink("/proc/self/exe", buffer.data(), buffer.size() - 1);
-  if (n <= 0) return ".";
-  const std::string path(buffer.data(), static_cast<std::size_t>(n));
-  const std::size_t slash = path.find_last_of('/');
-  return slash == std::string::npos ? "." : path.substr(0, slash);
-}
-
 std::string signalName(int signal) {
   const char* text = ::strsignal(signal);
   return "signal " + std::to_string(signal) + (text ? std::string(" (") + text + ")" : std::string());

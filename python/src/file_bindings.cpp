@@ -34,6 +34,10 @@ void bindFiles(py::module_& m) {
       .def("output_image", &imaging::RunFiles::outputImage, py::arg("role"), py::arg("path"))
       .def("output_file", &imaging::RunFiles::outputFile, py::arg("role"), py::arg("path"))
       .def("check", &imaging::RunFiles::check)
+      .def(
+          "check_identities",
+          [](const imaging::RunFiles& f) { files::checkOutputsAreNotInputs(f.inputs(), f.outputs()); },
+          "check() without the outputs' folders: for outputs whose folders are made later.")
       .def_property_readonly("inputs",
                              [](const imaging::RunFiles& f) {
                                py::list l;
@@ -45,6 +49,10 @@ void bindFiles(py::module_& m) {
         for (const files::RunFile& r : f.outputs()) l.append(py::make_tuple(r.role, r.path));
         return l;
       });
+
+  m.attr("STAGING_FOLDER_PREFIX") = files::kStagingFolderPrefix;
+  m.def("remove_leftover_staging_folders", &files::removeLeftoverStagingFolders, py::arg("folder"),
+        "Removes the staging folders that killed runs left in `folder`; returns how many.");
 
   py::class_<files::OutputTransaction>(m, "OutputTransaction",
                                        "Outputs staged next to their final paths and moved into place together.")

@@ -40,6 +40,42 @@ def _pairs(files, name):
     return pairs
 
 
+def _run_files(outputs, inputs):
+    """The library's RunFiles of ``outputs`` and ``inputs`` (see
+    ``OutputFiles``), and the output paths as declared."""
+    files = _core.RunFiles()
+    for role, value in _pairs(inputs, "inputs"):
+        path = input_file_of(value)
+        if path:
+            files.input_image(role, path)  # with the files an image brings; any other file alone
+    declared = []
+    for role, value in _pairs(outputs, "outputs"):
+        if not isinstance(value, (str, os.PathLike)):
+            raise TypeError(f"outputs: the {role} must be a path, got {type(value).__name__}")
+        path = os.fspath(value)
+        if _core.is_image_path(path):
+            files.output_image(role, path)
+        else:
+            files.output_file(role, path)
+        declared.append(path)
+    return files, declared
+
+
+def check_outputs_are_not_inputs(outputs, inputs):
+    """The identity check of ``OutputFiles`` alone, for outputs whose folders
+    are made later (the subject folders of a cohort run): raises
+    ``FileConflictError`` when an output is an input or another output;
+    writes nothing."""
+    _run_files(outputs, inputs)[0].check_identities()
+
+
+def remove_leftover_staging_folders(folder):
+    """Removes the staging folders that writers killed before they could
+    clean up (a Dask worker killed mid-task) left in ``folder``; returns how
+    many. Only for a folder no running process writes into."""
+    return _core.remove_leftover_staging_folders(os.fspath(folder))
+
+
 class OutputFiles:
     """The outputs of one step, checked against its inputs and written all or
     nothing::
@@ -62,21 +98,7 @@ class OutputFiles:
     """
 
     def __init__(self, outputs, inputs=None):
-        self._files = _core.RunFiles()
-        for role, value in _pairs(inputs, "inputs"):
-            path = input_file_of(value)
-            if path:
-                self._files.input_image(role, path)
-        self._declared = []
-        for role, value in _pairs(outputs, "outputs"):
-            if not isinstance(value, (str, os.PathLike)):
-                raise TypeError(f"outputs: the {role} must be a path, got {type(value).__name__}")
-            path = os.fspath(value)
-            if _core.is_image_path(path):
-                self._files.output_image(role, path)
-            else:
-                self._files.output_file(role, path)
-            self._declared.append(path)
+        self._files, self._declared = _run_files(outputs, inputs)
         self._files.check()
         self._transaction = _core.OutputTransaction()
         self._open = True
@@ -112,6 +134,16 @@ class OutputFiles:
     def write(self, path, writer):
         """Stages one declared output: ``writer(staging_path)`` writes it."""
         self._transaction.write(self._declared_output(path), writer)
+
+    def write_text(self, path, text):
+        """Stages one declared output holding ``text`` (UTF-8, lines ended by
+        a newline as given)."""
+
+        def write(staging):
+            with open(staging, "w", encoding="utf-8", newline="\n") as file:
+                file.write(text)
+
+        self.write(path, write)
 
     def commit(self):
         """Moves every staged output into place."""

@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "stvd/files/file_identity.hpp"
 
@@ -87,6 +89,40 @@ TEST_F(FileIdentity, TwoOutputsThatAreOneFileAreAConflict) {
 TEST_F(FileIdentity, AnInputMayBeGivenInSeveralRoles) {
   EXPECT_NO_THROW(checkOutputsAreNotInputs(
       {{"mask", path("data/t.nii.gz")}, {"seed labels", "../data/t.nii.gz"}}, {{"distance map", "d.nii.gz"}}));
+}
+
+TEST_F(FileIdentity, AmongManyFilesTheFirstConflictInOrderIsNamed) {
+  // A cohort's check: thousands of inputs and outputs, most not existing
+  // yet. The conflict named is the first the pairwise comparison in order
+  // meets: the earliest input the output is, by inode or by path.
+  fs::create_symlink(path("data/t.nii.gz"), path("data/link.nii.gz"));
+  std::vector<RunFile> inputs, outputs;
+  for (int n = 0; n < 5000; ++n) {
+    inputs.push_back({"labels of subject " + std::to_string(n), path("in/" + std::to_string(n) + ".nii.gz")});
+    outputs.push_back({"table of subject " + std::to_string(n), path("out/" + std::to_string(n) + ".tsv")});
+  }
+  inputs[4700] = {"tensors of subject 4700", path("data/t.nii.gz")};
+  inputs[3200] = {"tensors of subject 3200", path("data/link.nii.gz")};
+  EXPECT_NO_THROW(checkOutputsAreNotInputs(inputs, outputs));
+
+  outputs.push_back({"table of subject x", "../data/t.nii.gz"});
+  try {
+    checkOutputsAreNotInputs(inputs, outputs);
+    FAIL() << "no conflict";
+  } catch (const FileConflict& e) {
+    EXPECT_NE(std::string(e.what()).find("the table of subject x is the tensors of subject 3200"), std::string::npos)
+        << e.what();
+  }
+  outputs.back() = {"table of subject x", path("in/900.nii.gz")};  // no file yet: by its path
+  try {
+    checkOutputsAreNotInputs(inputs, outputs);
+    FAIL() << "no conflict";
+  } catch (const FileConflict& e) {
+    EXPECT_NE(std::string(e.what()).find("the table of subject x is the labels of subject 900"), std::string::npos)
+        << e.what();
+  }
+  outputs.back() = {"table of subject x", "./800.tsv"};  // another output
+  EXPECT_THROW(checkOutputsAreNotInputs(inputs, outputs), FileConflict);
 }
 
 }  // namespace

@@ -2,9 +2,11 @@
 // complete, or not at all, and what was at their paths before stays until
 // then.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -143,6 +145,33 @@ TEST_F(OutputTransactionTest, WriteAtomicallyIsOneTransaction) {
   writeAtomically(path("a.txt"), text("alone"));
   EXPECT_EQ(contents(path("a.txt")), "alone");
   EXPECT_EQ(entries(), std::vector<std::string>{"a.txt"});
+}
+
+TEST_F(OutputTransactionTest, LeftoverStagingFoldersOfAKilledRunAreRemovedAndLiveOnesKept) {
+  // A child process killed (SIGKILL, no cleanup) while it writes an output.
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    OutputTransaction outputs;
+    outputs.write(path("a.txt"), [](const std::string& staging) {
+      std::ofstream(staging) << "half";
+      ::kill(::getpid(), SIGKILL);
+    });
+    ::_exit(0);  // not reached
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+  ASSERT_EQ(entries().size(), 1u);
+  ASSERT_EQ(entries()[0].rfind(kStagingFolderPrefix + std::to_string(child) + "-", 0), 0u) << entries()[0];
+
+  std::ofstream(path(".stvd-staging-notes.txt")) << "a file, not a staging folder";
+  OutputTransaction live;
+  live.write(path("b.txt"), text("new b"));
+  EXPECT_EQ(removeLeftoverStagingFolders(folder_.string()), 1u);
+  EXPECT_EQ(removeLeftoverStagingFolders((folder_ / "." / "").string()), 0u);  // this process's, kept
+  live.commit();
+  EXPECT_EQ(entries(), (std::vector<std::string>{".stvd-staging-notes.txt", "b.txt"}));
 }
 
 }  // namespace

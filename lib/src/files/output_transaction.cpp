@@ -74,7 +74,7 @@ struct OutputTransaction::Staged {
     const std::lock_guard<std::mutex> lock(registry.mutex);
     for (int attempt = 0; attempt < 100; ++attempt) {
       const fs::path candidate =
-          fs::path(folder) / (".stvd-staging-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+          fs::path(folder) / (kStagingFolderPrefix + std::to_string(::getpid()) + "-" + std::to_string(counter++));
       std::error_code ec;
       if (fs::create_directory(candidate, ec)) {
         stagingFolder = candidate.string();
@@ -201,6 +201,33 @@ void writeAtomically(const std::string& path, const OutputTransaction::Writer& w
   OutputTransaction transaction;
   transaction.write(path, writer);
   transaction.commit();
+}
+
+std::size_t removeLeftoverStagingFolders(const std::string& folder) {
+  detail::ProcessRegistry& registry = detail::processRegistry();
+  const std::lock_guard<std::mutex> lock(registry.mutex);
+  const std::string prefix = kStagingFolderPrefix;
+  std::error_code ec;
+  std::vector<fs::path> leftovers;
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    std::error_code typeError;
+    if (entry.path().filename().string().rfind(prefix, 0) != 0 || !entry.is_directory(typeError) ||
+        entry.is_symlink(typeError))
+      continue;
+    // This process's names are unique (its id and a counter): compared by
+    // name, however the folder was spelled.
+    const auto& ours = registry.stagingFolders;
+    if (std::none_of(ours.begin(), ours.end(),
+                     [&](const std::string& f) { return fs::path(f).filename() == entry.path().filename(); }))
+      leftovers.push_back(entry.path());
+  }
+  if (ec) throw OutputError(folder, "cannot list the folder to remove leftover staging folders: " + ec.message());
+  for (const fs::path& leftover : leftovers) {
+    fs::remove_all(leftover, ec);
+    if (ec) throw OutputError(folder, "cannot remove the leftover staging folder " + leftover.filename().string() +
+                                          ": " + ec.message());
+  }
+  return leftovers.size();
 }
 
 }  // namespace stvd::files

@@ -12,6 +12,7 @@
 // that was at an output path before stays as it was.
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -75,6 +76,20 @@ class OutputTransaction {
   std::vector<std::unique_ptr<Staged>> staged_;
   bool committed_ = false;
 };
+
+/// What the name of every staging folder starts with: the prefix, the
+/// process id, '-' and a counter.
+inline constexpr const char* kStagingFolderPrefix = ".stvd-staging-";
+
+/// Removes the staging folders, and what is in them, that runs stopped
+/// without cleaning up (killed with SIGKILL, or on a machine that went down)
+/// left in `folder`; returns how many. Only for a folder that no other
+/// running process writes into: the caller must know (a lock, all writers
+/// gone), since a live run's staging folder would be removed under it. The
+/// staging folders of this process's transactions are kept. Throws
+/// OutputError naming `folder` when it cannot be listed or a staging folder
+/// cannot be removed.
+std::size_t removeLeftoverStagingFolders(const std::string& folder);
 
 /// Writes one output on its own: an OutputTransaction with this output
 /// alone, committed. What the plain-path writers of the adapters use.

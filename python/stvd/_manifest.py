@@ -1,0 +1,185 @@
+"""The manifest of a cohort: a TSV file with a header row and one row per
+subject, read and checked before anything is computed.
+
+Columns: ``subject``, ``tensors`` and ``labels`` (required), ``mask``,
+``tensor_order``, ``tensor_frame`` and ``seeds`` (optional; an empty cell is
+no value). Paths are relative to the manifest's folder. Every problem is one
+line naming the manifest, the row (its line number in the file, the header
+being line 1) and the column.
+"""
+
+import csv
+import os
+import re
+from dataclasses import dataclass, field
+
+REQUIRED_COLUMNS = ("subject", "tensors", "labels")
+OPTIONAL_COLUMNS = ("mask", "tensor_order", "tensor_frame", "seeds")
+PATH_COLUMNS = ("tensors", "labels", "mask", "seeds")
+TENSOR_ORDERS = ("lower", "fsl", "mrtrix")
+TENSOR_FRAMES = ("voxel", "world")
+
+# A subject id names its output folder, and a seed set names a file in it:
+# letters, digits, '.', '_' and '-', not starting with '.'.
+SAFE_NAME = re.compile(r"[A-Za-z0-9_-][A-Za-z0-9._-]*")
+
+
+class ManifestError(ValueError):
+    """A manifest that cannot be run: one line naming file, row and column."""
+
+
+@dataclass(frozen=True)
+class Subject:
+    """One row of the manifest: the subject's id, its input files as absolute
+    paths (None where the cell is empty), and the tensor order and frame
+    (None: the tool's rules for the file's layout)."""
+
+    id: str
+    row: int
+    tensors: str
+    labels: str
+    mask: str = None
+    seeds: str = None
+    tensor_order: str = None
+    tensor_frame: str = None
+    cells: dict = field(default_factory=dict, compare=False)
+
+    def inputs(self):
+        """The input files by column: ``{'tensors': path, ...}``."""
+        return {role: getattr(self, role) for role in PATH_COLUMNS if getattr(self, role) is not None}
+
+    def input_roles(self):
+        """The input files as ``stvd.OutputFiles`` takes them: (role, path)."""
+        return [(f"{column} input", path) for column, path in self.inputs().items()]
+
+
+def _where(path, row, column=None):
+    return f"{path}, row {row}" + (f", column {column}" if column else "")
+
+
+def read_manifest(path):
+    """The subjects of the manifest at ``path``, in its order. Raises
+    ManifestError for a manifest that cannot be read or run as a whole:
+    missing or unknown columns, rows of the wrong length, empty or repeated
+    subject ids, ids that cannot name a folder, unknown tensor orders or
+    frames. Input files are not opened here: a missing or unreadable input
+    is that subject's failure, not the cohort's."""
+    path = os.fspath(path)
+    folder = os.path.dirname(os.path.abspath(path))
+    try:
+        with open(path, newline="", encoding="utf-8") as file:
+            lines = list(csv.reader(file, delimiter="\t", quoting=csv.QUOTE_NONE))
+    except (OSError, UnicodeDecodeError) as error:
+        raise ManifestError(f"{path}: cannot read the manifest: {getattr(error, 'strerror', None) or error}") from None
+    # Blank lines (a trailing newline too many) carry nothing.
+    numbered = [(number, cells) for number, cells in enumerate(lines, start=1) if any(c.strip() for c in cells)]
+    if not numbered:
+        raise ManifestError(f"{path}: the manifest is empty (expected a header row: subject, tensors, labels, ...)")
+    header_row, header = numbered[0]
+    header = [name.strip() for name in header]
+    for name in header:
+        if name not in REQUIRED_COLUMNS + OPTIONAL_COLUMNS:
+            raise ManifestError(f"{_where(path, header_row, name or '(empty)')}: unknown column (columns: "
+                                + ", ".join(REQUIRED_COLUMNS + OPTIONAL_COLUMNS) + ")")
+        if header.count(name) > 1:
+            raise ManifestError(f"{_where(path, header_row, name)}: the column appears twice")
+    for name in REQUIRED_COLUMNS:
+        if name not in header:
+            raise ManifestError(f"{_where(path, header_row)}: no column '{name}' in the header "
+                                "(required: subject, tensors, labels)")
+    if len(numbered) == 1:
+        raise ManifestError(f"{path}: no subjects (the manifest has only its header row)")
+
+    subjects, rows_by_id = [], {}
+    for row, cells in numbered[1:]:
+        if len(cells) != len(header):
+            raise ManifestError(f"{_where(path, row)}: {len(cells)} cells, but the header has {len(header)} columns")
+        values = {name: cell.strip() for name, cell in zip(header, cells)}
+        for name in REQUIRED_COLUMNS:
+            if not values[name]:
+                raise ManifestError(f"{_where(path, row, name)}: empty cell (the column is required)")
+        subject = values["subject"]
+        if not SAFE_NAME.fullmatch(subject):
+            raise ManifestError(f"{_where(path, row, 'subject')}: '{subject}' cannot name an output folder "
+                                "(letters, digits, '.', '_' and '-', not starting with '.')")
+        if subject in rows_by_id:
+            raise ManifestError(f"{_where(path, row, 'subject')}: '{subject}' is also the subject of row "
+                                f"{rows_by_id[subject]}")
+        rows_by_id[subject] = row
+        for name, allowed in (("tensor_order", TENSOR_ORDERS), ("tensor_frame", TENSOR_FRAMES)):
+            if values.get(name) and values[name] not in allowed:
+                raise ManifestError(f"{_where(path, row, name)}: '{values[name]}' is not one of "
+                                    + ", ".join(allowed))
+        files = {name: os.path.normpath(os.path.join(folder, values[name]))
+                 for name in PATH_COLUMNS if values.get(name)}
+        subjects.append(Subject(id=subject, row=row, tensors=files["tensors"], labels=files["labels"],
+                                mask=files.get("mask"), seeds=files.get("seeds"),
+                                tensor_order=values.get("tensor_order") or None,
+                                tensor_frame=values.get("tensor_frame") or None, cells=values))
+    return subjects
+
+
+def read_seed_sets(path):
+    """The seed sets of a subject's seeds: a seeds table or a label image.
+
+    A seeds table is a TSV with a header whose columns include ``name``,
+    ``i``, ``j`` and ``k`` (0-based voxel indices; other columns, such as
+    those of the sample's seeds.tsv, are ignored); rows with the same name
+    form one set, ``{name: [(i, j, k), ...]}``. A label image (an image file
+    by its extension, on the tensors' grid) gives a set per region: every
+    distinct non-zero value, named ``label_<value>``, ``{name: {'label':
+    value}}``; its voxels outside the domain are left out (none inside is
+    that subject's error). Sets come in the order of first appearance (of
+    increasing value for regions); raises ValueError naming file, row and
+    column."""
+    from . import _core
+
+    if _core.is_image_path(path):
+        return _label_seed_sets(path)
+    try:
+        with open(path, newline="", encoding="utf-8") as file:
+            lines = list(csv.reader(file, delimiter="\t", quoting=csv.QUOTE_NONE))
+    except (OSError, UnicodeDecodeError) as error:
+        raise ValueError(f"{path}: cannot read the seeds: {getattr(error, 'strerror', None) or error}") from None
+    numbered = [(number, cells) for number, cells in enumerate(lines, start=1) if any(c.strip() for c in cells)]
+    if not numbered:
+        raise ValueError(f"{path}: no seeds (expected a header row with name, i, j, k)")
+    header_row, header = numbered[0]
+    header = [name.strip() for name in header]
+    for name in ("name", "i", "j", "k"):
+        if name not in header:
+            raise ValueError(f"{_where(path, header_row)}: no column '{name}' in the header (required: name, i, j, k)")
+    sets = {}
+    for row, cells in numbered[1:]:
+        if len(cells) != len(header):
+            raise ValueError(f"{_where(path, row)}: {len(cells)} cells, but the header has {len(header)} columns")
+        values = dict(zip(header, (cell.strip() for cell in cells)))
+        if not SAFE_NAME.fullmatch(values["name"]):
+            raise ValueError(f"{_where(path, row, 'name')}: '{values['name']}' cannot name an output file "
+                             "(letters, digits, '.', '_' and '-', not starting with '.')")
+        voxel = []
+        for axis in ("i", "j", "k"):
+            try:
+                voxel.append(int(values[axis]))
+            except ValueError:
+                raise ValueError(f"{_where(path, row, axis)}: '{values[axis]}' is not a voxel index") from None
+        sets.setdefault(values["name"], []).append(tuple(voxel))
+    if not sets:
+        raise ValueError(f"{path}: no seeds (the table has only its header row)")
+    return sets
+
+
+def _label_seed_sets(path):
+    import nibabel
+    import numpy as np
+
+    try:
+        values = np.unique(np.asanyarray(nibabel.load(path).dataobj))
+    except Exception as error:  # NiBabel reads NIfTI; another format, or a file it cannot, is this subject's error
+        raise ValueError(f"{path}: cannot read the seed labels (NIfTI): {' '.join(str(error).split())}") from None
+    values = values[values != 0]
+    if values.size == 0:
+        raise ValueError(f"{path}: no seeds (the label image has no non-zero voxel)")
+    if not np.all(np.isfinite(values)) or np.any(values != np.round(values)):
+        raise ValueError(f"{path}: seed labels must be integers")
+    return {f"label_{int(v)}": {"label": int(v)} for v in values}
