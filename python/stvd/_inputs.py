@@ -80,17 +80,26 @@ def _tensor_field(tensors, affine, mask, options):
     return _core.TensorField.from_array(tensors, affine, mask=mask_spec, **options)
 
 
-def voxel_list(value, name):
-    """Voxel indices as a list of (i, j, k): one triple or a sequence of them."""
+def _triples(value, name, expected):
+    """One triple or a sequence of them as an (N, 3) array; None when there
+    is none. `expected` names the triples in the message for another shape."""
     if value is None:
-        return []
+        return None
     array = np.asarray(value)
     if array.ndim == 1 and array.shape[0] == 3:
         array = array[np.newaxis]
     if array.size == 0:
-        return []
+        return None
     if array.ndim != 2 or array.shape[1] != 3:
-        raise ValueError(f"{name}: expected (i, j, k) voxel indices, got an array of shape {array.shape}")
+        raise ValueError(f"{name}: expected {expected}, got an array of shape {array.shape}")
+    return array
+
+
+def voxel_list(value, name):
+    """Voxel indices as a list of (i, j, k): one triple or a sequence of them."""
+    array = _triples(value, name, "(i, j, k) voxel indices")
+    if array is None:
+        return []
     if array.dtype.kind not in "iu":
         raise TypeError(f"{name}: voxel indices must be integers, got dtype {array.dtype}")
     limit = np.iinfo(np.int32)
@@ -111,15 +120,9 @@ def index_list(value, name):
 
 def point_list(value, name):
     """Physical points as a list of (x, y, z) in millimetres."""
-    if value is None:
+    array = _triples(value, name, "(x, y, z) points in millimetres")
+    if array is None:
         return []
-    array = np.asarray(value)
-    if array.ndim == 1 and array.shape[0] == 3:
-        array = array[np.newaxis]
-    if array.size == 0:
-        return []
-    if array.ndim != 2 or array.shape[1] != 3:
-        raise ValueError(f"{name}: expected (x, y, z) points in millimetres, got an array of shape {array.shape}")
     if array.dtype.kind not in "iuf":
         raise TypeError(f"{name}: expected numbers, got dtype {array.dtype}")
     array = array.astype(np.float64)

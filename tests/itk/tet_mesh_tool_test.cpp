@@ -22,6 +22,7 @@
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
+#include "kuhn_cube.hpp"
 #include "test_support.hpp"
 
 namespace stvd::testing {
@@ -40,36 +41,6 @@ double normUnder(const double g[3][3], Vec3d e) {
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) q += v[r] * g[r][c] * v[c];
   return std::sqrt(q);
-}
-
-/// A 4 x 4 x 4 cube lattice of 1 mm cells at `origin` (mesh coordinates),
-/// each cube cut into six tetrahedra around its (1,1,1) diagonal, oriented
-/// as TetGen orients them, numbered from `firstIndex`.
-tetmesh::TetMesh kuhnCube(Vec3d origin, int firstIndex) {
-  const int n = 4;
-  tetmesh::TetMesh m;
-  m.firstIndex = firstIndex;
-  auto id = [&](int i, int j, int k) { return static_cast<VertexId>(i + (n + 1) * (j + (n + 1) * k)); };
-  for (int k = 0; k <= n; ++k)
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) m.points.push_back(origin + Vec3d{double(i), double(j), double(k)});
-  const int permutations[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-        for (const auto& p : permutations) {
-          int c[3] = {i, j, k};
-          std::array<VertexId, 4> t;
-          t[0] = id(c[0], c[1], c[2]);
-          for (int s = 0; s < 3; ++s) {
-            ++c[p[s]];
-            t[s + 1] = id(c[0], c[1], c[2]);
-          }
-          if (tetmesh::signedVolume(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]) < 0)
-            std::swap(t[2], t[3]);
-          m.tets.push_back(t);
-        }
-  return m;
 }
 
 /// Vertex index (0-based) of lattice point (i, j, k) of kuhnCube.

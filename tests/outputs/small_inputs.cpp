@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "known_field.hpp"
+#include "kuhn_cube.hpp"
 #include "stvd/itk/tensor_volume.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
@@ -29,39 +30,6 @@ FolderSnapshot snapshot(const std::string& folder) {
   return files;
 }
 
-namespace {
-
-/// A 4 x 4 x 4 lattice of unit cubes, each cut into six tetrahedra around
-/// its (1,1,1) diagonal, positively oriented, numbered from 1.
-tetmesh::TetMesh kuhnLattice() {
-  const int n = 4;
-  tetmesh::TetMesh m;
-  m.firstIndex = 1;
-  auto id = [&](int i, int j, int k) { return static_cast<VertexId>(i + (n + 1) * (j + (n + 1) * k)); };
-  for (int k = 0; k <= n; ++k)
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) m.points.push_back({double(i), double(j), double(k)});
-  const int permutations[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-        for (const auto& p : permutations) {
-          int c[3] = {i, j, k};
-          std::array<VertexId, 4> t;
-          t[0] = id(c[0], c[1], c[2]);
-          for (int s = 0; s < 3; ++s) {
-            ++c[p[s]];
-            t[s + 1] = id(c[0], c[1], c[2]);
-          }
-          if (tetmesh::signedVolume(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]) < 0)
-            std::swap(t[2], t[3]);
-          m.tets.push_back(t);
-        }
-  return m;
-}
-
-}  // namespace
-
 void SmallInputsTest::SetUp() {
   ScratchFolderTest::SetUp();
   fs::create_directory(path("in"));
@@ -81,7 +49,7 @@ void SmallInputsTest::SetUp() {
         labels[field.linear({8 + di, 6 + dj, 4 + dk})] = 2.f;
       }
   writeScalarNiftiByHand(in("labels.nii"), field.geometry, labels);
-  tetmesh::writeTetGenMesh(in("cube"), kuhnLattice());
+  tetmesh::writeTetGenMesh(in("cube"), kuhnCube({0, 0, 0}, 1));
   {
     std::ofstream ply(in("square.ply"));
     ply << "ply\nformat ascii 1.0\nelement vertex 16\nproperty float x\nproperty float y\nproperty float z\n"
