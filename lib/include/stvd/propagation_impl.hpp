@@ -225,22 +225,33 @@ template <class Norm>
 STVD_ALWAYS_INLINE void bestScreenedCandidates(const ChainMemory<Norm>& chain, const NeighborBatch<Norm>& batch,
                                                const CandidateScreen<Norm>& screen, double* value, int* lane) {
   const int size = batch.padded;
+  // The lane is tracked as a double, beside the value, and every store is
+  // unconditional. Written as `x = lower ? new : x`, GCC 12 made the updates
+  // masked stores, which the next candidate's loads cannot forward from (a
+  // stall per lane group and candidate: about 9 % of default STVD's time at
+  // 128^3); with an int lane, or the candidates as the inner loop, it did
+  // not vectorise at all.
+  alignas(64) double laneValue[NeighborBatch<Norm>::kCapacity];
   STVD_SIMD_LOOP
   for (int n = 0; n < size; ++n) {
     value[n] = kUnreachable;
-    lane[n] = -1;
+    laneValue[n] = -1.0;
   }
   for (int l = 0; l + 2 <= chain.edgeCount; ++l) {
     const double base = chain.baseDistance[l];
+    const double thisLane = static_cast<double>(l);
     const float* length = screen.length[l];
     STVD_SIMD_LOOP
     for (int n = 0; n < size; ++n) {
       const double candidate = base + static_cast<double>(length[n]);
-      const bool lower = candidate < value[n];
-      value[n] = lower ? candidate : value[n];
-      lane[n] = lower ? l : lane[n];
+      const double old = value[n];
+      const bool lower = candidate < old;
+      laneValue[n] += (lower ? 1.0 : 0.0) * (thisLane - laneValue[n]);
+      value[n] = lower ? candidate : old;
     }
   }
+  STVD_SIMD_LOOP
+  for (int n = 0; n < size; ++n) lane[n] = static_cast<int>(laneValue[n]);
 }
 
 /// Lowers best[n] of every neighbour to base + screened length of every
@@ -277,17 +288,39 @@ struct VertexRecord<false> {
 
 /// ChainMeasure::Segment with deferred measurement (see
 /// Propagation::settleMin): 32 bytes.
+///
+/// The key, the measured predecessor and the pending candidate matter only
+/// until the vertex is final; from then on the same bytes hold its next
+/// ancestors (pred(pred(v)) onwards). A relaxation then reads the whole
+/// predecessor chain of k <= 2 + kStoredAncestors vertices from v's record
+/// and its predecessor's, instead of walking it record by record: a walk of
+/// dependent loads into voxels finalised long ago, each a likely cache miss
+/// that the next could not overlap.
 template <>
 struct VertexRecord<true> {
-  double measured;               // shortest measured distance: the distance once final
-  double key;                    // the key in the queue: a pending candidate's screen, or `measured`
-  std::uint32_t queueSlot;       // FrontQueue's slot
-  VertexId predecessor;          // the vertex whose relaxation gave the key
-  VertexId measuredPredecessor;  // the one whose relaxation gave `measured`
-  VertexId pendingBase;          // c_{i-1} of the pending candidate; kNoVertex for none
+  static constexpr int kStoredAncestors = 4;
+  /// What a vertex not yet final carries.
+  struct Open {
+    double key;                    // the key in the queue: a pending candidate's screen, or `measured`
+    VertexId measuredPredecessor;  // the vertex whose relaxation gave `measured`
+    VertexId pendingBase;          // c_{i-1} of the pending candidate; kNoVertex for none
+  };
+
+  double measured;           // shortest measured distance: the distance once final
+  std::uint32_t queueSlot;   // FrontQueue's slot
+  VertexId predecessor;      // the vertex whose relaxation gave the key
+  union {
+    Open open;                                // until the vertex is final
+    VertexId ancestors[kStoredAncestors];     // once it is relaxed: c_2, c_3, ... of its chain
+  };
 
   static VertexRecord unseen() {
-    return {kUnreachable, kUnreachable, FrontQueue::kUnseen, kNoVertex, kNoVertex, kNoVertex};
+    VertexRecord r;
+    r.measured = kUnreachable;
+    r.queueSlot = FrontQueue::kUnseen;
+    r.predecessor = kNoVertex;
+    r.open = Open{kUnreachable, kNoVertex, kNoVertex};
+    return r;
   }
   double finalDistance() const { return measured; }
 };
@@ -342,7 +375,7 @@ class Propagation {
     for (const VertexId s : sources) {
       if constexpr (Deferred) {
         state_[s].measured = 0.0;
-        state_[s].key = 0.0;
+        state_[s].open.key = 0.0;
       } else {
         state_[s].distance = 0.0;
       }
@@ -428,7 +461,7 @@ class Propagation {
         // what a full run finalises first.)
         bool stop = true;
         if constexpr (Deferred) {
-          if (state_[queue_.minVertex()].pendingBase != kNoVertex) {
+          if (state_[queue_.minVertex()].open.pendingBase != kNoVertex) {
             if (!settleMin()) continue;  // queued again with its measured distance
             stop = state_[queue_.minVertex()].finalDistance() > options_.maxDistance;
           }
@@ -485,7 +518,7 @@ class Propagation {
   // while the current vertex is relaxed.
   STVD_ALWAYS_INLINE void prefetchPending(VertexId u) {
     if constexpr (!CandidatePath<Domain, Norm>::usesPlacedChain()) {
-      const VertexId base = state_[u].pendingBase;
+      const VertexId base = state_[u].open.pendingBase;
       if (base == kNoVertex) return;
       detail::prefetch(&state_[base]);
       path_.prefetchSegment(base, u);
@@ -494,12 +527,27 @@ class Propagation {
 
   // STVD also reads the predecessor chain of the next vertex u: dependent
   // loads reaching k - 1 voxels behind the front, into voxels popped long
-  // ago. Once u's neighbourhood has arrived (after v's relaxation), the
-  // first two links are known; the rest of the chain is guessed to go on by
-  // the second link's offset, as it does where the front is straight. Only
-  // a grid's numbering makes that guess meaningful.
+  // ago. With deferred measurement the chain is in two records (see
+  // VertexRecord<true>). Otherwise, once u's neighbourhood has arrived
+  // (after v's relaxation), the first two links are known; the rest of the
+  // chain is guessed to go on by the second link's offset, as it does where
+  // the front is straight. Only a grid's numbering makes that guess
+  // meaningful.
   STVD_ALWAYS_INLINE void prefetchChain(VertexId u) {
-    if constexpr (std::is_same_v<Domain, VoxelGridDomain>) {
+    if constexpr (Deferred) {
+      // Here the chain is known exactly: c_1's record (one of u's
+      // neighbours, asked for with them) holds c_2 onwards.
+      const VertexId p1 = state_[u].predecessor;
+      if (p1 == kNoVertex) return;
+      const VertexState& s1 = state_[p1];
+      const int k = memoryDepth<Domain>(options_);
+      for (int l = 2; l < k && l < 3 + VertexState::kStoredAncestors; ++l) {
+        const VertexId c = l == 2 ? s1.predecessor : s1.ancestors[l - 3];
+        if (c == kNoVertex) break;
+        detail::prefetch(&state_[c]);
+        detail::prefetch(&metric_[c]);
+      }
+    } else if constexpr (std::is_same_v<Domain, VoxelGridDomain>) {
       const VertexId p1 = state_[u].predecessor;
       if (p1 == kNoVertex) return;
       const VertexId p2 = state_[p1].predecessor;
@@ -566,6 +614,37 @@ class Propagation {
     });
   }
 
+  // The predecessor chain c_0 = v, c_1 = pred(v), ... of the vertex v just
+  // finalised, at most k vertices; returns their count. With deferred
+  // measurement it first stores v's ancestors in its record (see
+  // VertexRecord<true>), taken from its predecessor's, which was relaxed
+  // before v could have it as predecessor.
+  STVD_ALWAYS_INLINE int gatherChain(VertexId v, int k, VertexId* chain) {
+    chain[0] = v;
+    int count = 1;
+    if constexpr (Deferred) {
+      constexpr int kStored = VertexState::kStoredAncestors;
+      VertexState& sv = state_[v];
+      const VertexId p1 = sv.predecessor;
+      VertexId stored[kStored];
+      if (p1 == kNoVertex) {
+        std::fill(stored, stored + kStored, kNoVertex);
+      } else {
+        const VertexState& s1 = state_[p1];
+        stored[0] = s1.predecessor;
+        for (int a = 1; a < kStored; ++a) stored[a] = s1.ancestors[a - 1];
+        if (count < k) chain[count++] = p1;
+        for (int a = 0; a < kStored && count < k && stored[a] != kNoVertex; ++a) chain[count++] = stored[a];
+      }
+      for (int a = 0; a < kStored; ++a) sv.ancestors[a] = stored[a];
+    }
+    while (count < k && state_[chain[count - 1]].predecessor != kNoVertex) {
+      chain[count] = state_[chain[count - 1]].predecessor;
+      ++count;
+    }
+    return count;
+  }
+
   // STVD update of every neighbour w of v (see ChainMemory): the screen
   // ranks the candidates; with a chain rule (Measured false) the screened
   // value is the candidate's length, otherwise the best candidate that could
@@ -574,12 +653,7 @@ class Propagation {
   template <ChainRule Rule>
   STVD_HOT_LOOP void relaxVector(VertexId v, int k) {
     VertexId chain[kMaxMemoryDepth];
-    int count = 1;
-    chain[0] = v;
-    while (count < k && state_[chain[count - 1]].predecessor != kNoVertex) {
-      chain[count] = state_[chain[count - 1]].predecessor;
-      ++count;
-    }
+    const int count = gatherChain(v, k, chain);
     ChainMemory<Norm> memory;
     memory.edgeCount = count;
     Vec3f p[kMaxMemoryDepth];
@@ -709,7 +783,7 @@ class Propagation {
       batch.pendingLane[n] = -1;
       // A candidate not below what w has (its Dijkstra term, or its key)
       // cannot become pending: no need to check its path.
-      const double limit = std::min(batch.best[n], state_[w].key);
+      const double limit = std::min(batch.best[n], state_[w].open.key);
       if (!(value[n] < limit)) continue;
       if (measuresWhileChecking(path_)) {
         // Checking the paths measured them: every candidate is measured now,
@@ -754,7 +828,7 @@ class Propagation {
   STVD_ALWAYS_INLINE static void keepMeasured(VertexState& s, double value, VertexId from) {
     if (value < s.measured) {
       s.measured = value;
-      s.measuredPredecessor = from;
+      s.open.measuredPredecessor = from;
     }
   }
 
@@ -771,11 +845,11 @@ class Propagation {
     for (int n = 0; n < batch.size; ++n) {
       const VertexId w = batch.vertex[n];
       VertexState& sw = state_[w];
-      if (batch.best[n] < sw.key) {
-        sw.key = batch.best[n];
+      if (batch.best[n] < sw.open.key) {
+        sw.open.key = batch.best[n];
         sw.predecessor = v;
         const int lane = batch.pendingLane[n];
-        sw.pendingBase = lane < 0 ? kNoVertex : chain[lane + 1];
+        sw.open.pendingBase = lane < 0 ? kNoVertex : chain[lane + 1];
         queue_.pushOrDecrease(w, batch.best[n]);
       }
     }
@@ -784,8 +858,8 @@ class Propagation {
   // Measures the pending candidate of w (from its predecessor v) along its
   // path and keeps it when it is shorter than what w has measured.
   STVD_HOT_LOOP void measurePending(VertexId w, VertexState& sw) {
-    const VertexId v = sw.predecessor, base = sw.pendingBase;
-    sw.pendingBase = kNoVertex;
+    const VertexId v = sw.predecessor, base = sw.open.pendingBase;
+    sw.open.pendingBase = kNoVertex;
     float l;
     if constexpr (CandidatePath<Domain, Norm>::usesPlacedChain()) {
       // The path depends on the chain between c_{i-1} and v (a surface's
@@ -823,7 +897,7 @@ class Propagation {
   bool settleMin() {
     const VertexId w = queue_.minVertex();
     VertexState& sw = state_[w];
-    if (sw.pendingBase != kNoVertex) {
+    if (sw.open.pendingBase != kNoVertex) {
       measurePending(w, sw);
       // A screen that was only a little too low (or too high: the measured
       // distance is then the vertex's smallest) leaves the vertex where it
@@ -834,18 +908,18 @@ class Propagation {
       // STVD's front is not in exact order of distance anyway
       // (docs/architecture.md).
       if (sw.measured <= queue_.minKey() * (1.0 + kSettleSlack)) {
-        sw.key = sw.measured;
-        sw.predecessor = sw.measuredPredecessor;
+        sw.open.key = sw.measured;
+        sw.predecessor = sw.open.measuredPredecessor;
         return true;
       }
-    } else if (!(queue_.minKey() < sw.key)) {
+    } else if (!(queue_.minKey() < sw.open.key)) {
       return true;  // measured, and queued with that distance
     }
     // The vertex's key was a screened estimate well below its measured
     // distance (or an entry left from an earlier key): queue it with its
     // measured distance.
-    sw.key = sw.measured;
-    sw.predecessor = sw.measuredPredecessor;
+    sw.open.key = sw.measured;
+    sw.predecessor = sw.open.measuredPredecessor;
     queue_.requeueMin(sw.measured);
     return false;
   }
