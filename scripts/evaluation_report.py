@@ -755,7 +755,8 @@ def main():
 
     doc += ["## Time per relaxed edge (Google Benchmark)", "",
             "`stvd_propagation_speed`, 26-neighbourhood, curved metric (γ = 20), median of the "
-            "repetitions; the targets are at most 30 ns per relaxed edge for Dijkstra and at "
+            "repetitions, which alternate between the benchmarks "
+            "(`--benchmark_enable_random_interleaving`); the targets are at most 30 ns per relaxed edge for Dijkstra and at "
             f"most 3 times Dijkstra (never above 4) for default STVD (k = {DEFAULT_K}, segment measure) at 128³.", ""]
     doc += gbench_table(os.path.join(run_dir, "propagation_speed.json"))
 
