@@ -34,7 +34,9 @@ bench="$build_dir/bench"
 
 {
   echo "date=$(date -u '+%Y-%m-%d %H:%M UTC')"
-  echo "commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet HEAD 2>/dev/null || echo ' (with local changes)')"
+  # docs/ is left out of the comparison: it is what this script writes, and
+  # documents edited while a run goes on do not change what it measures.
+  echo "commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet HEAD -- . ':(exclude)docs' 2>/dev/null || echo ' (with local changes)')"
   echo "cpu=$(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1)"
   echo "cores=$(nproc)"
   echo "memory=$(free -g | awk '/^Mem:/ {print $2 " GiB"}')"
