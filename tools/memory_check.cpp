@@ -4,12 +4,6 @@
 
 namespace stvd::tool {
 
-std::string memoryText(std::uint64_t bytes) {
-  const double mib = static_cast<double>(bytes) / (1024.0 * 1024.0);
-  if (mib >= 1024.0) return fixed(mib / 1024.0, 1) + " GiB";
-  return fixed(mib, 0) + " MiB";
-}
-
 std::string memoryCheckJson(const MemoryCheck& memory) {
   return "{\"needed_bytes\": " + std::to_string(memory.neededBytes) +
          ", \"resident_bytes\": " + std::to_string(memory.residentBytes) + ", \"available_bytes\": " +
@@ -26,9 +20,8 @@ MemoryCheck checkMemory(const std::string& input, std::uint64_t neededBytes, con
   check.available = availableMemory();
   check.skipped = skip;
   if (!skip && check.available && neededBytes > check.available->bytes)
-    throw ToolError(kExitMemory, input + ": the run needs about " + memoryText(neededBytes) + " more memory (" + what +
-                                     ") but only " + memoryText(check.available->bytes) + " are available (limit: " +
-                                     check.available->limitedBy + "); add --no-memory-check to run anyway");
+    throw ToolError(kExitMemory, input + ": " + memoryShortfall(neededBytes, *check.available, what) +
+                                     "; add --no-memory-check to run anyway");
   return check;
 }
 

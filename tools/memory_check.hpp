@@ -38,7 +38,4 @@ constexpr std::uint64_t kOutputBytesPerVoxel = 24;
 /// The check as the JSON object of --stats: {"needed_bytes": ..., "check": "passed"}.
 std::string memoryCheckJson(const MemoryCheck& check);
 
-/// "3.2 GiB", "850 MiB".
-std::string memoryText(std::uint64_t bytes);
-
 }  // namespace stvd::tool

@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "stvd/number_text.hpp"
+
 namespace stvd {
 namespace {
 
@@ -77,5 +79,16 @@ std::optional<AvailableMemory> availableMemory() {
 }
 
 std::uint64_t residentMemoryBytes() { return procField("/proc/self/status", "VmRSS"); }
+
+std::string memoryText(std::uint64_t bytes) {
+  const double mib = static_cast<double>(bytes) / (1024.0 * 1024.0);
+  if (mib >= 1024.0) return text::fixed(mib / 1024.0, 1) + " GiB";
+  return text::fixed(mib, 0) + " MiB";
+}
+
+std::string memoryShortfall(std::uint64_t neededBytes, const AvailableMemory& available, const std::string& what) {
+  return "the run needs about " + memoryText(neededBytes) + " more memory (" + what + ") but only " +
+         memoryText(available.bytes) + " are available (limit: " + available.limitedBy + ")";
+}
 
 }  // namespace stvd

@@ -4,7 +4,16 @@
 
 #include <pybind11/pybind11.h>
 
+#include <stdexcept>
+
 namespace stvd::python {
+
+/// A run that would not fit into the memory available, refused before it
+/// starts (the tool's exit code 6): MemoryError in Python.
+class MemoryShortfallError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 /// TensorField and VolumePropagation: tensor volumes, paths, connectivity.
 void bindVolumes(pybind11::module_& m);

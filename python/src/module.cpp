@@ -66,12 +66,14 @@ PYBIND11_MODULE(_core, m) {
   // The library's one-line messages become ValueError (its option, input and
   // domain errors derive from std::invalid_argument, which pybind11 already
   // turns into ValueError); file errors, which are runtime errors in C++,
-  // are bad input here too.
+  // are bad input here too. A run refused for lack of memory is MemoryError.
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const stvd::imaging::ImageIoError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const stvd::python::MemoryShortfallError& e) {
+      PyErr_SetString(PyExc_MemoryError, e.what());
     }
   });
 

@@ -23,10 +23,13 @@
 #include "stvd/itk/seed_voxels.hpp"
 #include "stvd/itk/streamline_io.hpp"
 #include "stvd/label_regions.hpp"
+#include "stvd/number_text.hpp"
+#include "stvd/parallel_tasks.hpp"
 #include "stvd/propagation_choice.hpp"
 #include "stvd/region_connectivity.hpp"
 #include "stvd/stencil.hpp"
 #include "stvd/steiner_propagation.hpp"
+#include "stvd/system_memory.hpp"
 #include "tensor_field.hpp"
 
 namespace stvd::python {
@@ -86,11 +89,24 @@ py::array_t<double> affineArray(const GridGeometry& g) {
 
 std::vector<std::size_t> gridShape(const GridGeometry& g) { return {g.size[0], g.size[1], g.size[2]}; }
 
+/// The tool's memory check, before a run's large allocations: MemoryError
+/// naming the input when the run still needs more than the memory available
+/// (the system's, the control group's, the address-space limit's), unless
+/// `check` is false (memory_check=False, the tool's --no-memory-check).
+/// Nothing is refused when that is unknown.
+void checkMemory(const TensorField& field, std::uint64_t neededBytes, const std::string& what, bool check) {
+  if (!check) return;
+  const std::optional<AvailableMemory> available = availableMemory();
+  if (available && neededBytes > available->bytes)
+    throw MemoryShortfallError(field.name + ": " + memoryShortfall(neededBytes, *available, what) +
+                               "; pass memory_check=False to run anyway");
+}
+
 std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const TensorField>& field,
                                                   const std::vector<std::array<int, 3>>& seedVoxels,
                                                   const std::vector<std::array<double, 3>>& seedPoints, bool lps,
                                                   const py::handle& seedLabels, PropagationChoice choice,
-                                                  double maxDistance, const py::handle& progress) {
+                                                  double maxDistance, const py::handle& progress, bool memoryCheck) {
   checkPropagationChoice(choice, /*lanthierAllowed=*/true);
   if (seedVoxels.empty() && seedPoints.empty() && seedLabels.is_none())
     throw OptionError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
@@ -100,6 +116,18 @@ std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const Te
     labels = scalarImageOf(seedLabels, field->geometry());
     labelsName = scalarImageName(seedLabels);
   }
+  // The run's state and result, as the tool estimates them, and the float32
+  // map distance_map() makes of the result.
+  const std::uint64_t voxels = field->geometry().voxelCount(), domainVoxels = field->counts.domain;
+  const std::uint64_t needed =
+      (choice.lanthier ? steinerMemoryEstimate(steinerGridPointCount(domainVoxels, choice.steinerPoints), voxels) +
+                             2 * sizeof(VertexId) * voxels  // the grid cells' numbering of domain voxels
+                       : propagationMemoryEstimate(voxels, domainVoxels)) +
+      sizeof(float) * voxels;
+  checkMemory(*field, needed,
+              methodText(choice, memoryDepthOf<VoxelGridDomain>(choice)) + " on " +
+                  text::withThousands(domainVoxels) + " domain voxels",
+              memoryCheck);
 
   ProgressRelay relay(progress);
   std::shared_ptr<VolumePropagation> out;
@@ -231,7 +259,7 @@ py::list tracePaths(const std::shared_ptr<VolumePropagation>& p, const std::vect
 /// `stvd connectivity` over a field: the label regions, one propagation per
 /// region, the matrices.
 py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py::handle& labelsSpec,
-                      PropagationChoice choice, unsigned threads, const py::handle& progress) {
+                      PropagationChoice choice, unsigned threads, const py::handle& progress, bool memoryCheck) {
   checkPropagationChoice(choice, /*lanthierAllowed=*/false);
   const imaging::LabelImage labels = labelImageOf(labelsSpec, field->geometry());
   const std::string labelsName = scalarImageName(labelsSpec);
@@ -244,6 +272,14 @@ py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py:
     imaging::requireSameGrid(labels.geometry, field->geometry(), labelsName, "the labels are", field->name);
     regions = regionsInDomain(labelRegions(labels.labels, field->inDomain), labelsName, field->name,
                               leftOut);
+    // One propagation at a time on each thread, each with its own state and
+    // result, as the tool estimates them.
+    const unsigned threadCount = threadCountFor(threads, regions.size());
+    checkMemory(*field,
+                threadCount * propagationMemoryEstimate(field->geometry().voxelCount(), field->counts.domain),
+                std::to_string(threadCount) + (threadCount == 1 ? " propagation" : " propagations at once") +
+                    " on " + text::withThousands(field->counts.domain) + " domain voxels",
+                memoryCheck);
     std::vector<std::vector<VertexId>> voxels;
     for (const LabelRegion& r : regions) voxels.push_back(r.voxels);
     const VoxelGridDomain domain(field->geometry(), Stencil::byName(choice.stencil), field->inDomain,
@@ -374,32 +410,33 @@ void bindVolumes(py::module_& m) {
              const std::optional<std::string>& method, const std::optional<int>& k,
              const std::optional<std::string>& chainMeasure, const std::optional<std::string>& stencil,
              const std::optional<int>& steiner, const std::optional<double>& maxDistance, const py::object& progress,
-             const std::optional<std::string>& domainConnectivity) {
+             const std::optional<std::string>& domainConnectivity, bool memoryCheck) {
             return propagateField(field, seeds, finiteTriples(seedPoints, "seed_points"), lps, seedLabels,
                                   choiceOf(method, k, chainMeasure, stencil, steiner, domainConnectivity),
-                                  maxDistanceOf(maxDistance), progress);
+                                  maxDistanceOf(maxDistance), progress, memoryCheck);
           },
           py::arg("seeds") = std::vector<std::array<int, 3>>{},
           py::arg("seed_points") = std::vector<std::array<double, 3>>{}, py::arg("lps") = false,
           py::arg("seed_labels") = py::none(), py::arg("method") = py::none(), py::arg("k") = py::none(),
           py::arg("chain_measure") = py::none(), py::arg("stencil") = py::none(), py::arg("steiner") = py::none(),
           py::arg("max_distance") = py::none(), py::arg("progress") = py::none(),
-          py::arg("domain_connectivity") = py::none())
+          py::arg("domain_connectivity") = py::none(), py::arg("memory_check") = true)
       .def(
           "connectivity",
           [](const std::shared_ptr<TensorField>& field, const py::object& labels, const std::optional<std::string>& method,
              const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
              const std::optional<std::string>& stencil, const std::optional<int>& threads, const py::object& progress,
-             const std::optional<std::string>& domainConnectivity) {
+             const std::optional<std::string>& domainConnectivity, bool memoryCheck) {
             if (threads && (*threads < 1 || *threads > 1024))
               throw OptionError("--threads must be between 1 and 1024");
             return connectivity(field, labels,
                                 choiceOf(method, k, chainMeasure, stencil, std::nullopt, domainConnectivity),
-                                threads ? static_cast<unsigned>(*threads) : 0u, progress);
+                                threads ? static_cast<unsigned>(*threads) : 0u, progress, memoryCheck);
           },
           py::arg("labels"), py::arg("method") = py::none(), py::arg("k") = py::none(),
           py::arg("chain_measure") = py::none(), py::arg("stencil") = py::none(), py::arg("threads") = py::none(),
-          py::arg("progress") = py::none(), py::arg("domain_connectivity") = py::none());
+          py::arg("progress") = py::none(), py::arg("domain_connectivity") = py::none(),
+          py::arg("memory_check") = true);
 
   py::class_<VolumePropagation, std::shared_ptr<VolumePropagation>>(m, "VolumePropagation")
       .def_property_readonly("field", [](const VolumePropagation& p) { return std::const_pointer_cast<TensorField>(p.field); })

@@ -180,7 +180,8 @@ def _image_template(tensors, field):
 def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=None, lps=False, mask=None,
               tensor_order=None, tensor_frame=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None,
               fa_threshold=None, method=None, k=None, chain_measure=None, stencil=None, steiner=None,
-              max_distance=None, progress=None, accept_implausible_tensors=False, domain_connectivity=None):
+              max_distance=None, progress=None, accept_implausible_tensors=False, domain_connectivity=None,
+              memory_check=True):
     """Propagates the geodesic distance from seeds over a tensor volume and
     returns the whole result (``stvd.Propagation``): distances, predecessors
     and statistics. The arguments are those of ``stvd.distance``."""
@@ -192,7 +193,8 @@ def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels
         result = field.propagate(voxel_list(seeds, "seeds"), point_list(seed_points, "seed_points"), bool(lps),
                                  labels, method=method, k=k, chain_measure=chain_measure, stencil=stencil,
                                  steiner=steiner, max_distance=max_distance, progress=reporter.callback,
-                                 domain_connectivity=_connectivity(domain_connectivity))
+                                 domain_connectivity=_connectivity(domain_connectivity),
+                                 memory_check=bool(memory_check))
         reporter.finish(result.finalized_vertices)
     template = _image_template(tensors, field) if (is_image(tensors) or is_path(tensors)) else None
     return Propagation(result, template,
@@ -204,7 +206,7 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
              tensor_order=None, tensor_frame=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None,
              fa_threshold=None, method=None, k=None, chain_measure=None, stencil=None, steiner=None,
              max_distance=None, unreachable_value=None, progress=None, accept_implausible_tensors=False,
-             domain_connectivity=None):
+             domain_connectivity=None, memory_check=True):
     """The anisotropic geodesic distance (millimetres) from seeds over a
     diffusion or metric tensor volume, as ``stvd distance`` computes it.
 
@@ -228,6 +230,10 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
     unreachable_value: the value of voxels not reached.
     progress: True for a tqdm bar, or a function
         ``f(finalized, domain_vertices, front_mm)``; returning False cancels.
+    memory_check: a run that would not fit into the memory available (the
+        system's, the control group's, ``ulimit -v``) raises MemoryError
+        before it starts; False runs it anyway (the tool's
+        ``--no-memory-check``).
 
     Options left at None take ``stvd.defaults``. Returns the float32 distance
     map on the input's grid: a NiBabel image when an image or a file came in,
@@ -239,7 +245,7 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
                        method=method, k=k, chain_measure=chain_measure, stencil=stencil, steiner=steiner,
                        max_distance=max_distance, progress=progress,
                        accept_implausible_tensors=accept_implausible_tensors,
-                       domain_connectivity=domain_connectivity)
+                       domain_connectivity=domain_connectivity, memory_check=memory_check)
     return result.distance_map(unreachable_value)
 
 
@@ -283,13 +289,15 @@ class Connectivity:
 def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tensor_order=None, tensor_frame=None,
                  tensor_kind=None, diffusion_metric=None, max_anisotropy=None, fa_threshold=None, method=None, k=None,
                  chain_measure=None, stencil=None, progress=None, accept_implausible_tensors=False,
-                 domain_connectivity=None):
+                 domain_connectivity=None, memory_check=True):
     """Region-to-region connectivity as ``stvd connectivity`` computes it: one
     propagation from each region of ``labels`` (a path, image or array on the
     tensors' grid; each distinct non-zero integer is a region), ``threads`` at
     a time (None: one per core; the result does not depend on it).
     ``tensors`` is what ``stvd.distance`` takes, or a ``stvd.Propagation``,
-    whose field and method are reused. Returns ``stvd.Connectivity``."""
+    whose field and method are reused; ``memory_check`` as there (the
+    ``threads`` propagations at once must fit). Returns
+    ``stvd.Connectivity``."""
     if isinstance(tensors, Propagation):
         if accept_implausible_tensors or any(
                 v is not None for v in (affine, mask, tensor_order, tensor_frame, tensor_kind, diffusion_metric,
@@ -309,7 +317,8 @@ def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tenso
                        domain_connectivity=_connectivity(domain_connectivity))
     spec = scalar_image_spec(labels, "labels")
     with progress_reporter(progress) as reporter:
-        values = field.connectivity(spec, threads=threads, progress=reporter.callback, **options)
+        values = field.connectivity(spec, threads=threads, progress=reporter.callback,
+                                    memory_check=bool(memory_check), **options)
     return Connectivity(values)
 
 

@@ -29,4 +29,14 @@ std::optional<AvailableMemory> availableMemory();
 /// when unknown.
 std::uint64_t residentMemoryBytes();
 
+/// "3.2 GiB", "850 MiB".
+std::string memoryText(std::uint64_t bytes);
+
+/// Why a run that still needs `neededBytes` (`what` says for what: "STVD on
+/// 132,892 domain voxels") does not fit into `available`, as the front ends
+/// say it: "the run needs about 2.5 GiB more memory (...) but only 1.0 GiB
+/// are available (limit: ...)". The caller decides that it does not fit
+/// and adds the file's name and how to run anyway.
+std::string memoryShortfall(std::uint64_t neededBytes, const AvailableMemory& available, const std::string& what);
+
 }  // namespace stvd
