@@ -371,11 +371,7 @@ int runDistance(int argc, char** argv) {
   t.read += secondsSince(phase);
 
   const std::uint64_t voxels = g.voxelCount(), domainVoxels = built.counts.domain;
-  const std::uint64_t needed =
-      (o.lanthier ? steinerMemoryEstimate(steinerGridPointCount(domainVoxels, o.steinerPoints), voxels) +
-                        2 * sizeof(VertexId) * voxels  // the grid cells' numbering of domain voxels
-                  : propagationMemoryEstimate(voxels, domainVoxels)) +
-      kOutputBytesPerVoxel * voxels;
+  const std::uint64_t needed = gridRunMemoryEstimate(o, voxels, domainVoxels) + kOutputBytesPerVoxel * voxels;
   const MemoryCheck memory = checkMemory(
       o.input, needed,
       methodText(o, memoryDepthOf<VoxelGridDomain>(o)) + " on " + withThousands(domainVoxels) + " domain voxels",

@@ -125,6 +125,13 @@ std::string methodText(const PropagationChoice& o, int k) {
   return "STVD with k = " + std::to_string(k) + measure;
 }
 
+std::uint64_t gridRunMemoryEstimate(const PropagationChoice& choice, std::uint64_t voxels,
+                                    std::uint64_t domainVoxels) {
+  if (!choice.lanthier) return propagationMemoryEstimate(voxels, domainVoxels);
+  return steinerMemoryEstimate(steinerGridPointCount(domainVoxels, choice.steinerPoints), voxels) +
+         2 * sizeof(VertexId) * voxels;  // the grid cells' numbering of domain voxels
+}
+
 std::string methodName(const PropagationChoice& o) {
   return o.lanthier ? "lanthier" : o.method == Method::Dijkstra ? "dijkstra" : "stvd";
 }

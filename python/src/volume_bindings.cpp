@@ -119,11 +119,7 @@ std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const Te
   // The run's state and result, as the tool estimates them, and the float32
   // map distance_map() makes of the result.
   const std::uint64_t voxels = field->geometry().voxelCount(), domainVoxels = field->counts.domain;
-  const std::uint64_t needed =
-      (choice.lanthier ? steinerMemoryEstimate(steinerGridPointCount(domainVoxels, choice.steinerPoints), voxels) +
-                             2 * sizeof(VertexId) * voxels  // the grid cells' numbering of domain voxels
-                       : propagationMemoryEstimate(voxels, domainVoxels)) +
-      sizeof(float) * voxels;
+  const std::uint64_t needed = gridRunMemoryEstimate(choice, voxels, domainVoxels) + sizeof(float) * voxels;
   checkMemory(*field, needed,
               methodText(choice, memoryDepthOf<VoxelGridDomain>(choice)) + " on " +
                   text::withThousands(domainVoxels) + " domain voxels",

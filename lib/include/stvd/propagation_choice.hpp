@@ -6,6 +6,7 @@
 // messages agree.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -90,6 +91,13 @@ int memoryDepthOf(const PropagationChoice& choice) {
 std::string methodText(const PropagationChoice& choice, int k);
 /// "stvd", "dijkstra" or "lanthier".
 std::string methodName(const PropagationChoice& choice);
+/// What one run of the choice allocates over a voxel grid of `voxels`
+/// slots, `domainVoxels` of them in the domain (the grid and the metric not
+/// included): propagationMemoryEstimate, or for Lanthier's method its graph
+/// and the grid cells' numbering of domain voxels. For the front ends'
+/// memory checks (stvd/system_memory.hpp).
+std::uint64_t gridRunMemoryEstimate(const PropagationChoice& choice, std::uint64_t voxels,
+                                    std::uint64_t domainVoxels);
 /// What the domain's connectivity joins, for summaries: "domain connectivity
 /// 6 (voxels joined through faces only)".
 std::string connectivityText(VoxelConnectivity connectivity);
