@@ -402,12 +402,9 @@ int runSurfaceDistance(int argc, char** argv) {
   std::sort(sources.begin(), sources.end());
   sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
   {
-    // The propagation or the Steiner graph (M points on each face edge), and the output.
-    const std::uint64_t v = surface->vertexCount(), corners = mesh.faces.faceVertex.size();
-    const std::uint64_t needed =
-        64 * v + (o.lanthier ? steinerMemoryEstimate(v + static_cast<std::uint64_t>(o.steinerPoints) * corners, v)
-                             : propagationMemoryEstimate(v, v));
-    run.memory = checkMemory(o.input, needed, withThousands(v) + " vertices", !o.memoryCheck);
+    const std::uint64_t v = surface->vertexCount();
+    run.memory = checkMemory(o.input, surfaceRunMemoryEstimate(o, v, mesh.faces.faceVertex.size()),
+                             withThousands(v) + " vertices", !o.memoryCheck);
   }
 
   phase = Clock::now();

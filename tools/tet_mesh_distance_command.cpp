@@ -426,17 +426,9 @@ int runTetMeshDistance(int argc, char** argv) {
   sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
 
   {
-    // The renumbered copies, the domain's edges (built from six per
-    // tetrahedron), the propagation or the Steiner graph (at most six
-    // edges and four faces per tetrahedron carry points) and the output.
-    const std::uint64_t v = points.size(), t = tets.size(), m = static_cast<std::uint64_t>(o.steinerPoints);
-    constexpr std::uint64_t kMeshBytesPerVertex = 24 + 64, kDomainBytesPerTet = 16 + 160, kCellBytesPerTet = 160;
-    const std::uint64_t needed =
-        kMeshBytesPerVertex * v + kDomainBytesPerTet * t +
-        (o.lanthier ? kCellBytesPerTet * t + steinerMemoryEstimate(v + 6 * m * t + 2 * m * (m - 1) * t, v)
-                    : propagationMemoryEstimate(v, v));
-    checkMemory(o.input, needed, withThousands(v) + " vertices and " + withThousands(t) + " tetrahedra",
-                !o.memoryCheck);
+    const std::uint64_t v = points.size(), t = tets.size();
+    checkMemory(o.input, tetMeshRunMemoryEstimate(o, v, t),
+                withThousands(v) + " vertices and " + withThousands(t) + " tetrahedra", !o.memoryCheck);
   }
 
   const double setupSeconds = secondsSince(start);

@@ -132,6 +132,22 @@ std::uint64_t gridRunMemoryEstimate(const PropagationChoice& choice, std::uint64
          2 * sizeof(VertexId) * voxels;  // the grid cells' numbering of domain voxels
 }
 
+std::uint64_t surfaceRunMemoryEstimate(const PropagationChoice& choice, std::uint64_t vertices,
+                                       std::uint64_t corners) {
+  const std::uint64_t m = static_cast<std::uint64_t>(choice.steinerPoints);
+  return 64 * vertices + (choice.lanthier ? steinerMemoryEstimate(vertices + m * corners, vertices)
+                                          : propagationMemoryEstimate(vertices, vertices));
+}
+
+std::uint64_t tetMeshRunMemoryEstimate(const PropagationChoice& choice, std::uint64_t vertices,
+                                       std::uint64_t tetrahedra) {
+  const std::uint64_t v = vertices, t = tetrahedra, m = static_cast<std::uint64_t>(choice.steinerPoints);
+  constexpr std::uint64_t kMeshBytesPerVertex = 24 + 64, kDomainBytesPerTet = 16 + 160, kCellBytesPerTet = 160;
+  return kMeshBytesPerVertex * v + kDomainBytesPerTet * t +
+         (choice.lanthier ? kCellBytesPerTet * t + steinerMemoryEstimate(v + 6 * m * t + 2 * m * (m - 1) * t, v)
+                          : propagationMemoryEstimate(v, v));
+}
+
 std::string methodName(const PropagationChoice& o) {
   return o.lanthier ? "lanthier" : o.method == Method::Dijkstra ? "dijkstra" : "stvd";
 }

@@ -19,6 +19,7 @@
 #include "stvd/itk/tensor_arrays.hpp"
 #include "stvd/itk/tensor_input.hpp"
 #include "stvd/itk/tensor_metric.hpp"
+#include "stvd/number_text.hpp"
 #include "stvd/propagation_choice.hpp"
 #include "stvd/steiner_propagation.hpp"
 #include "stvd/surface_domain.hpp"
@@ -140,7 +141,7 @@ py::dict tetMeshPropagate(const py::object& pointsObject, const py::object& tets
                           const std::optional<double>& faThreshold, const std::optional<std::string>& method,
                           const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
                           const std::optional<int>& steiner, const std::optional<double>& maxDistance,
-                          const py::object& progress) {
+                          const py::object& progress, bool memoryCheck) {
   const PropagationChoice choice = choiceOf(method, k, chainMeasure, std::nullopt, steiner);
   checkMeshPropagationChoice(choice, "tetrahedron edge", 2);
   const double limit = maxDistanceOf(maxDistance);
@@ -152,6 +153,10 @@ py::dict tetMeshPropagate(const py::object& pointsObject, const py::object& tets
   for (const auto& row : indexRows(tetsObject, 4, "tetrahedra")) tets.push_back({row[0], row[1], row[2], row[3]});
   std::vector<SymTensor3> tensors;
   if (!tensorsObject.is_none()) tensors = rowTensors(tensorsObject, points.size(), order, "tensors", "vertex");
+  checkMemory("tetrahedra", tetMeshRunMemoryEstimate(choice, points.size(), tets.size()),
+              text::withThousands(points.size()) + " vertices and " + text::withThousands(tets.size()) +
+                  " tetrahedra",
+              memoryCheck);
 
   ProgressRelay relay(progress);
   tetmesh::TetMeshPropagation propagation;
@@ -216,7 +221,7 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
                           const std::optional<std::string>& order, const std::optional<std::string>& method,
                           const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
                           const std::optional<int>& steiner, const std::optional<double>& maxDistance,
-                          const py::object& progress) {
+                          const py::object& progress, bool memoryCheck) {
   const PropagationChoice choice = choiceOf(method, k, chainMeasure, std::nullopt, steiner);
   checkMeshPropagationChoice(choice, "face edge", 4);
   const double limit = maxDistanceOf(maxDistance);
@@ -230,6 +235,8 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
   } catch (const SurfaceError& e) {  // not an orientable 2-manifold
     throw py::value_error("surface: " + std::string(e.what()));
   }
+  checkMemory("vertices", surfaceRunMemoryEstimate(choice, surface->vertexCount(), faces.faceVertex.size()),
+              text::withThousands(surface->vertexCount()) + " vertices", memoryCheck);
   const RiemannianMetric metric = surfaceMetric(*surface, metricKind, metricValues, anisotropy, order);
   const std::vector<std::uint8_t> all(surface->vertexCount(), 1);
   ProgressRelay relay(progress);
@@ -268,12 +275,12 @@ void bindMeshes(py::module_& m) {
         py::arg("diffusion_metric") = py::none(), py::arg("max_anisotropy") = py::none(),
         py::arg("fa_threshold") = py::none(), py::arg("method") = py::none(), py::arg("k") = py::none(),
         py::arg("chain_measure") = py::none(), py::arg("steiner") = py::none(), py::arg("max_distance") = py::none(),
-        py::arg("progress") = py::none());
+        py::arg("progress") = py::none(), py::arg("memory_check") = true);
   m.def("surface_propagate", &surfacePropagate, py::arg("vertices"), py::arg("faces"), py::arg("seeds"),
         py::arg("metric") = "isotropic", py::arg("metric_values") = py::none(), py::arg("anisotropy") = py::none(),
         py::arg("tensor_order") = py::none(), py::arg("method") = py::none(), py::arg("k") = py::none(),
         py::arg("chain_measure") = py::none(), py::arg("steiner") = py::none(), py::arg("max_distance") = py::none(),
-        py::arg("progress") = py::none());
+        py::arg("progress") = py::none(), py::arg("memory_check") = true);
 }
 
 }  // namespace stvd::python

@@ -2,6 +2,9 @@
 
 #include <limits>
 
+#include "bindings.hpp"
+#include "stvd/system_memory.hpp"
+
 namespace stvd::python {
 
 PropagationChoice choiceOf(const std::optional<std::string>& method, const std::optional<int>& k,
@@ -21,6 +24,14 @@ double maxDistanceOf(const std::optional<double>& maxDistance) {
   if (!maxDistance) return std::numeric_limits<double>::infinity();
   if (!(*maxDistance > 0.0)) throw OptionError("--max-distance must be positive");
   return *maxDistance;
+}
+
+void checkMemory(const std::string& input, std::uint64_t neededBytes, const std::string& what, bool check) {
+  if (!check) return;
+  const std::optional<AvailableMemory> available = availableMemory();
+  if (available && neededBytes > available->bytes)
+    throw MemoryShortfallError(input + ": " + memoryShortfall(neededBytes, *available, what) +
+                               "; pass memory_check=False to run anyway");
 }
 
 }  // namespace stvd::python

@@ -1,9 +1,11 @@
 // The propagation keywords every Python call shares (method, k,
-// chain_measure, stencil, domain_connectivity, steiner, max_distance),
+// chain_measure, stencil, domain_connectivity, steiner, max_distance,
+// memory_check),
 // through the library's setters, so that values and messages are the
 // tool's.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -20,5 +22,13 @@ PropagationChoice choiceOf(const std::optional<std::string>& method, const std::
 
 /// max_distance: infinity for None; OptionError unless positive.
 double maxDistanceOf(const std::optional<double>& maxDistance);
+
+/// memory_check: the tool's memory check, before a run's large
+/// allocations. MemoryShortfallError (MemoryError) naming `input` when the
+/// run still needs more than the memory available (the system's, the
+/// control group's, the address-space limit's), unless `check` is false
+/// (memory_check=False, the tool's --no-memory-check). Nothing is refused
+/// when that is unknown.
+void checkMemory(const std::string& input, std::uint64_t neededBytes, const std::string& what, bool check);
 
 }  // namespace stvd::python

@@ -29,7 +29,6 @@
 #include "stvd/region_connectivity.hpp"
 #include "stvd/stencil.hpp"
 #include "stvd/steiner_propagation.hpp"
-#include "stvd/system_memory.hpp"
 #include "tensor_field.hpp"
 
 namespace stvd::python {
@@ -89,19 +88,6 @@ py::array_t<double> affineArray(const GridGeometry& g) {
 
 std::vector<std::size_t> gridShape(const GridGeometry& g) { return {g.size[0], g.size[1], g.size[2]}; }
 
-/// The tool's memory check, before a run's large allocations: MemoryError
-/// naming the input when the run still needs more than the memory available
-/// (the system's, the control group's, the address-space limit's), unless
-/// `check` is false (memory_check=False, the tool's --no-memory-check).
-/// Nothing is refused when that is unknown.
-void checkMemory(const TensorField& field, std::uint64_t neededBytes, const std::string& what, bool check) {
-  if (!check) return;
-  const std::optional<AvailableMemory> available = availableMemory();
-  if (available && neededBytes > available->bytes)
-    throw MemoryShortfallError(field.name + ": " + memoryShortfall(neededBytes, *available, what) +
-                               "; pass memory_check=False to run anyway");
-}
-
 std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const TensorField>& field,
                                                   const std::vector<std::array<int, 3>>& seedVoxels,
                                                   const std::vector<std::array<double, 3>>& seedPoints, bool lps,
@@ -120,7 +106,7 @@ std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const Te
   // map distance_map() makes of the result.
   const std::uint64_t voxels = field->geometry().voxelCount(), domainVoxels = field->counts.domain;
   const std::uint64_t needed = gridRunMemoryEstimate(choice, voxels, domainVoxels) + sizeof(float) * voxels;
-  checkMemory(*field, needed,
+  checkMemory(field->name, needed,
               methodText(choice, memoryDepthOf<VoxelGridDomain>(choice)) + " on " +
                   text::withThousands(domainVoxels) + " domain voxels",
               memoryCheck);
@@ -271,7 +257,7 @@ py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py:
     // One propagation at a time on each thread, each with its own state and
     // result, as the tool estimates them.
     const unsigned threadCount = threadCountFor(threads, regions.size());
-    checkMemory(*field,
+    checkMemory(field->name,
                 threadCount * propagationMemoryEstimate(field->geometry().voxelCount(), field->counts.domain),
                 std::to_string(threadCount) + (threadCount == 1 ? " propagation" : " propagations at once") +
                     " on " + text::withThousands(field->counts.domain) + " domain voxels",

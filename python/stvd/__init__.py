@@ -330,40 +330,43 @@ def _distances(values, unreachable_value):
 
 def tet_mesh_distance(points, tetrahedra, seeds, *, tensors=None, tensor_order=None, tensor_kind=None,
                       diffusion_metric=None, max_anisotropy=None, fa_threshold=None, method=None, k=None,
-                      chain_measure=None, steiner=None, max_distance=None, unreachable_value=None, progress=None):
+                      chain_measure=None, steiner=None, max_distance=None, unreachable_value=None, progress=None,
+                      memory_check=True):
     """The geodesic distance over a tetrahedral mesh, as ``stvd distance
     MESH.node`` computes it: ``points`` (N, 3), ``tetrahedra`` (M, 4) vertex
     indices from 0, ``seeds`` vertex indices. ``tensors``: one per vertex in
     the frame of the points, (N, 6) in the order ``tensor_order`` states or
     (N, 3, 3); diffusion tensors unless ``tensor_kind='metric'``; none: the
     Euclidean metric. Tetrahedra with a vertex outside the domain are left
-    out. Returns float64 distances per vertex (``unreachable_value`` where
-    not reached)."""
+    out. ``memory_check`` as in ``stvd.distance``. Returns float64 distances
+    per vertex (``unreachable_value`` where not reached)."""
     with progress_reporter(progress) as reporter:
         values = _core.tet_mesh_propagate(
             points, tetrahedra, index_list(seeds, "seeds"), tensors=tensors, tensor_order=tensor_order,
             tensor_kind=tensor_kind, diffusion_metric=diffusion_metric, max_anisotropy=max_anisotropy,
             fa_threshold=fa_threshold, method=method, k=k, chain_measure=chain_measure, steiner=steiner,
-            max_distance=max_distance, progress=reporter.callback)
+            max_distance=max_distance, progress=reporter.callback, memory_check=bool(memory_check))
         reporter.finish(values["finalized_vertices"])
     return _distances(values, unreachable_value)
 
 
 def surface_distance(vertices, faces, seeds, *, metric="isotropic", metric_values=None, anisotropy=None,
                      tensor_order=None, method=None, k=None, chain_measure=None, steiner=None, max_distance=None,
-                     unreachable_value=None, progress=None):
+                     unreachable_value=None, progress=None, memory_check=True):
     """The geodesic distance over a polygon surface, as ``stvd distance
     MESH.obj`` computes it: ``vertices`` (N, 3), ``faces`` (F, 3) or a list of
     polygons (vertex indices from 0), ``seeds`` vertex indices. ``metric``:
     ``'isotropic'``, ``'curvature'`` (with ``anisotropy``), ``'field'`` (a
     direction per vertex in ``metric_values``, with ``anisotropy``),
     ``'tensors'`` or ``'face-tensors'`` (world tensors per vertex or face in
-    ``metric_values``: (N, 6) in ``tensor_order`` or (N, 3, 3)). Returns
-    float64 distances per vertex (``unreachable_value`` where not reached)."""
+    ``metric_values``: (N, 6) in ``tensor_order`` or (N, 3, 3)).
+    ``memory_check`` as in ``stvd.distance``. Returns float64 distances per
+    vertex (``unreachable_value`` where not reached)."""
     with progress_reporter(progress) as reporter:
         values = _core.surface_propagate(
             vertices, faces, index_list(seeds, "seeds"), metric=metric, metric_values=metric_values,
             anisotropy=anisotropy, tensor_order=tensor_order, method=method, k=k, chain_measure=chain_measure,
-            steiner=steiner, max_distance=max_distance, progress=reporter.callback)
+            steiner=steiner, max_distance=max_distance, progress=reporter.callback,
+            memory_check=bool(memory_check))
         reporter.finish(values["finalized_vertices"])
     return _distances(values, unreachable_value)

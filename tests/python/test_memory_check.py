@@ -80,3 +80,44 @@ def test_memory_check_false_skips_the_check():
     """)
     assert run.returncode == 0, run.stderr
     assert "pass memory_check=False" not in run.stdout, run.stdout
+
+
+def test_mesh_runs_that_cannot_fit_raise_memory_error():
+    # A surface: a 300 x 300 grid of triangles, Lanthier M = 16 (about 8.6
+    # million graph points, some 200 MiB), with 140 MiB left once the arrays
+    # exist (the check comes after the surface is built, as in the tool,
+    # which takes some 70 MiB of them). A tetrahedral
+    # mesh: a 20^3 lattice of Kuhn cubes (41,154 tetrahedra), default STVD,
+    # with 4 MiB left.
+    run = run_limited("""
+        n = 300
+        x, y = np.meshgrid(np.arange(n, dtype=float), np.arange(n, dtype=float), indexing="ij")
+        vertices = np.stack([x.ravel(), y.ravel(), np.zeros(n * n)], axis=1)
+        corner = (np.arange(n - 1)[:, None] * n + np.arange(n - 1)[None, :]).ravel()
+        faces = np.concatenate([np.stack([corner, corner + n, corner + n + 1], axis=1),
+                                np.stack([corner, corner + n + 1, corner + 1], axis=1)])
+        m = 20
+        index = lambda i, j, k: (i * m + j) * m + k
+        points = np.array([(i, j, k) for i in range(m) for j in range(m) for k in range(m)], dtype=float)
+        kuhn = [(0, 1, 3, 7), (0, 1, 5, 7), (0, 2, 3, 7), (0, 2, 6, 7), (0, 4, 5, 7), (0, 4, 6, 7)]
+        cube = lambda i, j, k: [index(i + (c >> 2 & 1), j + (c >> 1 & 1), k + (c & 1)) for c in range(8)]
+        tetrahedra = np.array([[cube(i, j, k)[c] for c in t] for i in range(m - 1) for j in range(m - 1)
+                               for k in range(m - 1) for t in kuhn])
+        for name, call, margin in [
+                ("surface", lambda: stvd.surface_distance(vertices, faces, [0], method="lanthier", steiner=16),
+                 140 << 20),
+                ("tet mesh", lambda: stvd.tet_mesh_distance(points, tetrahedra, [0]), 4 << 20)]:
+            limit_address_space(margin)
+            try:
+                call()
+                print(name, "no error")
+            except MemoryError as e:
+                print(name, "MemoryError:", e)
+            resource.setrlimit(resource.RLIMIT_AS, (resource.RLIM_INFINITY, resource.RLIM_INFINITY))
+    """)
+    assert run.returncode == 0, run.stderr
+    surface, tets = run.stdout.splitlines()
+    assert surface.startswith("surface MemoryError: vertices: the run needs about "), surface
+    assert "(90,000 vertices)" in surface and surface.endswith("; pass memory_check=False to run anyway"), surface
+    assert tets.startswith("tet mesh MemoryError: tetrahedra: the run needs about "), tets
+    assert "(8,000 vertices and 41,154 tetrahedra)" in tets, tets
