@@ -35,6 +35,7 @@
 #include <string>
 #include <tuple>
 
+#include "../tests/tetmesh/l_shaped_prism_surface.hpp"
 #include "bench_scenes.hpp"
 #include "scenes.hpp"
 #include "stvd/propagation_impl.hpp"
@@ -136,13 +137,7 @@ const TetScene& lShapedScene(int maxVolumeThousandths) {
   static std::map<int, std::unique_ptr<TetScene>> scenes;
   auto& s = scenes[maxVolumeThousandths];
   if (s) return *s;
-  const double outline[6][2] = {{0, 0}, {16, 0}, {16, 8}, {8, 8}, {8, 16}, {0, 16}};
-  tetgen::SurfaceMesh surface;
-  for (const double z : {0.0, 4.0})
-    for (const auto& xy : outline) surface.points.push_back({xy[0], xy[1], z});
-  surface.polygons.push_back({5, 4, 3, 2, 1, 0});
-  surface.polygons.push_back({6, 7, 8, 9, 10, 11});
-  for (VertexId i = 0; i < 6; ++i) surface.polygons.push_back({i, (i + 1) % 6, 6 + (i + 1) % 6, 6 + i});
+  const tetgen::SurfaceMesh surface = test::lShapedPrismSurface();
   tetgen::TetrahedralizeOptions o;
   o.quality = 1.4;
   o.maxVolume = maxVolumeThousandths / 1000.0;
@@ -194,6 +189,19 @@ void errorCounters(benchmark::State& state, const TetScene& s, const Propagation
   state.counters["vertices"] = double(s.domain.vertexCount());
 }
 
+/// Times the propagation of `options` over the scene and reports its time
+/// per relaxed edge and its error.
+PropagationResult timePropagation(benchmark::State& state, const TetScene& s, const PropagationOptions& options) {
+  PropagationResult r;
+  for (auto _ : state) {
+    r = propagate(s.domain, s.metric, {s.source}, options);
+    benchmark::DoNotOptimize(r.distance.data());
+  }
+  perEdge(state, r.relaxedEdges);
+  errorCounters(state, s, r);
+  return r;
+}
+
 constexpr ChainMeasure kMeasures[] = {ChainMeasure::Segment, ChainMeasure::LargestEdgeNorm};
 
 void tetMesh(benchmark::State& state) {
@@ -203,14 +211,7 @@ void tetMesh(benchmark::State& state) {
   const bool morton = state.range(3) != 0;
   const ChainMeasure measure = kMeasures[state.range(4)];
   const TetScene& s = tetScene(volume, curved, morton);
-  const PropagationOptions options = optionsFor(k, measure);
-  PropagationResult r;
-  for (auto _ : state) {
-    r = propagate(s.domain, s.metric, {s.source}, options);
-    benchmark::DoNotOptimize(r.distance.data());
-  }
-  perEdge(state, r.relaxedEdges);
-  errorCounters(state, s, r);
+  timePropagation(state, s, optionsFor(k, measure));
   state.counters["edges_per_vertex"] = 2.0 * double(s.domain.edgeCount()) / double(s.domain.vertexCount());
   state.SetLabel("tets " + s.name + (morton ? " morton" : " tetgen-order") + methodLabel(k, measure));
 }
@@ -263,14 +264,7 @@ void tetMeshNotch(benchmark::State& state) {
   const int k = static_cast<int>(state.range(0));
   const ChainMeasure measure = kMeasures[state.range(1)];
   const TetScene& s = lShapedScene(10);
-  const PropagationOptions options = optionsFor(k, measure);
-  PropagationResult r;
-  for (auto _ : state) {
-    r = propagate(s.domain, s.metric, {s.source}, options);
-    benchmark::DoNotOptimize(r.distance.data());
-  }
-  perEdge(state, r.relaxedEdges);
-  errorCounters(state, s, r);
+  timePropagation(state, s, optionsFor(k, measure));
   state.SetLabel("tets " + s.name + " morton" + methodLabel(k, measure));
 }
 

@@ -205,15 +205,7 @@ int runConnectivity(int argc, char** argv) {
           << regions[b].voxels.size() << "\n";
     }
   report.requireReady();  // nothing is written when the report could not be drawn
-  RunStatistics run;
-  run.command = "connectivity";
-  run.commandLine = commandLineText(argc, argv);
-  run.input = o.input;
-  run.output = o.output;
-  run.choice = &o;
-  run.tensor = &o.tensor;
-  run.tensorInput = &input;
-  run.counts = built.counts;
+  RunStatistics run = volumeRunStatistics("connectivity", commandLineText(argc, argv), o, input, built.counts);
   run.labels = o.labels;
   run.memory = &memory;
   run.extraMembers = {"\"regions\": {\"count\": " + std::to_string(n) + ", \"left_out\": " + std::to_string(empty) +

@@ -224,16 +224,8 @@ RunStatistics runStatistics(const DistanceOptions& o, const std::string& command
                             const imaging::MetricVoxelCounts& counts, const std::vector<Seed>& seeds,
                             std::size_t labelSeedsLeftOut, const PropagationResult& result,
                             const MemoryCheck& memory, const Timings& t) {
-  RunStatistics run;
-  run.command = "distance";
-  run.commandLine = commandLine;
-  run.input = o.input;
-  run.output = o.output;
-  run.choice = &o;
+  RunStatistics run = volumeRunStatistics("distance", commandLine, o, input, counts);
   run.maxDistance = o.maxDistance;
-  run.tensor = &o.tensor;
-  run.tensorInput = &input;
-  run.counts = counts;
   run.seedLabels = o.seedLabels;
   run.withUnreachableValue = true;
   run.unreachableValue = o.unreachableValue;

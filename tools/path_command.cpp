@@ -294,16 +294,8 @@ int runPath(int argc, char** argv) {
   const double tracingSeconds = std::chrono::duration<double>(Clock::now() - tracingStart).count();
 
   report.requireReady();  // nothing is written when the report could not be drawn
-  RunStatistics run;
-  run.command = "path";
-  run.commandLine = commandLineText(argc, argv);
-  run.input = o.input;
-  run.output = o.output;
+  RunStatistics run = volumeRunStatistics("path", commandLineText(argc, argv), o, input, built.counts);
   run.outputs = {{"paths", o.output}, {"paths_table", o.tsvPath}};
-  run.choice = &o;
-  run.tensor = &o.tensor;
-  run.tensorInput = &input;
-  run.counts = built.counts;
   run.seedLabels = o.seedLabels;
   run.seeds = &seeds;
   run.labelSeedsLeftOut = leftOut;

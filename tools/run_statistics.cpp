@@ -10,16 +10,6 @@
 namespace stvd::tool {
 namespace {
 
-std::string terminationName(Termination t) {
-  switch (t) {
-    case Termination::Completed: return "completed";
-    case Termination::MaxDistanceReached: return "max_distance_reached";
-    case Termination::TargetsReached: return "targets_reached";
-    case Termination::Cancelled: return "cancelled";
-  }
-  return "?";
-}
-
 void writeParameters(std::ostringstream& j, const RunStatistics& run) {
   const PropagationChoice& o = *run.choice;
   const TensorInputOptions& tensor = *run.tensor;

@@ -46,6 +46,24 @@ struct RunStatistics {
   std::vector<std::pair<std::string, double>> seconds;
 };
 
+/// The members that the volume commands (distance, path, connectivity) fill
+/// alike, from their options `o` (a PropagationChoice with `input`,
+/// `output` and `tensor`; it and `input` must outlive the statistics).
+template <class Options>
+RunStatistics volumeRunStatistics(const std::string& command, const std::string& commandLine, const Options& o,
+                                  const TensorInput& input, const imaging::MetricVoxelCounts& counts) {
+  RunStatistics run;
+  run.command = command;
+  run.commandLine = commandLine;
+  run.input = o.input;
+  run.output = o.output;
+  run.choice = &o;
+  run.tensor = &o.tensor;
+  run.tensorInput = &input;
+  run.counts = counts;
+  return run;
+}
+
 /// The JSON text of the statistics file, its "warnings" inputWarnings().
 std::string statisticsJson(const RunStatistics& run);
 

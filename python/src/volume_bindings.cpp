@@ -44,16 +44,6 @@ struct VolumePropagation {
   std::size_t labelSeedsLeftOut = 0;
 };
 
-std::string terminationName(Termination t) {
-  switch (t) {
-    case Termination::Completed: return "completed";
-    case Termination::MaxDistanceReached: return "max_distance_reached";
-    case Termination::TargetsReached: return "targets_reached";
-    case Termination::Cancelled: return "cancelled";
-  }
-  return "?";
-}
-
 std::vector<std::array<double, 3>> finiteTriples(const std::vector<std::array<double, 3>>& points,
                                                  const std::string& name) {
   for (const auto& p : points)

@@ -57,6 +57,19 @@ def _where(path, row, column=None):
     return f"{path}, row {row}" + (f", column {column}" if column else "")
 
 
+def _numbered_rows(path, what, error):
+    """The rows of the tab-separated file at ``path`` that are not blank (a
+    trailing newline too many carries nothing), each as (line number from
+    1, cells); ``error`` (the exception type) "cannot read the <what>" when
+    the file cannot be read or is not UTF-8."""
+    try:
+        with open(path, newline="", encoding="utf-8") as file:
+            lines = list(csv.reader(file, delimiter="\t", quoting=csv.QUOTE_NONE))
+    except (OSError, UnicodeDecodeError) as e:
+        raise error(f"{path}: cannot read the {what}: {getattr(e, 'strerror', None) or e}") from None
+    return [(number, cells) for number, cells in enumerate(lines, start=1) if any(c.strip() for c in cells)]
+
+
 def read_manifest(path):
     """The subjects of the manifest at ``path``, in its order. Raises
     ManifestError for a manifest that cannot be read or run as a whole:
@@ -66,13 +79,7 @@ def read_manifest(path):
     is that subject's failure, not the cohort's."""
     path = os.fspath(path)
     folder = os.path.dirname(os.path.abspath(path))
-    try:
-        with open(path, newline="", encoding="utf-8") as file:
-            lines = list(csv.reader(file, delimiter="\t", quoting=csv.QUOTE_NONE))
-    except (OSError, UnicodeDecodeError) as error:
-        raise ManifestError(f"{path}: cannot read the manifest: {getattr(error, 'strerror', None) or error}") from None
-    # Blank lines (a trailing newline too many) carry nothing.
-    numbered = [(number, cells) for number, cells in enumerate(lines, start=1) if any(c.strip() for c in cells)]
+    numbered = _numbered_rows(path, "manifest", ManifestError)
     if not numbered:
         raise ManifestError(f"{path}: the manifest is empty (expected a header row: subject, tensors, labels, ...)")
     header_row, header = numbered[0]
@@ -136,12 +143,7 @@ def read_seed_sets(path):
 
     if _core.is_image_path(path):
         return _label_seed_sets(path)
-    try:
-        with open(path, newline="", encoding="utf-8") as file:
-            lines = list(csv.reader(file, delimiter="\t", quoting=csv.QUOTE_NONE))
-    except (OSError, UnicodeDecodeError) as error:
-        raise ValueError(f"{path}: cannot read the seeds: {getattr(error, 'strerror', None) or error}") from None
-    numbered = [(number, cells) for number, cells in enumerate(lines, start=1) if any(c.strip() for c in cells)]
+    numbered = _numbered_rows(path, "seeds", ValueError)
     if not numbered:
         raise ValueError(f"{path}: no seeds (expected a header row with name, i, j, k)")
     header_row, header = numbered[0]

@@ -333,16 +333,7 @@ TEST(LShapedMesh, TheDefaultsAreAccurateAroundTheNotch) {
 /// uniformly on the sphere (lambda_min = 1): no path is shorter than its
 /// Euclidean length, and the segment measure keeps that bound, because
 /// every sample's tensor is a convex combination of vertex tensors.
-RiemannianMetric noisyMetric(VertexId count) {
-  test::Random random(20131122);
-  std::vector<SymTensor3> tensors(count);
-  for (auto& t : tensors) {
-    const double z = random.uniform(-1.0, 1.0), phi = random.uniform(0.0, 2.0 * test::kPi);
-    const double r = std::sqrt(1.0 - z * z);
-    t = test::toSymTensor(test::uniaxialTensor(10.0, {r * std::cos(phi), r * std::sin(phi), z}));
-  }
-  return RiemannianMetric(std::move(tensors));
-}
+RiemannianMetric noisyMetric(VertexId count) { return RiemannianMetric(test::randomAxisTensors(count, 10.0, 20131122)); }
 
 TEST(TetrahedralMesh, NoVertexFallsBelowTheAdmissibleBoundOnANoisyField) {
   const test::TetrahedralBox box = test::kuhnTetrahedralBox({20, 18, 16}, {1.0, 1.2, 1.5}, 0.15, 11);

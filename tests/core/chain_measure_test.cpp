@@ -32,18 +32,8 @@ constexpr double kGamma = 10.0;  // anisotropy of every noisy tensor
 /// expensive axis is drawn uniformly on the sphere: lambda_min = 1.
 struct NoisyField {
   VoxelGridDomain domain{test::obliqueGrid({36, 34, 30}), Stencil::full26()};
-  RiemannianMetric metric;
+  RiemannianMetric metric{test::randomAxisTensors(domain.vertexCount(), kGamma, 20131122)};
   VertexId source = domain.vertexAt(18, 17, 15);
-  NoisyField() {
-    test::Random random(20131122);
-    std::vector<SymTensor3> tensors(domain.vertexCount());
-    for (auto& t : tensors) {
-      const double z = random.uniform(-1.0, 1.0), phi = random.uniform(0.0, 2.0 * test::kPi);
-      const double r = std::sqrt(1.0 - z * z);
-      t = test::toSymTensor(test::uniaxialTensor(kGamma, {r * std::cos(phi), r * std::sin(phi), z}));
-    }
-    metric = RiemannianMetric(std::move(tensors));
-  }
 };
 
 /// Voxels whose distance lies below sqrt(lambda_min) |x - s| (lambda_min = 1),

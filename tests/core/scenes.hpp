@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "exact_metrics.hpp"
+#include "kuhn_lattice.hpp"
 #include "stvd/cell_mesh_domain.hpp"
 #include "stvd/grid_geometry.hpp"
 #include "stvd/metric_field.hpp"
@@ -36,6 +37,21 @@ class Random {
  private:
   std::uint64_t state_;
 };
+
+/// `count` uniaxial tensors of anisotropy `gamma` (lambda_min = 1), each
+/// with its expensive axis drawn uniformly on the sphere: a noisy field
+/// whose neighbouring tensors disagree, and under which no path is shorter
+/// than its Euclidean length.
+inline std::vector<SymTensor3> randomAxisTensors(std::size_t count, double gamma, std::uint64_t seed) {
+  Random random(seed);
+  std::vector<SymTensor3> tensors(count);
+  for (auto& t : tensors) {
+    const double z = random.uniform(-1.0, 1.0), phi = random.uniform(0.0, 2.0 * kPi);
+    const double r = std::sqrt(1.0 - z * z);
+    t = toSymTensor(uniaxialTensor(gamma, {r * std::cos(phi), r * std::sin(phi), z}));
+  }
+  return tensors;
+}
 
 /// A grid of the given size with spacing (1, 1.5, 2), rotated index axes and
 /// a non-zero origin.
@@ -137,23 +153,12 @@ inline TetrahedralBox kuhnTetrahedralBox(std::array<int, 3> n, Vec3d edge, doubl
         }
         box.points.push_back(p);
       }
-  // The six monotone lattice paths from corner (0,0,0) to (1,1,1), one per
-  // order of the three axes, are the six tetrahedra; cube (i, j, k) has
-  // tetrahedra 6 (i + n0 (j + n1 k)) .. + 5.
-  const int orders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  // Cube (i, j, k) has tetrahedra 6 (i + n0 (j + n1 k)) .. + 5.
+  const auto id = [&box](int i, int j, int k) { return box.id(i, j, k); };
   for (int k = 0; k < n[2]; ++k)
     for (int j = 0; j < n[1]; ++j)
       for (int i = 0; i < n[0]; ++i)
-        for (const auto& order : orders) {
-          int c[3] = {i, j, k};
-          CellMeshDomain::Tetrahedron t;
-          t[0] = box.id(c[0], c[1], c[2]);
-          for (int step = 0; step < 3; ++step) {
-            ++c[order[step]];
-            t[step + 1] = box.id(c[0], c[1], c[2]);
-          }
-          box.tets.push_back(t);
-        }
+        forEachKuhnTetrahedron(i, j, k, id, [&box](const CellMeshDomain::Tetrahedron& t) { box.tets.push_back(t); });
   return box;
 }
 

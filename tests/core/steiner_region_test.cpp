@@ -43,14 +43,7 @@ RiemannianMetric anisotropicMetric(VertexId count) {
 /// drawn at random: neighbouring tensors disagree, so a cube's mean norm can
 /// be far dearer along an edge than the edge's own (the mean of its ends).
 RiemannianMetric noisyMetric(VertexId count, unsigned seed) {
-  test::Random random(seed);
-  std::vector<SymTensor3> tensors(count);
-  for (auto& t : tensors) {
-    const double z = random.uniform(-1.0, 1.0), phi = random.uniform(0.0, 2.0 * test::kPi);
-    const double r = std::sqrt(1.0 - z * z);
-    t = test::toSymTensor(test::uniaxialTensor(10.0, {r * std::cos(phi), r * std::sin(phi), z}));
-  }
-  return RiemannianMetric(std::move(tensors));
+  return RiemannianMetric(test::randomAxisTensors(count, 10.0, seed));
 }
 
 // Measured (Release, x86-64) at M = 2, above the exact distance by: straight

@@ -3,6 +3,8 @@
 #include <array>
 #include <utility>
 
+#include "../core/kuhn_lattice.hpp"
+
 namespace stvd::testing {
 
 tetmesh::TetMesh kuhnCube(Vec3d origin, int firstIndex) {
@@ -13,22 +15,14 @@ tetmesh::TetMesh kuhnCube(Vec3d origin, int firstIndex) {
   for (int k = 0; k <= n; ++k)
     for (int j = 0; j <= n; ++j)
       for (int i = 0; i <= n; ++i) m.points.push_back(origin + Vec3d{double(i), double(j), double(k)});
-  const int permutations[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
-        for (const auto& p : permutations) {
-          int c[3] = {i, j, k};
-          std::array<VertexId, 4> t;
-          t[0] = id(c[0], c[1], c[2]);
-          for (int s = 0; s < 3; ++s) {
-            ++c[p[s]];
-            t[s + 1] = id(c[0], c[1], c[2]);
-          }
+        test::forEachKuhnTetrahedron(i, j, k, id, [&m](std::array<VertexId, 4> t) {
           if (tetmesh::signedVolume(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]) < 0)
             std::swap(t[2], t[3]);
           m.tets.push_back(t);
-        }
+        });
   return m;
 }
 

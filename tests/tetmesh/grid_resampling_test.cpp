@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "../core/kuhn_lattice.hpp"
 #include "stvd/tetmesh/grid_resampling.hpp"
 
 namespace stvd::tetmesh {
@@ -19,18 +20,8 @@ TetMesh twoCubes(Vec3d origin) {
   for (int k = 0; k <= 1; ++k)
     for (int j = 0; j <= 1; ++j)
       for (int i = 0; i <= 2; ++i) m.points.push_back(origin + Vec3d{double(i), double(j), double(k)});
-  const int permutations[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
   for (int i = 0; i < 2; ++i)
-    for (const auto& p : permutations) {
-      int c[3] = {i, 0, 0};
-      std::array<VertexId, 4> t;
-      t[0] = id(c[0], c[1], c[2]);
-      for (int s = 0; s < 3; ++s) {
-        ++c[p[s]];
-        t[s + 1] = id(c[0], c[1], c[2]);
-      }
-      m.tets.push_back(t);
-    }
+    test::forEachKuhnTetrahedron(i, 0, 0, id, [&m](const std::array<VertexId, 4>& t) { m.tets.push_back(t); });
   return m;
 }
 

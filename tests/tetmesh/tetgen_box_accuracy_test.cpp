@@ -21,6 +21,7 @@
 #include "../core/exact_metrics.hpp"
 #include "../core/relative_error.hpp"
 #include "../core/scenes.hpp"
+#include "l_shaped_prism_surface.hpp"
 #include "stvd/propagation.hpp"
 #include "stvd/tetgen/tetrahedralize.hpp"
 
@@ -243,18 +244,8 @@ TEST(TetGenBoxMesh, CurvedPullbackErrorFallsWithMemoryDepth) {
   }
 }
 
-/// The L-shaped prism [0, 16] x [0, 16] x [0, 4] without the quadrant x > 8,
-/// y > 8, meshed by TetGen, under the constant metric diag(1, 4, 2.25).
-tetgen::SurfaceMesh lShapedPrismSurface() {
-  const double outline[6][2] = {{0, 0}, {16, 0}, {16, 8}, {8, 8}, {8, 16}, {0, 16}};
-  tetgen::SurfaceMesh s;
-  for (const double z : {0.0, 4.0})
-    for (const auto& xy : outline) s.points.push_back({xy[0], xy[1], z});
-  s.polygons.push_back({5, 4, 3, 2, 1, 0});
-  s.polygons.push_back({6, 7, 8, 9, 10, 11});
-  for (VertexId i = 0; i < 6; ++i) s.polygons.push_back({i, (i + 1) % 6, 6 + (i + 1) % 6, 6 + i});
-  return s;
-}
+// The L-shaped prism (l_shaped_prism_surface.hpp), meshed by TetGen, under
+// the constant metric diag(1, 4, 2.25).
 
 // Measured (Release, x86-64), 4,873 vertices: mean error 0.119 for
 // Dijkstra, 0.00412 (max 0.062) for STVD with the defaults (k = 6,
@@ -265,7 +256,7 @@ TEST(TetGenLShapedMesh, NoDistanceIsShorterThanThePathAroundTheNotch) {
   tetgen::TetrahedralizeOptions options;
   options.quality = 1.4;
   options.maxVolume = 0.1;
-  const tetmesh::TetMesh prism = tetgen::tetrahedralizeSurface(lShapedPrismSurface(), options, "L-shaped prism");
+  const tetmesh::TetMesh prism = tetgen::tetrahedralizeSurface(test::lShapedPrismSurface(), options, "L-shaped prism");
   const CellMeshDomain mesh = CellMeshDomain::fromTetrahedra(prism.points, prism.tets);
   EXPECT_GT(mesh.tetrahedra()->nonConvexEdgeCount(), 0u);
   const double a = 1.0, b = 2.0, c = 1.5;

@@ -9,6 +9,7 @@
 #include <numeric>
 #include <random>
 
+#include "../core/kuhn_lattice.hpp"
 #include "stvd/propagation.hpp"
 #include "stvd/tetmesh/vertex_order.hpp"
 
@@ -33,20 +34,10 @@ ShuffledLattice shuffledLattice() {
   for (int k = 0; k <= n; ++k)
     for (int j = 0; j <= n; ++j)
       for (int i = 0; i <= n; ++i) m.points[id(i, j, k)] = {0.9 * i, 1.1 * j, 1.3 * k};
-  const int permutations[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
-        for (const auto& p : permutations) {
-          int c[3] = {i, j, k};
-          std::array<VertexId, 4> t;
-          t[0] = id(c[0], c[1], c[2]);
-          for (int s = 0; s < 3; ++s) {
-            ++c[p[s]];
-            t[s + 1] = id(c[0], c[1], c[2]);
-          }
-          m.tets.push_back(t);
-        }
+        test::forEachKuhnTetrahedron(i, j, k, id, [&m](const std::array<VertexId, 4>& t) { m.tets.push_back(t); });
   return m;
 }
 

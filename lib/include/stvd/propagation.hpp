@@ -129,6 +129,18 @@ enum class Termination {
   Cancelled,           ///< the progress callback returned false
 };
 
+/// "completed", "max_distance_reached", "targets_reached" or "cancelled":
+/// the names the tool's statistics and the Python package use.
+inline const char* terminationName(Termination t) {
+  switch (t) {
+    case Termination::Completed: return "completed";
+    case Termination::MaxDistanceReached: return "max_distance_reached";
+    case Termination::TargetsReached: return "targets_reached";
+    case Termination::Cancelled: return "cancelled";
+  }
+  return "?";
+}
+
 struct PropagationResult {
   /// Distance per vertex (millimetres for physical domains). kUnreachable
   /// (+infinity) for every vertex that is not final: outside the domain,
