@@ -49,7 +49,8 @@ struct HasPlaceChain<Domain, std::void_t<decltype(std::declval<const Domain&>().
 template <class Domain>
 struct ChainUnfolding {
   /// Whether edgeNorm() is Norm::edgeParams of the end points, the mean of
-  /// their norms for both built-in norms (the end-point screen relies on it).
+  /// their norms where EdgeRuleIsMean<Norm> (the end-point screen relies on
+  /// both).
   static constexpr bool kEdgeNormIsMean = true;
   /// The edge v -> w as forEachNeighbor(v, ...) reports it.
   static Vec3f neighborEdge(const Domain& domain, VertexId v, VertexId w) {

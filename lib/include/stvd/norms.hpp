@@ -14,6 +14,11 @@
 //     static float length(const EdgeParams& g, float x, float y, float z);
 //     // Empty when the parameters define such a norm, else why not.
 //     static std::string invalidReason(const VertexParams& p);
+//     // Optional: true when EdgeParams is VertexParams and edgeParams is
+//     // their component-wise mean, so that edgeParams(p, p) == p. STVD's
+//     // chain-mean screen and its segment samples rely on it where a norm
+//     // states it (EdgeRuleIsMean below).
+//     static constexpr bool kEdgeRuleIsMean = true;
 //   };
 //
 // RiemannianNorm and RandersNorm below are the two built in. The
@@ -24,6 +29,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 #include "stvd/types.hpp"
 
@@ -37,6 +43,7 @@ namespace stvd {
 struct RiemannianNorm {
   using VertexParams = SymTensor3;
   using EdgeParams = SymTensor3;
+  static constexpr bool kEdgeRuleIsMean = true;
 
   STVD_ALWAYS_INLINE static EdgeParams edgeParams(const VertexParams& a, const VertexParams& b) {
     return {0.5f * (a.xx + b.xx), 0.5f * (a.xy + b.xy), 0.5f * (a.xz + b.xz),
@@ -64,6 +71,7 @@ struct RandersNorm {
     Vec3f omega;
   };
   using EdgeParams = VertexParams;
+  static constexpr bool kEdgeRuleIsMean = true;
 
   STVD_ALWAYS_INLINE static EdgeParams edgeParams(const VertexParams& a, const VertexParams& b) {
     return {RiemannianNorm::edgeParams(a.m, b.m),
@@ -81,5 +89,12 @@ struct RandersNorm {
 /// Empty when g is symmetric positive definite with finite entries (checked
 /// by a Cholesky factorisation in double precision), otherwise the reason.
 std::string spdViolation(const SymTensor3& g);
+
+/// Norm::kEdgeRuleIsMean where the norm states it, else false.
+template <class Norm, class = void>
+struct EdgeRuleIsMean : std::false_type {};
+template <class Norm>
+struct EdgeRuleIsMean<Norm, std::void_t<decltype(Norm::kEdgeRuleIsMean)>>
+    : std::bool_constant<Norm::kEdgeRuleIsMean> {};
 
 }  // namespace stvd

@@ -156,8 +156,8 @@ enum class ChainRule { ProjectionWeighted, LargestEdgeNorm, ChainMean };
 /// in its direction.
 /// ChainMean (a screen only):
 ///   l_g(E) = ||E|| under the mean of the norms at c_0 .. c_{i-1} and w;
-/// w's norm is recovered from edge 1's, the mean of v's and w's (both
-/// built-in norms' edge rule is that mean).
+/// w's norm is recovered from edge 1's, the mean of v's and w's (used only
+/// where the norm's edge rule is that mean: EdgeRuleIsMean).
 /// A constant norm gives exactly |E| ||Ebar|| = ||E|| with every rule.
 template <ChainRule Rule, class Norm>
 STVD_ALWAYS_INLINE void screenChainCandidates(const ChainMemory<Norm>& chain, const NeighborBatch<Norm>& batch,
@@ -395,7 +395,8 @@ class Propagation {
     // matches Dijkstra bit for bit is tested.
     const int k = memoryDepth<Domain>(options_);
     if constexpr (Deferred) {
-      if (options_.segmentScreen == SegmentScreen::ChainMean && ChainUnfolding<Domain>::kEdgeNormIsMean)
+      if (options_.segmentScreen == SegmentScreen::ChainMean && ChainUnfolding<Domain>::kEdgeNormIsMean &&
+          EdgeRuleIsMean<Norm>::value)
         runVector<ChainRule::ChainMean>(k, isTarget, remainingTargets);
       else
         runVector<ChainRule::ProjectionWeighted>(k, isTarget, remainingTargets);

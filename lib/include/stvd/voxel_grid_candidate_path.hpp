@@ -114,9 +114,9 @@ class CandidatePath<VoxelGridDomain, Norm> {
       }
       Params g;
       interpolate(weight, corner, g);
-      // The built-in norms' edge rule is the mean of the end points', so
-      // the norm of a point is its own parameters: edgeParams(g, g) == g.
-      if constexpr (std::is_same_v<Norm, RiemannianNorm> || std::is_same_v<Norm, RandersNorm>)
+      // Where the edge rule is the mean of the end points', the norm of a
+      // point is its own parameters: edgeParams(g, g) == g.
+      if constexpr (EdgeRuleIsMean<Norm>::value)
         total += Norm::length(g, piece.x, piece.y, piece.z);
       else
         total += Norm::length(Norm::edgeParams(g, g), piece.x, piece.y, piece.z);
