@@ -56,7 +56,7 @@ const char* kPathHelp =
     "Propagation (as in stvd distance):\n"
     "  --method M              stvd (default) or dijkstra.\n"
     "  --k N                   STVD memory depth, 1..16 (default 6).\n"
-    "  --chain-measure R       largest (default) or projection.\n"
+    "  --chain-measure R       segment (default), projection or largest.\n"
     "  --stencil S             6, 18, 26 (default), 98 or 290.\n"
     "  --domain-connectivity C 6 (default), 18 or 26: which domain voxels touch; paths keep to\n"
     "                          the same region as the distances.\n"
