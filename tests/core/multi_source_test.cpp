@@ -73,14 +73,26 @@ TEST(MultiSource, DijkstraIsExactlyTheMinimumWithMaskAndRandersNorm) {
 
 // Measured with k = 8 on the scene below (64000 vertices, three sources):
 //   vertices whose second-nearest source is at least 20 % farther than the
-//   nearest (72 % of all): all equal to the single-source minimum bit for
-//   bit (at a 10 % margin 17 of 53906 still differ);
-//   all vertices: 1.28 % differ, by at most +1.8 % / -0.6 % relative.
+//   nearest (72 % of all): with the chain of edges alone all equal to the
+//   single-source minimum bit for bit (at a 10 % margin too); with the
+//   default any-angle ancestor 2 of 46467 differ, by +0.9 % and -0.01 %;
+//   all vertices: 0.35 % differ, by at most 1.2 % relative.
+// Why any do: a vertex's chain of edges continues through the neighbour
+// whose screened candidate last lowered its key, even when that candidate
+// then measured longer, so it depends on the order in which the queue
+// offers neighbours with near-equal keys, and other fronts' vertices
+// change that order; the chain alone rarely turns such a difference into
+// another distance, an any-angle ancestor carries it on to the vertices
+// that are measured from it.
 constexpr double kSeparatedMargin = 0.2;
 constexpr double kMaxDeviationNearBoundary = 0.025;
 constexpr double kMinEqualFraction = 0.982;
+/// Of the vertices away from the meeting zone, how many may differ (with
+/// the any-angle ancestor), and by how much at most.
+constexpr double kMaxDifferingSeparatedFraction = 1e-4;
+constexpr double kMaxSeparatedDeviation = 0.015;
 
-void expectStvdNearlyMinimumOfSingleRuns(int k) {
+void expectStvdNearlyMinimumOfSingleRuns(int k, int anyAngleAncestors) {
   const VoxelGridDomain domain(test::obliqueGrid({40, 40, 40}), Stencil::full26());
   const RiemannianMetric metric(test::smoothVaryingTensors(domain));
   const std::vector<VertexId> sources{domain.vertexAt(5, 5, 5), domain.vertexAt(30, 20, 10),
@@ -88,10 +100,11 @@ void expectStvdNearlyMinimumOfSingleRuns(int k) {
   PropagationOptions o;
   o.method = Method::ShortTermVectorDijkstra;
   o.k = k;
+  o.anyAngleAncestors = anyAngleAncestors;
   const PropagationResult multi = propagate(domain, metric, sources, o);
   const std::vector<PropagationResult> singles = singleSourceRuns(domain, metric, sources, o);
 
-  std::size_t equal = 0, separated = 0;
+  std::size_t equal = 0, separated = 0, separatedDiffering = 0;
   double largestDeviation = 0.0;
   for (VertexId v = 0; v < domain.vertexCount(); ++v) {
     std::vector<double> d;
@@ -105,19 +118,26 @@ void expectStvdNearlyMinimumOfSingleRuns(int k) {
     largestDeviation = std::max(largestDeviation, std::abs(multi.distance[v] - d[0]) / d[0]);
     if (d[1] >= (1.0 + kSeparatedMargin) * d[0]) {
       ++separated;
-      EXPECT_EQ(multi.distance[v], d[0]) << "vertex " << v << " far from the meeting zone";
+      if (multi.distance[v] != d[0]) {
+        ++separatedDiffering;
+        if (anyAngleAncestors == 0) ADD_FAILURE() << "vertex " << v << " far from the meeting zone";
+        EXPECT_LE(std::abs(multi.distance[v] - d[0]) / d[0], kMaxSeparatedDeviation) << "vertex " << v;
+      }
     }
   }
   const std::size_t count = domain.vertexCount() - sources.size();
-  std::printf("[ measured ] multi-source STVD k=%d: %zu of %zu equal, %zu separated, "
-              "largest deviation %.4f\n", k, equal, count, separated, largestDeviation);
+  std::printf("[ measured ] multi-source STVD k=%d, %d any-angle ancestors: %zu of %zu equal, %zu separated "
+              "(%zu of them differ), largest deviation %.4f\n",
+              k, anyAngleAncestors, equal, count, separated, separatedDiffering, largestDeviation);
+  EXPECT_LE(static_cast<double>(separatedDiffering), kMaxDifferingSeparatedFraction * separated);
   EXPECT_GE(separated, count / 2);
   EXPECT_GE(static_cast<double>(equal), kMinEqualFraction * count);
   EXPECT_LE(largestDeviation, kMaxDeviationNearBoundary);
 }
 
 TEST(MultiSource, StvdEqualsMinimumOfSingleRunsAwayFromWhereFrontsMeet) {
-  expectStvdNearlyMinimumOfSingleRuns(8);
+  expectStvdNearlyMinimumOfSingleRuns(8, 0);
+  expectStvdNearlyMinimumOfSingleRuns(8, kDefaultAnyAngleAncestors);
 }
 
 }  // namespace

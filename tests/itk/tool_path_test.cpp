@@ -255,13 +255,19 @@ TEST_F(ToolPath, PathsToVoxelsAllOverTheBrainAllEndOnTheSeed) {
               rows.size(), withFallback, worstRatio);
 }
 
-TEST_F(ToolPath, DiscretePathsAreChainsOfVoxelCentres) {
+TEST_F(ToolPath, DiscretePathsArePolylinesThroughVoxelCentresFromSeedToTarget) {
+  // The predecessor chain: with the default segment measure each link is a
+  // measured straight segment, from the voxel where it starts, several
+  // voxels long where the path runs straight.
   const auto seeds = seedTable();
-  const ToolRun run = pathRun({"--seed-voxel", triple(seeds.at("CST_L_low").index), "--target-voxel",
-                               triple(seeds.at("CST_L_high").index), "--discrete", "-o", path("cst.trk")});
+  const auto seed = seeds.at("CST_L_low").index, target = seeds.at("CST_L_high").index;
+  const ToolRun run = pathRun({"--seed-voxel", triple(seed), "--target-voxel", triple(target), "--discrete", "-o",
+                               path("cst.trk")});
   ASSERT_EQ(run.exitCode, 0) << run.err;
   const LoadedStreamlines l = loadWithNibabel(path("cst.trk"));
   ASSERT_EQ(l.lines.size(), 1u);
+  ASSERT_GE(l.lines[0].size(), 2u);
+  double longest = 0.0;
   for (std::size_t n = 0; n < l.lines[0].size(); ++n) {
     const Vec3d c = rasToIndex(l.lines[0][n]);
     EXPECT_NEAR(c.x, std::round(c.x), 1e-3);
@@ -269,9 +275,21 @@ TEST_F(ToolPath, DiscretePathsAreChainsOfVoxelCentres) {
     EXPECT_NEAR(c.z, std::round(c.z), 1e-3);
     if (n > 0) {
       const Vec3d d = c - rasToIndex(l.lines[0][n - 1]);
-      EXPECT_LE(std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)}), 1.0 + 1e-3);
+      const double step = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+      EXPECT_GE(step, 1.0 - 1e-3) << "point " << n << " repeats the one before";
+      longest = std::max(longest, step);
     }
   }
+  const Vec3d first = rasToIndex(l.lines[0].front()), last = rasToIndex(l.lines[0].back());
+  EXPECT_EQ(std::lround(first.x), seed[0]);
+  EXPECT_EQ(std::lround(first.y), seed[1]);
+  EXPECT_EQ(std::lround(first.z), seed[2]);
+  EXPECT_EQ(std::lround(last.x), target[0]);
+  EXPECT_EQ(std::lround(last.y), target[1]);
+  EXPECT_EQ(std::lround(last.z), target[2]);
+  std::printf("[ measured ] discrete path: %zu points, longest segment %.0f voxel steps\n", l.lines[0].size(),
+              longest);
+  EXPECT_GT(longest, 1.5);
 }
 
 TEST_F(ToolPath, BadRequestsFailWithTheirExitCodeAndLeaveNoFile) {

@@ -37,7 +37,7 @@ def test_cmake_install_puts_the_package_under_the_prefix(tmp_path):
         "__init__.py", "_inputs.py", "_manifest.py", "_outputs.py", "_paths.py", "_progress.py", "_report_matrix.py",
         "_report_page.py", "_report_slices.py", "_subject.py", "cohort.py", "interfaces.py", "report.py"]
     version, farthest = run_isolated(site, tmp_path)
-    assert farthest == "91.6"
+    assert farthest == "91.5"
     # The installed tool needs nothing from the build tree: no library of
     # the project's own is loaded from there (the adapters are linked in),
     # and it draws reports with the installed package (nothing on
@@ -60,4 +60,4 @@ def test_pip_installs_the_package(tmp_path):
     subprocess.run([sys.executable, "-m", "pip", "install", "--no-build-isolation", "--no-deps", "--no-index",
                     "--target", str(target), str(REPOSITORY)], check=True, capture_output=True, env=environment)
     version, farthest = run_isolated(target, tmp_path)
-    assert farthest == "91.6"
+    assert farthest == "91.5"

@@ -3,6 +3,9 @@
 // the length of a path that lies in the domain" (docs/architecture.md).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <limits>
 #include <type_traits>
 #include <utility>
@@ -71,6 +74,25 @@ class CandidatePath {
   /// v -> w in the common frame.
   float length(int, VertexId, Vec3f) { return kRefusedCandidate; }
 };
+
+/// The default reach of an any-angle ancestor (PropagationOptions::
+/// segmentReach) or of a source (sourceReach) over a domain of
+/// `domainVertices` vertices, in the steps of its CandidatePath. Both grow
+/// with the resolution r = domainVertices^(1/3): segments get longer, in
+/// steps, as a grid is refined, so that the error falls with the
+/// resolution. They are bounded because a segment costs one sample per
+/// step: an ancestor up to max(6, r / 20) steps (6 up to 130^3, where most
+/// of the time goes), a source up to max(8, r / 2), at most 32 and 64 steps
+/// (a source only where the metric is near the source's, so that on a
+/// constant metric every vertex within half the grid of a centred source
+/// measures the segment from it). docs/architecture.md gives the figures
+/// behind the choice.
+inline int anyAngleReach(std::uint64_t domainVertices, bool source) {
+  const double r = std::cbrt(static_cast<double>(domainVertices));
+  const double reach = source ? r / 2.0 : r / 20.0;
+  const int lowest = source ? 8 : 6, highest = source ? 64 : 32;
+  return std::clamp(static_cast<int>(std::lround(reach)), lowest, highest);
+}
 
 namespace detail {
 template <class Path, class Domain, class = void>

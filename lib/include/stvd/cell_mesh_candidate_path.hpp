@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
@@ -58,7 +59,11 @@ class TetrahedralCandidatePath {
                 "mesh segments interpolate Norm::VertexParams as a plain struct of floats");
 
   TetrahedralCandidatePath(const CellMeshDomain& domain, const MetricField<Norm>& metric)
-      : points_(domain.points().data()), region_(domain.tetrahedra()), metric_(metric) {}
+      : points_(domain.points().data()),
+        region_(domain.tetrahedra()),
+        metric_(metric),
+        vertexCount_(domain.vertexCount()),
+        inverseStep_(1.0 / meanEdgeLength(domain)) {}
 
   static constexpr bool measuresPaths() { return true; }
   static bool measuresPathsOn(const CellMeshDomain& domain) { return domain.tetrahedra() != nullptr; }
@@ -81,6 +86,17 @@ class TetrahedralCandidatePath {
   }
 
   bool mayRefuse() const { return mayRefuse_; }
+
+  /// What measuring the segment from a to b costs, in the mesh's steps: its
+  /// length over the mean edge length, rounded up (a walk crosses a few
+  /// tetrahedra per step).
+  int steps(VertexId a, VertexId b) const {
+    return static_cast<int>(std::ceil(norm(points_[b] - points_[a]) * inverseStep_));
+  }
+  /// The default reach of an any-angle ancestor and of a source, in steps
+  /// (anyAngleReach, candidate_path.hpp).
+  int defaultReach() const { return anyAngleReach(vertexCount_, false); }
+  int defaultSourceReach() const { return anyAngleReach(vertexCount_, true); }
 
   bool accepts(int i, VertexId w) {
     if (!mayRefuse_ || reach_[i - 1] < convexSquared_) return true;
@@ -119,8 +135,20 @@ class TetrahedralCandidatePath {
   static constexpr int kFloats = static_cast<int>(sizeof(Params) / sizeof(float));
   // A segment of i chain edges crosses a few tetrahedra per edge (18 for
   // k = 8 on TetGen's quality meshes); a walk that needs far more than any
-  // chain could has gone astray and is refused.
-  static constexpr int kMaxSteps = 32 + 32 * kMaxMemoryDepth;
+  // chain or the longest reach of an any-angle ancestor (64 steps) could has
+  // gone astray and is refused.
+  static constexpr int kMaxSteps = 32 + 8 * (kMaxMemoryDepth + 64);
+
+  static double meanEdgeLength(const CellMeshDomain& domain) {
+    double sum = 0.0;
+    std::uint64_t count = 0;
+    for (VertexId v = 0; v < domain.vertexCount(); ++v)
+      domain.forEachNeighbor(v, [&](VertexId, Vec3f e) {
+        sum += std::sqrt(static_cast<double>(dot(e, e)));
+        ++count;
+      });
+    return count > 0 && sum > 0.0 ? sum / static_cast<double>(count) : 1.0;
+  }
 
   // The segment from `from` to w (its vector `segment`, from `from` to w),
   // walked from w's end and measured as Rule says; `pieces` is i for
@@ -180,8 +208,10 @@ class TetrahedralCandidatePath {
   const VertexId* chain_ = nullptr;
   const Vec3f* placed_ = nullptr;
   bool mayRefuse_ = false;
+  VertexId vertexCount_;
+  double inverseStep_;
   float convexSquared_ = 0.f;
-  float reach_[kMaxMemoryDepth];
+  float reach_[kMaxChainLength];
   // Only a region that is not convex has candidates to walk in accepts().
   std::vector<Walked> walked_ = std::vector<Walked>(
       region_ != nullptr && region_->nonConvexEdgeCount() + region_->nonConvexVertexCount() > 0

@@ -97,6 +97,12 @@ constexpr int defaultMemoryDepth() {
 }
 /// Default rule of the library and the tool.
 inline constexpr ChainMeasure kDefaultChainMeasure = ChainMeasure::Segment;
+/// Default number of any-angle ancestors (PropagationOptions::anyAngleAncestors).
+inline constexpr int kDefaultAnyAngleAncestors = 1;
+/// Most any-angle ancestors a relaxation may use.
+inline constexpr int kMaxAnyAngleAncestors = 4;
+/// Most vertices of a chain with its any-angle ancestors (and a source).
+inline constexpr int kMaxChainLength = kMaxMemoryDepth + kMaxAnyAngleAncestors + 1;
 
 /// How far the propagation has come; handed to the progress callback.
 struct PropagationProgress {
@@ -114,6 +120,24 @@ struct PropagationOptions {
   ChainMeasure chainMeasure = kDefaultChainMeasure;
   /// How ChainMeasure::Segment ranks candidates before measuring one.
   SegmentScreen segmentScreen = SegmentScreen::ChainMean;
+  /// ChainMeasure::Segment on voxel grids and tetrahedral meshes: how many
+  /// any-angle ancestors of v are candidates of its neighbours besides its
+  /// k-vertex chain (0..kMaxAnyAngleAncestors; 0 is the chain alone, STVD
+  /// before issue 33). A vertex's any-angle ancestor is the vertex its
+  /// distance was measured from: the start of the straight segment that gave
+  /// it (its predecessor in the result), then that vertex's, and so on, so
+  /// that the memory reaches a distance rather than k edges
+  /// (docs/architecture.md).
+  int anyAngleAncestors = kDefaultAnyAngleAncestors;
+  /// How far an any-angle ancestor may lie from v, in the domain's steps
+  /// (CandidatePath::steps: voxel steps on a grid, mean edge lengths on a
+  /// mesh); unset: the domain's default, which grows with its resolution
+  /// (CandidatePath::defaultReach).
+  std::optional<int> segmentReach;
+  /// The same for a source as an any-angle ancestor (source factoring: the
+  /// straight segment from the seed, for the vertices whose own segment
+  /// starts at the seed); unset: the domain's default.
+  std::optional<int> sourceReach;
   /// Stop once the next vertex to finalise is farther than this.
   double maxDistance = std::numeric_limits<double>::infinity();
   /// When not empty: stop as soon as all these vertices are final.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -38,8 +39,8 @@ template <class Norm>
 struct ChainMemory {
   using EdgeParams = typename Norm::EdgeParams;
   int edgeCount;  // m + 1: edges 1..m+1
-  float backX[kMaxMemoryDepth], backY[kMaxMemoryDepth], backZ[kMaxMemoryDepth];  // x(c_{L+1}) - x(v)
-  double baseDistance[kMaxMemoryDepth];  // dist(c_{L+1})
+  float backX[kMaxChainLength], backY[kMaxChainLength], backZ[kMaxChainLength];  // x(c_{L+1}) - x(v)
+  double baseDistance[kMaxChainLength];  // dist(c_{L+1})
   Vec3f edge[kMaxMemoryDepth + 1];             // e_j, j = 2..m+1
   EdgeParams edgeNorm[kMaxMemoryDepth + 1];
   // Vertex norms for the chain-mean screen, as raw floats (no default
@@ -48,6 +49,13 @@ struct ChainMemory {
   static constexpr int kNormFloats = static_cast<int>(sizeof(typename Norm::VertexParams) / sizeof(float));
   float vertexNorm[kNormFloats];
   float chainNormSum[kMaxMemoryDepth][kNormFloats];
+  // Any-angle ancestors (Propagation::appendAnyAngleAncestors): lanes
+  // latticeLanes.. are screened as the segment from the ancestor b measured
+  // with the edge rule of v's and b's norms, scaled by the ratio of what
+  // v's own path from b measured to what that norm gives it.
+  int latticeLanes;
+  EdgeParams ancestorNorm[kMaxAnyAngleAncestors];
+  float ancestorRatio[kMaxAnyAngleAncestors];
 };
 
 /// Up to kCapacity neighbours of one popped vertex, gathered before any of
@@ -137,7 +145,7 @@ struct NeighborBatch {
 /// rules.
 template <class Norm>
 struct CandidateScreen {
-  alignas(64) float length[kMaxMemoryDepth][NeighborBatch<Norm>::kCapacity];
+  alignas(64) float length[kMaxChainLength][NeighborBatch<Norm>::kCapacity];
 };
 
 /// Which chain rule a screen pass computes.
@@ -165,7 +173,7 @@ STVD_ALWAYS_INLINE void screenChainCandidates(const ChainMemory<Norm>& chain, co
   constexpr int kCapacity = NeighborBatch<Norm>::kCapacity;
   const int size = batch.padded;
   alignas(64) float ux[kCapacity], uy[kCapacity], uz[kCapacity], acc[kCapacity], length[kCapacity];
-  for (int lane = 0; lane + 2 <= chain.edgeCount; ++lane) {
+  for (int lane = 0; lane + 2 <= chain.latticeLanes + 1; ++lane) {
     const int i = lane + 2;  // candidate i sums edges 1..i
     const float bx = chain.backX[lane], by = chain.backY[lane], bz = chain.backZ[lane];
     float* out = screen.length[lane];
@@ -216,6 +224,26 @@ STVD_ALWAYS_INLINE void screenChainCandidates(const ChainMemory<Norm>& chain, co
     STVD_SIMD_LOOP
     for (int n = 0; n < size; ++n)
       out[n] = Rule == ChainRule::ProjectionWeighted ? std::max(acc[n], 0.f) : length[n] * acc[n];
+  }
+}
+
+/// Fills screen.length for the lanes of the chain's any-angle ancestors
+/// (ChainMemory::ancestorNorm): the segment from the ancestor measured with
+/// the edge rule of v's and its norms, times its ratio.
+template <class Norm>
+STVD_ALWAYS_INLINE void screenAnyAngleAncestors(const ChainMemory<Norm>& chain, const NeighborBatch<Norm>& batch,
+                                                CandidateScreen<Norm>& screen) {
+  const int size = batch.padded;
+  for (int lane = chain.latticeLanes; lane + 2 <= chain.edgeCount; ++lane) {
+    const float bx = chain.backX[lane], by = chain.backY[lane], bz = chain.backZ[lane];
+    const typename Norm::EdgeParams g = chain.ancestorNorm[lane - chain.latticeLanes];
+    const float ratio = chain.ancestorRatio[lane - chain.latticeLanes];
+    float* out = screen.length[lane];
+    STVD_SIMD_LOOP
+    for (int n = 0; n < size; ++n) {
+      const float ex = batch.ex[n] - bx, ey = batch.ey[n] - by, ez = batch.ez[n] - bz;
+      out[n] = ratio * Norm::length(g, ex, ey, ez);
+    }
   }
 }
 
@@ -289,29 +317,41 @@ struct VertexRecord<false> {
 /// ChainMeasure::Segment with deferred measurement (see
 /// Propagation::settleMin): 32 bytes.
 ///
-/// The key, the measured predecessor and the pending candidate matter only
-/// until the vertex is final; from then on the same bytes hold its next
-/// ancestors (pred(pred(v)) onwards). A relaxation then reads the whole
-/// predecessor chain of k <= 2 + kStoredAncestors vertices from v's record
-/// and its predecessor's, instead of walking it record by record: a walk of
+/// Two predecessors: `predecessor`, the neighbour whose relaxation gave the
+/// vertex its key, links the chain of edges that the k-vertex memory walks;
+/// `base` is the vertex the distance was measured from, the start of the
+/// straight segment that gave it (the neighbour itself for the Dijkstra
+/// term), which links the any-angle ancestors and is the result's
+/// predecessor.
+///
+/// The key and the pending candidate matter only until the vertex is final;
+/// from then on the same bytes hold its next ancestors along the chain of
+/// edges (pred(pred(v)) onwards). A relaxation then reads the whole chain of
+/// k <= 3 + kStoredAncestors vertices from v's record and its
+/// predecessor's, instead of walking it record by record: a walk of
 /// dependent loads into voxels finalised long ago, each a likely cache miss
 /// that the next could not overlap.
 template <>
 struct VertexRecord<true> {
-  static constexpr int kStoredAncestors = 4;
+  static constexpr int kStoredAncestors = 3;
   /// What a vertex not yet final carries.
   struct Open {
-    double key;                    // the key in the queue: a pending candidate's screen, or `measured`
-    VertexId measuredPredecessor;  // the vertex whose relaxation gave `measured`
-    VertexId pendingBase;          // c_{i-1} of the pending candidate; kNoVertex for none
+    double key;            // the key in the queue: a pending candidate's screen, or `measured`
+    VertexId pendingBase;  // c_{i-1} of the pending candidate; kNoVertex for none
+    VertexId base;         // where `measured` was measured from
+  };
+  /// What it carries once final (`base` stays where it was).
+  struct Final {
+    VertexId ancestors[kStoredAncestors];  // once it is relaxed: c_2, c_3, c_4 of its chain
+    VertexId base;                         // where its distance was measured from
   };
 
   double measured;           // shortest measured distance: the distance once final
   std::uint32_t queueSlot;   // FrontQueue's slot
   VertexId predecessor;      // the vertex whose relaxation gave the key
   union {
-    Open open;                                // until the vertex is final
-    VertexId ancestors[kStoredAncestors];     // once it is relaxed: c_2, c_3, ... of its chain
+    Open open;    // until the vertex is final
+    Final done;   // once it is final; done.base is open.base (same type, same place)
   };
 
   static VertexRecord unseen() {
@@ -324,6 +364,8 @@ struct VertexRecord<true> {
   }
   double finalDistance() const { return measured; }
 };
+static_assert(offsetof(VertexRecord<true>::Open, base) == offsetof(VertexRecord<true>::Final, base),
+              "a final vertex's base is where it was while it was open");
 
 /// CandidatePath::measuresWhileChecking(), where a path offers it: true
 /// when checking the candidates' paths costs about what measuring them does
@@ -372,6 +414,8 @@ class Propagation {
         path_(makeCandidatePath(domain, metric, options)) {}
 
   PropagationResult run(const std::vector<VertexId>& sources) {
+    if (sources.size() < kFewSources) fewSources_ = sources;
+    else fewSources_.assign(kFewSources, kNoVertex);  // size kFewSources: read the records
     for (const VertexId s : sources) {
       if constexpr (Deferred) {
         state_[s].measured = 0.0;
@@ -425,7 +469,10 @@ class Propagation {
           continue;
         }
         result.distance[v] = state_[v].finalDistance();
-        result.predecessor[v] = state_[v].predecessor;
+        if constexpr (Deferred)
+          result.predecessor[v] = state_[v].done.base;  // where its distance was measured from
+        else
+          result.predecessor[v] = state_[v].predecessor;
       }
     }
     result.termination = termination_;
@@ -538,12 +585,19 @@ class Propagation {
     if constexpr (Deferred) {
       // Here the chain is known exactly: c_1's record (one of u's
       // neighbours, asked for with them) holds c_2 onwards.
-      const VertexId p1 = state_[u].predecessor;
+      const VertexState& su = state_[u];
+      if (anyAngle_ > 0 && su.open.base != kNoVertex) {
+        // Its any-angle ancestor, most likely the vertex it will be final
+        // with (its chain of edges holds it already where it is near).
+        detail::prefetch(&state_[su.open.base]);
+        detail::prefetch(&metric_[su.open.base]);
+      }
+      const VertexId p1 = su.predecessor;
       if (p1 == kNoVertex) return;
       const VertexState& s1 = state_[p1];
       const int k = memoryDepth<Domain>(options_);
       for (int l = 2; l < k && l < 3 + VertexState::kStoredAncestors; ++l) {
-        const VertexId c = l == 2 ? s1.predecessor : s1.ancestors[l - 3];
+        const VertexId c = l == 2 ? s1.predecessor : s1.done.ancestors[l - 3];
         if (c == kNoVertex) break;
         detail::prefetch(&state_[c]);
         detail::prefetch(&metric_[c]);
@@ -627,17 +681,17 @@ class Propagation {
       constexpr int kStored = VertexState::kStoredAncestors;
       VertexState& sv = state_[v];
       const VertexId p1 = sv.predecessor;
-      VertexId stored[kStored];
+      VertexId stored[kStored + 1];
       if (p1 == kNoVertex) {
-        std::fill(stored, stored + kStored, kNoVertex);
+        std::fill(stored, stored + kStored + 1, kNoVertex);
       } else {
         const VertexState& s1 = state_[p1];
         stored[0] = s1.predecessor;
-        for (int a = 1; a < kStored; ++a) stored[a] = s1.ancestors[a - 1];
+        for (int a = 1; a <= kStored; ++a) stored[a] = s1.done.ancestors[a - 1];
         if (count < k) chain[count++] = p1;
-        for (int a = 0; a < kStored && count < k && stored[a] != kNoVertex; ++a) chain[count++] = stored[a];
+        for (int a = 0; a <= kStored && count < k && stored[a] != kNoVertex; ++a) chain[count++] = stored[a];
       }
-      for (int a = 0; a < kStored; ++a) sv.ancestors[a] = stored[a];
+      for (int a = 0; a < kStored; ++a) sv.done.ancestors[a] = stored[a];
     }
     while (count < k && state_[chain[count - 1]].predecessor != kNoVertex) {
       chain[count] = state_[chain[count - 1]].predecessor;
@@ -646,6 +700,84 @@ class Propagation {
     return count;
   }
 
+  // Appends v's first anyAngle_ any-angle ancestors that its chain of
+  // `count` vertices does not hold (VertexRecord<true>::base: where v's
+  // distance was measured from, then where that vertex's was, ...), while
+  // they lie within reach of v (a source within the source reach): each
+  // becomes one more candidate base for v's neighbours. Returns the new
+  // count.
+  STVD_ALWAYS_INLINE int appendAnyAngleAncestors(VertexId v, VertexId* chain, int count) {
+    if constexpr (Deferred && kAnyAngle) {
+      const int latticeCount = count;
+      VertexId a = state_[v].done.base;
+      // An ancestor in the chain already is passed over, a few times at
+      // most: where a lattice vertex on the straight line from the source
+      // tied with the source, this still reaches the source.
+      for (int hop = 0; hop < anyAngle_ + kPassedOver && count - latticeCount < anyAngle_ && a != kNoVertex;
+           ++hop) {
+        const VertexState& sa = state_[a];
+        bool inChain = false;
+        for (int j = 1; j < latticeCount; ++j) inChain = inChain || chain[j] == a;
+        if (!inChain) {
+          const bool source = sa.finalDistance() == 0.0;
+          const int reach = source && nearSourceMetric(v, a) ? sourceReach_ : segmentReach_;
+          if (path_.steps(v, a) > reach) break;
+          chain[count++] = a;
+        }
+        a = sa.done.base;
+      }
+      // Source factoring: the source that v's ancestors lead to next is a
+      // candidate too, within the source reach, however many ancestors came
+      // before it (on a constant metric the segment from the source is exact,
+      // and a lattice vertex on the straight line from it that tied with it
+      // must not hide it).
+      if (anyAngle_ > 0 && a != kNoVertex && isSource(a) && path_.steps(v, a) <= sourceReach_ &&
+          nearSourceMetric(v, a)) {
+        bool inChain = false;
+        for (int j = 1; j < count; ++j) inChain = inChain || chain[j] == a;
+        if (!inChain) chain[count++] = a;
+      }
+    }
+    return count;
+  }
+  static constexpr int kPassedOver = 2;
+
+  // Whether v is a source: from the few sources of a run without reading
+  // v's record (a cache miss at the front), else from its distance.
+  STVD_ALWAYS_INLINE bool isSource(VertexId v) const {
+    if (fewSources_.size() < kFewSources) {
+      for (const VertexId s : fewSources_) if (s == v) return true;
+      return false;
+    }
+    return state_[v].finalDistance() == 0.0;
+  }
+  static constexpr std::size_t kFewSources = 16;
+
+  // Whether the norm at v is close to the one at the source s: the region
+  // where the straight segment from the source is a candidate beyond the
+  // segment reach (source factoring, as fast marching factors the distance
+  // near a seed with the seed's metric).
+  STVD_ALWAYS_INLINE bool nearSourceMetric(VertexId v, VertexId s) const {
+    constexpr int kFloats = ChainMemory<Norm>::kNormFloats;
+    float a[kFloats], b[kFloats];
+    std::memcpy(a, &metric_[v], sizeof a);
+    std::memcpy(b, &metric_[s], sizeof b);
+    float difference = 0.f, size = 0.f;
+    for (int f = 0; f < kFloats; ++f) {
+      difference += (a[f] - b[f]) * (a[f] - b[f]);
+      size += b[f] * b[f];
+    }
+    return difference <= kSourceMetricTolerance * kSourceMetricTolerance * size;
+  }
+  // The relative (Frobenius) difference of the parameters below which a
+  // vertex counts as near its source's metric. On the curved scene of
+  // bench/propagation_speed.cpp (shear slope 0.49, 128^3), with the source
+  // reach at 64 steps: 0.05 costs 3.3 times Dijkstra (mean error 1.58 %),
+  // 0.1 or 0.2 3.4 to 3.7 times (1.52 %), no limit 5.7 times; a constant
+  // metric is exact within the source reach with any of them.
+  static constexpr float kSourceMetricTolerance = 0.05f;
+  std::vector<VertexId> fewSources_;
+
   // STVD update of every neighbour w of v (see ChainMemory): the screen
   // ranks the candidates; with a chain rule (Measured false) the screened
   // value is the candidate's length, otherwise the best candidate that could
@@ -653,16 +785,18 @@ class Propagation {
   // leaves the domain is refused and the next one tried.
   template <ChainRule Rule>
   STVD_HOT_LOOP void relaxVector(VertexId v, int k) {
-    VertexId chain[kMaxMemoryDepth];
-    const int count = gatherChain(v, k, chain);
+    VertexId chain[kMaxChainLength];
+    const int latticeCount = gatherChain(v, k, chain);
+    const int count = appendAnyAngleAncestors(v, chain, latticeCount);
     ChainMemory<Norm> memory;
     memory.edgeCount = count;
-    Vec3f p[kMaxMemoryDepth];
+    memory.latticeLanes = latticeCount - 1;
+    Vec3f p[kMaxChainLength];
     ChainUnfolding<Domain>::place(domain_, chain, count, p);
     // The chain's edges and their norms, which the two chain rules measure
     // with (the chain-mean screen needs only the vertices' norms).
     if constexpr (Rule != ChainRule::ChainMean) {
-      for (int j = 2; j <= count; ++j) {
+      for (int j = 2; j <= latticeCount; ++j) {
         memory.edge[j] = p[j - 2] - p[j - 1];
         // The norm in the unfolded frame (Norm::edgeParams of the end points
         // for domains in R^3; see chain_unfolding.hpp).
@@ -682,17 +816,29 @@ class Propagation {
       constexpr int kFloats = ChainMemory<Norm>::kNormFloats;
       float sum[kFloats];
       std::memcpy(sum, &metric_[v], sizeof sum);
-      for (int lane = 0; lane + 1 < count; ++lane) {
+      for (int lane = 0; lane + 1 < latticeCount; ++lane) {
         float c[kFloats];
         std::memcpy(c, &metric_[chain[lane + 1]], sizeof c);
         for (int f = 0; f < kFloats; ++f) sum[f] += c[f];
         std::memcpy(memory.chainNormSum[lane], sum, sizeof sum);
       }
     }
+    const double dv = state_[v].finalDistance();
+    // An any-angle ancestor b is screened as the segment from b under the
+    // edge rule of v's and b's norms, times the ratio of what v's path from
+    // b measured (dist(v) - dist(b)) to what that norm gives the segment
+    // b -> v: exact for a constant metric and for a neighbour w in line with
+    // b and v, and above the segment's length where v's path from b bends.
+    for (int lane = latticeCount - 1; lane + 1 < count; ++lane) {
+      const int a = lane - (latticeCount - 1);
+      memory.ancestorNorm[a] = Norm::edgeParams(metric_[v], metric_[chain[lane + 1]]);
+      const float straight = Norm::length(memory.ancestorNorm[a], -p[lane + 1].x, -p[lane + 1].y, -p[lane + 1].z);
+      const double travelled = dv - memory.baseDistance[lane];
+      memory.ancestorRatio[a] = straight > 0.f && travelled > 0.0 ? static_cast<float>(travelled / straight) : 1.f;
+    }
     path_.beginChain(chain, count, p);
     const bool mayRefuse = path_.mayRefuse();
 
-    const double dv = state_[v].finalDistance();
     NeighborBatch<Norm> batch;
     forEachNeighborBatch(v, batch, [&](NeighborBatch<Norm>& b) STVD_ALWAYS_INLINE_LAMBDA {
       // i = 1 is the Dijkstra term, measured exactly as Dijkstra measures it.
@@ -703,6 +849,7 @@ class Propagation {
       if (count > 1) {
         CandidateScreen<Norm> screen;
         screenChainCandidates<Rule>(memory, b, screen);
+        if (count > latticeCount) screenAnyAngleAncestors(memory, b, screen);
         if constexpr (Deferred)
           keepBestScreenedCandidates(v, memory, b, screen, mayRefuse);
         else if (mayRefuse)
@@ -715,6 +862,19 @@ class Propagation {
       else
         applyCandidates(v, b);
     });
+  }
+
+  // The reach of an any-angle ancestor (a source when `source`): the
+  // option, or the domain's default.
+  int reachOption(const std::optional<int>& option, bool source) const {
+    if constexpr (Deferred && kAnyAngle) {
+      if (option) return *option;
+      return source ? path_.defaultSourceReach() : path_.defaultReach();
+    } else {
+      (void)option;
+      (void)source;
+      return 0;
+    }
   }
 
   // The lane (candidate i = lane + 2) with the smallest screened value
@@ -826,10 +986,11 @@ class Propagation {
     }
   }
 
-  STVD_ALWAYS_INLINE static void keepMeasured(VertexState& s, double value, VertexId from) {
+  // Keeps `value`, measured from `base`, when it is w's shortest so far.
+  STVD_ALWAYS_INLINE static void keepMeasured(VertexState& s, double value, VertexId base) {
     if (value < s.measured) {
       s.measured = value;
-      s.open.measuredPredecessor = from;
+      s.open.base = base;
     }
   }
 
@@ -865,14 +1026,14 @@ class Propagation {
     if constexpr (CandidatePath<Domain, Norm>::usesPlacedChain()) {
       // The path depends on the chain between c_{i-1} and v (a surface's
       // unfolding): rebuild it.
-      VertexId chain[kMaxMemoryDepth];
+      VertexId chain[kMaxChainLength];
       int i = 1;
       chain[0] = v;
       while (chain[i - 1] != base) {
         chain[i] = state_[chain[i - 1]].predecessor;
         ++i;
       }
-      Vec3f p[kMaxMemoryDepth];
+      Vec3f p[kMaxChainLength];
       ChainUnfolding<Domain>::place(domain_, chain, i, p);
       path_.beginChain(chain, i, p);
       l = path_.length(i, w, ChainUnfolding<Domain>::neighborEdge(domain_, v, w));
@@ -884,7 +1045,10 @@ class Propagation {
       return;
     }
     ++measured_;
-    keepMeasured(sw, state_[base].measured + static_cast<double>(l), v);
+    // Measured from `base` along a straight segment; a surface's line runs
+    // across faces, so there the result keeps the neighbour v as the
+    // predecessor (its chain of edges is what the unfolding needs).
+    keepMeasured(sw, state_[base].measured + static_cast<double>(l), kAnyAngle ? base : v);
   }
 
   // How far above its screened key a measured distance may lie for the
@@ -910,7 +1074,6 @@ class Propagation {
       // (docs/architecture.md).
       if (sw.measured <= queue_.minKey() * (1.0 + kSettleSlack)) {
         sw.open.key = sw.measured;
-        sw.predecessor = sw.open.measuredPredecessor;
         return true;
       }
     } else if (!(queue_.minKey() < sw.open.key)) {
@@ -920,7 +1083,6 @@ class Propagation {
     // distance (or an entry left from an earlier key): queue it with its
     // measured distance.
     sw.open.key = sw.measured;
-    sw.predecessor = sw.open.measuredPredecessor;
     queue_.requeueMin(sw.measured);
     return false;
   }
@@ -943,6 +1105,14 @@ class Propagation {
   FrontQueue queue_;
   const typename ChainUnfolding<Domain>::EdgeMetric edgeMetric_;
   CandidatePath<Domain, Norm> path_;
+  // Any-angle ancestors: where the domain's candidate paths are straight
+  // segments measured from their two end points (grids, tetrahedral
+  // meshes), and only with deferred measurement, whose records keep where
+  // each distance was measured from.
+  static constexpr bool kAnyAngle = !CandidatePath<Domain, Norm>::usesPlacedChain();
+  const int anyAngle_ = Deferred && kAnyAngle ? options_.anyAngleAncestors : 0;
+  const int segmentReach_ = reachOption(options_.segmentReach, false);
+  const int sourceReach_ = reachOption(options_.sourceReach, true);
   Termination termination_ = Termination::Completed;
   std::uint64_t finalized_ = 0;
   std::uint64_t relaxed_ = 0;
@@ -976,6 +1146,12 @@ PropagationResult propagate(const Domain& domain, const MetricField<Norm>& metri
                                 std::to_string(kMaxMemoryDepth));
   if (std::isnan(options.maxDistance))
     throw std::invalid_argument("maximum distance is NaN");
+  if (options.anyAngleAncestors < 0 || options.anyAngleAncestors > kMaxAnyAngleAncestors)
+    throw std::invalid_argument("any-angle ancestors " + std::to_string(options.anyAngleAncestors) +
+                                " is outside 0.." + std::to_string(kMaxAnyAngleAncestors));
+  for (const std::optional<int>& reach : {options.segmentReach, options.sourceReach})
+    if (reach && *reach < 1)
+      throw std::invalid_argument("segment reach " + std::to_string(*reach) + " is below 1");
   // ChainMeasure::Segment on a domain that measures along paths defers its
   // measurements, with a record of its own per vertex.
   if (options.method == Method::ShortTermVectorDijkstra && options.chainMeasure == ChainMeasure::Segment &&

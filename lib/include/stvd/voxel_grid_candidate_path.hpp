@@ -55,12 +55,31 @@ class CandidatePath<VoxelGridDomain, Norm> {
   STVD_ALWAYS_INLINE void beginChain(const VertexId* chain, int count, const Vec3f* placed) {
     (void)placed;  // a segment's vector comes from its end points' indices
     chain_ = chain;
-    // Every candidate's segment stays within (count - 1) stencil radii of
-    // v, and within one of v at w: with no excluded voxel that near, none
-    // can leave the domain.
-    const int reach = std::max(count - 1, 1) * domain_.stencil().radius();
-    mayRefuse_ = domain_.hasMask() && count > 1 && domain_.clearance()[chain[0]] <= reach;
+    // Every candidate's segment stays within the Chebyshev ball around v
+    // that holds its ends: the farthest chain vertex, and w one stencil
+    // radius away. With no excluded voxel that near, none can leave the
+    // domain. (A chain with any-angle ancestors is not a chain of stencil
+    // steps, so the reach is that of its vertices.)
+    if (!domain_.hasMask() || count <= 1) {
+      mayRefuse_ = false;
+      return;
+    }
+    int reach = domain_.stencil().radius();
+    for (int j = 1; j < count; ++j) reach = std::max(reach, steps(chain[0], chain[j]));
+    mayRefuse_ = domain_.clearance()[chain[0]] <= reach;
   }
+
+  /// What measuring the segment from a to b costs: its samples, the voxel
+  /// steps between them (the Chebyshev distance of their indices).
+  STVD_ALWAYS_INLINE int steps(VertexId a, VertexId b) const {
+    return samplesAlong(domain_.indexOf(a), domain_.indexOf(b));
+  }
+  /// The default reach of an any-angle ancestor and of a source, in voxel
+  /// steps (PropagationOptions::segmentReach, sourceReach): they grow with
+  /// the resolution, the cube root of the voxels in the domain
+  /// (anyAngleReach, candidate_path.hpp).
+  int defaultReach() const { return anyAngleReach(domain_.domainVertexCount(), false); }
+  int defaultSourceReach() const { return anyAngleReach(domain_.domainVertexCount(), true); }
 
   bool mayRefuse() const { return mayRefuse_; }
 
