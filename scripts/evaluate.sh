@@ -8,6 +8,9 @@
 # STVD_EVALUATION_QUICK=1 runs small sizes only (a few minutes; for checking
 # the script, not for the document). STVD_EVALUATION_ACCURACY_TABLE=1 adds
 # the 128^3 accuracy tables of stvd_accuracy_table (about 50 minutes more).
+# The comparison with Hamiltonian Fast Marching is not run here (HFM is not
+# a dependency): scripts/hfm_comparison.py writes
+# docs/benchmarks/hfm_comparison.tsv, which the document includes.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -47,9 +50,11 @@ bench="$build_dir/bench"
 if [[ $quick == 1 ]]; then
   sweep_size=24 accuracy_size=32 speed_size=64 scale_sizes="32 48 64" repeats=1
   steiner_size=12 steiner_max=4 parallel_size=32 surface_size=32 surface_steiner_max=4
+  convergence_size=64 plane_size=40
 else
   sweep_size=64 accuracy_size=128 speed_size=128 scale_sizes="64 96 128 192 256" repeats=3
   steiner_size=32 steiner_max=8 parallel_size=96 surface_size=96 surface_steiner_max=16
+  convergence_size=128 plane_size=100
 fi
 
 echo "evaluate.sh: error versus time (${sweep_size}^3)"
@@ -59,6 +64,10 @@ echo "evaluate.sh: Lanthier's Steiner points next to Dijkstra and STVD (${steine
   >"$run_dir/steiner_sweep.tsv"
 echo "evaluate.sh: refinement"
 "$bench/stvd_evaluation" refinement --repeats "$repeats" >"$run_dir/refinement.tsv"
+echo "evaluate.sh: convergence under refinement at the defaults (32^3 to ${convergence_size}^3)"
+"$bench/stvd_evaluation" convergence --size "$convergence_size" --repeats "$repeats" >"$run_dir/convergence.tsv"
+echo "evaluate.sh: a flat plane under a constant anisotropic metric (${plane_size}^2 cells)"
+"$bench/stvd_evaluation" plane --size "$plane_size" --repeats "$repeats" >"$run_dir/plane.tsv"
 echo "evaluate.sh: scale ($scale_sizes)"
 first=1
 for n in $scale_sizes; do
