@@ -425,8 +425,9 @@ void bindVolumes(py::module_& m) {
             const VolumePropagation& p = self.cast<const VolumePropagation&>();
             return fortranView(p.result.predecessor.data(), gridShape(p.field->geometry()), self);
           },
-          "uint32 linear voxel index (i + nx*(j + ny*k)) of each voxel's predecessor; NO_VERTEX for seeds and "
-          "voxels not reached.")
+          "uint32 linear voxel index (i + nx*(j + ny*k)) of each voxel's predecessor, the voxel its distance was "
+          "measured from (with STVD's segment measure the start of the straight segment that gave it, not "
+          "necessarily a neighbour); NO_VERTEX for seeds and voxels not reached.")
       .def(
           "distance_map",
           [](const VolumePropagation& p, double unreachable) {

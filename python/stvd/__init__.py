@@ -82,7 +82,10 @@ class Propagation:
 
     ``distance`` (float64 millimetres, ``inf`` where not reached) and
     ``predecessor`` (uint32 linear voxel index ``i + nx*(j + ny*k)`` of each
-    voxel's predecessor, ``stvd.NO_VERTEX`` for seeds and voxels not reached)
+    voxel's predecessor: the voxel its distance was measured from, the start
+    of the straight segment that gave it with STVD's default segment measure,
+    not necessarily a neighbour; ``stvd.NO_VERTEX`` for seeds and voxels not
+    reached)
     are read-only arrays on the input's grid, without a copy. Statistics:
     ``termination``, ``finalized_vertices``, ``relaxed_edges``,
     ``peak_state_bytes``, ``seeds`` (the seed voxels), ``label_seeds_left_out``,
