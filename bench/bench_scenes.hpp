@@ -11,8 +11,8 @@
 
 #include "exact_metrics.hpp"
 #include "relative_error.hpp"
-#include "stvd/large_array.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/system/large_array.hpp"
+#include "stvd/propagation/propagation.hpp"
 
 namespace stvd::bench {
 

@@ -25,10 +25,10 @@
 #include <string>
 #include <vector>
 
-#include "stvd/itk/tensor_metric.hpp"
-#include "stvd/itk/tensor_volume.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/imaging/tensor_metric.hpp"
+#include "stvd/imaging/tensor_volume.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
 
 namespace {
 

@@ -40,8 +40,8 @@
 #include <vector>
 
 #include "bench_scenes.hpp"
-#include "stvd/source_set_propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/propagation/source_set_propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
 
 namespace {
 

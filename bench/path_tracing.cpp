@@ -11,7 +11,7 @@
 #include <memory>
 
 #include "bench_scenes.hpp"
-#include "stvd/geodesic_path.hpp"
+#include "stvd/voxel_grid/path_tracing.hpp"
 
 namespace {
 

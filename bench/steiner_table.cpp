@@ -14,7 +14,7 @@
 
 #include "bench_scenes.hpp"
 #include "steiner_table_format.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
 
 namespace {
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "relative_error.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
 
 namespace stvd::bench {
 

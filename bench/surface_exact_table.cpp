@@ -28,10 +28,10 @@
 #include <string>
 #include <vector>
 
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/surface_io/surface_mesh_io.hpp"
-#include "stvd/surface_metrics.hpp"
+#include "stvd/surface/surface_metrics.hpp"
 
 namespace {
 

@@ -13,9 +13,9 @@
 #include <sstream>
 #include <vector>
 
-#include "stvd/itk/mrtrix_image.hpp"
-#include "stvd/itk/scalar_image.hpp"
-#include "stvd/propagation_choice.hpp"
+#include "stvd/imaging/mrtrix_image.hpp"
+#include "stvd/imaging/scalar_image.hpp"
+#include "stvd/front_end/propagation_choice.hpp"
 
 namespace stvd::tool {
 

@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "stvd/itk/tensor_input.hpp"
-#include "stvd/itk/tensor_layout.hpp"
-#include "stvd/itk/tensor_metric.hpp"
-#include "stvd/itk/tensor_volume.hpp"
-#include "stvd/number_text.hpp"
+#include "stvd/imaging/tensor_input.hpp"
+#include "stvd/imaging/tensor_layout.hpp"
+#include "stvd/imaging/tensor_metric.hpp"
+#include "stvd/imaging/tensor_volume.hpp"
+#include "stvd/front_end/number_text.hpp"
 
 namespace stvd::tool {
 

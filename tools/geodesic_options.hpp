@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "command_line.hpp"
-#include "stvd/itk/seed_voxels.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/propagation_choice.hpp"
-#include "stvd/voxel_grid_domain.hpp"
+#include "stvd/imaging/seed_voxels.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/front_end/propagation_choice.hpp"
+#include "stvd/voxel_grid/voxel_grid_domain.hpp"
 
 namespace stvd::tool {
 

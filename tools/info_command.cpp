@@ -9,10 +9,10 @@
 
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
-#include "stvd/itk/symmetric_eigen.hpp"
-#include "stvd/itk/mrtrix_image.hpp"
-#include "stvd/itk/tensor_frames.hpp"
-#include "stvd/itk/tensor_plausibility.hpp"
+#include "stvd/imaging/symmetric_eigen.hpp"
+#include "stvd/imaging/mrtrix_image.hpp"
+#include "stvd/imaging/tensor_frames.hpp"
+#include "stvd/imaging/tensor_plausibility.hpp"
 #include "subcommands.hpp"
 
 namespace stvd::tool {

@@ -15,7 +15,7 @@
 #include <iostream>
 
 #include "command_line.hpp"
-#include "stvd/files/file_contents.hpp"
+#include "stvd/system/files/file_contents.hpp"
 
 extern char** environ;
 

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "command_line.hpp"
-#include "stvd/files/termination_signals.hpp"
-#include "stvd/front_end_errors.hpp"
+#include "stvd/system/files/termination_signals.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "report_request.hpp"
 #include "subcommands.hpp"

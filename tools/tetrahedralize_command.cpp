@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "command_line.hpp"
-#include "stvd/files/termination_signals.hpp"
+#include "stvd/system/files/termination_signals.hpp"
 #include "tet_mesh_commands.hpp"
 
 extern char** environ;

@@ -4,7 +4,7 @@
 #include <sstream>
 #include <type_traits>
 
-#include "stvd/itk/label_values.hpp"
+#include "stvd/imaging/label_values.hpp"
 
 namespace stvd::python {
 

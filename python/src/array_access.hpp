@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "stvd/grid_geometry.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd::python {

@@ -9,10 +9,10 @@
 #include <string>
 
 #include "bindings.hpp"
-#include "stvd/files/file_identity.hpp"
-#include "stvd/files/output_transaction.hpp"
-#include "stvd/itk/run_files.hpp"
-#include "stvd/itk/scalar_image.hpp"
+#include "stvd/system/files/file_identity.hpp"
+#include "stvd/system/files/output_transaction.hpp"
+#include "stvd/imaging/run_files.hpp"
+#include "stvd/imaging/scalar_image.hpp"
 
 namespace py = pybind11;
 

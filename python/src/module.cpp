@@ -5,15 +5,15 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
-#include "stvd/cell_mesh_domain.hpp"
-#include "stvd/geodesic_path.hpp"
+#include "stvd/cell_mesh/cell_mesh_domain.hpp"
+#include "stvd/voxel_grid/path_tracing.hpp"
 #include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/tensor_input.hpp"
-#include "stvd/itk/tensor_metric.hpp"
-#include "stvd/propagation_choice.hpp"
-#include "stvd/steiner_propagation.hpp"
-#include "stvd/surface_domain.hpp"
-#include "stvd/voxel_grid_domain.hpp"
+#include "stvd/imaging/tensor_input.hpp"
+#include "stvd/imaging/tensor_metric.hpp"
+#include "stvd/front_end/propagation_choice.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/surface/surface_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_domain.hpp"
 
 namespace py = pybind11;
 

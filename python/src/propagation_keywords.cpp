@@ -3,7 +3,7 @@
 #include <limits>
 
 #include "bindings.hpp"
-#include "stvd/system_memory.hpp"
+#include "stvd/system/memory.hpp"
 
 namespace stvd::python {
 

@@ -9,7 +9,7 @@
 #include <optional>
 #include <string>
 
-#include "stvd/propagation_choice.hpp"
+#include "stvd/front_end/propagation_choice.hpp"
 
 namespace stvd::python {
 

@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "array_access.hpp"
-#include "stvd/itk/tensor_arrays.hpp"
-#include "stvd/itk/tensor_metric.hpp"
+#include "stvd/imaging/tensor_arrays.hpp"
+#include "stvd/imaging/tensor_metric.hpp"
 
 namespace stvd::python {
 

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "stvd/itk/scalar_image.hpp"
-#include "stvd/itk/tensor_input.hpp"
-#include "stvd/metric_field.hpp"
+#include "stvd/imaging/scalar_image.hpp"
+#include "stvd/imaging/tensor_input.hpp"
+#include "stvd/metric/metric_field.hpp"
 
 namespace stvd::python {
 

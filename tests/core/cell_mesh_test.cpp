@@ -16,8 +16,8 @@
 #include "method_cases.hpp"
 #include "relative_error.hpp"
 #include "scenes.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/cell_mesh_candidate_path.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/cell_mesh/cell_mesh_candidate_path.hpp"
 
 namespace stvd {
 namespace {

@@ -21,7 +21,7 @@
 #include "relative_error.hpp"
 #include "method_cases.hpp"
 #include "scenes.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
 
 namespace stvd {
 namespace {

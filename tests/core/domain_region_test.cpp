@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "method_cases.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
 #include "wall_scenes.hpp"
 
 namespace stvd {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "stvd/files/file_identity.hpp"
+#include "stvd/system/files/file_identity.hpp"
 
 namespace stvd::files {
 namespace {

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "stvd/large_array.hpp"
+#include "stvd/system/large_array.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd {

@@ -12,7 +12,7 @@
 #include "exact_metrics.hpp"
 #include "scenes.hpp"
 #include "method_cases.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
 
 namespace stvd {
 namespace {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "scenes.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
 
 namespace stvd {
 namespace {

@@ -11,7 +11,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "stvd/files/output_transaction.hpp"
+#include "stvd/system/files/output_transaction.hpp"
 
 namespace stvd::files {
 namespace {

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "scenes.hpp"
-#include "stvd/source_set_propagation.hpp"
+#include "stvd/propagation/source_set_propagation.hpp"
 
 namespace stvd {
 namespace {

@@ -30,7 +30,7 @@
 #include "exact_metrics.hpp"
 #include "method_cases.hpp"
 #include "relative_error.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
 
 namespace stvd {
 namespace {

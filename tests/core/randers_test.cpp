@@ -14,7 +14,7 @@
 #include "exact_metrics.hpp"
 #include "relative_error.hpp"
 #include "scenes.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
 
 namespace stvd {
 namespace {

@@ -21,8 +21,8 @@
 #include "method_cases.hpp"
 #include "relative_error.hpp"
 #include "scenes.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
 
 namespace stvd {
 namespace {

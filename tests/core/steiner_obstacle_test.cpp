@@ -17,8 +17,8 @@
 #include "exact_metrics.hpp"
 #include "method_cases.hpp"
 #include "relative_error.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
 
 namespace stvd {
 namespace {

@@ -11,7 +11,7 @@
 
 #include "exact_metrics.hpp"
 #include "scenes.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
 
 namespace stvd {
 namespace {

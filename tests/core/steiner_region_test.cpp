@@ -14,8 +14,8 @@
 
 #include "exact_metrics.hpp"
 #include "scenes.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
 #include "wall_scenes.hpp"
 
 namespace stvd {

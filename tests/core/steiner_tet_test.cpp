@@ -14,8 +14,8 @@
 #include "exact_metrics.hpp"
 #include "relative_error.hpp"
 #include "scenes.hpp"
-#include "stvd/steiner_propagation.hpp"
-#include "stvd/tetrahedral_cells.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/cell_mesh/tetrahedral_cells.hpp"
 
 namespace stvd {
 namespace {

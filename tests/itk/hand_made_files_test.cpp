@@ -6,9 +6,9 @@
 
 #include "known_field.hpp"
 #include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/tensor_metric.hpp"
-#include "stvd/itk/tensor_volume.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/imaging/tensor_metric.hpp"
+#include "stvd/imaging/tensor_volume.hpp"
+#include "stvd/propagation/propagation.hpp"
 
 namespace stvd::imaging {
 namespace {

@@ -18,9 +18,9 @@
 
 #include "known_field.hpp"
 #include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/mrtrix_image.hpp"
-#include "stvd/itk/scalar_image.hpp"
-#include "stvd/itk/tensor_volume.hpp"
+#include "stvd/imaging/mrtrix_image.hpp"
+#include "stvd/imaging/scalar_image.hpp"
+#include "stvd/imaging/tensor_volume.hpp"
 #include "test_support.hpp"
 
 namespace stvd::testing {

@@ -5,7 +5,7 @@
 #include <fstream>
 
 #include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/scalar_image.hpp"
+#include "stvd/imaging/scalar_image.hpp"
 #include "test_support.hpp"
 
 namespace stvd::imaging {

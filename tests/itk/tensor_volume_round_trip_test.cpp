@@ -6,7 +6,7 @@
 #include <tuple>
 
 #include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/tensor_volume.hpp"
+#include "stvd/imaging/tensor_volume.hpp"
 #include "test_support.hpp"
 
 namespace stvd::imaging {

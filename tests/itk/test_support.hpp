@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "stvd/grid_geometry.hpp"
-#include "stvd/itk/tensor_frames.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
+#include "stvd/imaging/tensor_frames.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd::testing {

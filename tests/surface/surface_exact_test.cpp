@@ -18,10 +18,10 @@
 #include <vector>
 
 #include "../core/relative_error.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/surface_io/surface_mesh_io.hpp"
-#include "stvd/surface_metrics.hpp"
+#include "stvd/surface/surface_metrics.hpp"
 
 namespace stvd::test {
 namespace {

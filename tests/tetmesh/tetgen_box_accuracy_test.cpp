@@ -22,7 +22,7 @@
 #include "../core/relative_error.hpp"
 #include "../core/scenes.hpp"
 #include "l_shaped_prism_surface.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
 #include "stvd/tetgen/tetrahedralize.hpp"
 
 namespace stvd {

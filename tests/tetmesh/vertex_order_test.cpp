@@ -10,7 +10,7 @@
 #include <random>
 
 #include "../core/kuhn_lattice.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
 #include "stvd/tetmesh/vertex_order.hpp"
 
 namespace stvd::tetmesh {

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "image_header_screening.hpp"
-#include "stvd/grid_geometry.hpp"
+#include "stvd/imaging/detail/image_header_screening.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
 
 namespace stvd::imaging::detail {
 

@@ -8,12 +8,12 @@
 
 #include "itk_io_support.hpp"
 #include "written_files.hpp"
-#include "stvd/files/output_transaction.hpp"
-#include "stvd/itk/image_files.hpp"
+#include "stvd/system/files/output_transaction.hpp"
+#include "stvd/imaging/image_files.hpp"
 #include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/label_values.hpp"
-#include "stvd/itk/mrtrix_image.hpp"
-#include "stvd/itk/scalar_image.hpp"
+#include "stvd/imaging/label_values.hpp"
+#include "stvd/imaging/mrtrix_image.hpp"
+#include "stvd/imaging/scalar_image.hpp"
 
 namespace stvd::imaging {
 

@@ -11,11 +11,11 @@
 #include "itk_io_support.hpp"
 #include "nrrd_header.hpp"
 #include "written_files.hpp"
-#include "stvd/itk/image_files.hpp"
+#include "stvd/imaging/image_files.hpp"
 #include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/mrtrix_image.hpp"
-#include "stvd/itk/tensor_arrays.hpp"
-#include "stvd/itk/tensor_volume.hpp"
+#include "stvd/imaging/mrtrix_image.hpp"
+#include "stvd/imaging/tensor_arrays.hpp"
+#include "stvd/imaging/tensor_volume.hpp"
 
 namespace stvd::imaging {
 namespace {

@@ -7,9 +7,9 @@
 #include <cstring>
 
 #include "itk_io_support.hpp"
-#include "stvd/files/output_transaction.hpp"
+#include "stvd/system/files/output_transaction.hpp"
 #include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/mrtrix_image.hpp"
+#include "stvd/imaging/mrtrix_image.hpp"
 
 namespace stvd::imaging::detail {
 namespace {

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "stvd/files/file_identity.hpp"
-#include "stvd/files/output_transaction.hpp"
-#include "stvd/files/termination_signals.hpp"
+#include "stvd/system/files/file_identity.hpp"
+#include "stvd/system/files/output_transaction.hpp"
+#include "stvd/system/files/termination_signals.hpp"
 #include "stvd/tetgen/tetrahedralize.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
 

@@ -3,11 +3,11 @@
 #include <optional>
 #include <utility>
 
-#include "stvd/cell_mesh_domain.hpp"
-#include "stvd/front_end_errors.hpp"
-#include "stvd/metric_field.hpp"
-#include "stvd/steiner_propagation.hpp"
-#include "stvd/tetrahedral_cells.hpp"
+#include "stvd/cell_mesh/cell_mesh_domain.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/metric/metric_field.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/cell_mesh/tetrahedral_cells.hpp"
 #include "stvd/tetmesh/vertex_order.hpp"
 
 namespace stvd::tetmesh {

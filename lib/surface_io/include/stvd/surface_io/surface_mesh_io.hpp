@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "stvd/surface_domain.hpp"
+#include "stvd/surface/surface_domain.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd::surface_io {

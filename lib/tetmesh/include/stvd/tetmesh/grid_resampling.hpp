@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "stvd/grid_geometry.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
 
 namespace stvd::tetmesh {

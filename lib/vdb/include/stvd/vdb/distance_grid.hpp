@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "stvd/files/output_transaction.hpp"
-#include "stvd/grid_geometry.hpp"
+#include "stvd/system/files/output_transaction.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
 
 namespace stvd::vdb {
 

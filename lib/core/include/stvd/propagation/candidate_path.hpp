@@ -1,0 +1,95 @@
+// Where a domain decides whether the path an STVD candidate stands for
+// exists, and how long it is: the one mechanism behind "every distance is
+// the length of a path that lies in the domain" (docs/architecture.md).
+#pragma once
+
+#include <limits>
+#include <type_traits>
+#include <utility>
+
+#include "stvd/metric/metric_field.hpp"
+#include "stvd/types.hpp"
+
+namespace stvd {
+
+/// Returned by CandidatePath::length for a candidate whose path leaves the
+/// domain.
+inline constexpr float kRefusedCandidate = std::numeric_limits<float>::infinity();
+
+/// The path of an STVD candidate. When v is finalised with the predecessor
+/// chain c_0 = v, c_1 = pred(v), ..., the candidate i of its neighbour w
+/// (i = 2..count) stands for a path from c_{i-1} to w that replaces the
+/// zig-zag w <- v <- ... <- c_{i-1} of i edges: in a volume the straight
+/// segment between the two points, on a surface the straight line in the
+/// faces between them. A candidate may be used only when that path lies in
+/// the domain, and ChainMeasure::Segment measures it along the path itself.
+///
+/// The propagation makes one CandidatePath per run and calls beginChain()
+/// once per finalised vertex, before any neighbour of it is measured.
+///
+/// This primary template serves domains that cannot tell: an explicit graph
+/// of edges without cells has no region whose inside could be checked, and
+/// no interpolation along a segment. It accepts every candidate, and
+/// measuresPaths() is false, so ChainMeasure::Segment falls back to
+/// ChainMeasure::LargestEdgeNorm there, the chain rule that cannot go below
+/// the admissible bound (docs/architecture.md). Voxel grids and tetrahedral
+/// meshes specialise it.
+template <class Domain, class Norm>
+class CandidatePath {
+ public:
+  CandidatePath(const Domain&, const MetricField<Norm>&) {}
+
+  /// Whether length() measures along the path (ChainMeasure::Segment). A
+  /// specialisation whose domain type covers domains of both kinds (a cell
+  /// mesh built from tetrahedra or only from edges) also defines
+  ///   static bool measuresPathsOn(const Domain&),
+  /// which the propagation asks too (measuresPathsOn below).
+  static constexpr bool measuresPaths() { return false; }
+  /// Whether a pending candidate's length depends on the chain between its
+  /// two ends (a surface's unfolding): then the propagation rebuilds the
+  /// chain and calls beginChain() and length(). Otherwise it calls
+  ///   float segmentLength(VertexId from, VertexId w),
+  /// the length of the candidate from `from` = c_{i-1} to w, and asks the
+  /// data for it ahead of time with
+  ///   void prefetchSegment(VertexId from, VertexId w) const.
+  static constexpr bool usesPlacedChain() { return true; }
+
+  /// The chain of the vertex just finalised, and its vertices placed in the
+  /// common frame of ChainUnfolding<Domain> (placed[0] = 0 at v).
+  void beginChain(const VertexId*, int, const Vec3f*) {}
+
+  /// False when no candidate of the current chain can leave the domain
+  /// (for example on a grid far from every excluded voxel): then none is
+  /// checked.
+  bool mayRefuse() const { return false; }
+
+  /// Whether the path of candidate i of neighbour w lies in the domain.
+  bool accepts(int, VertexId) { return true; }
+
+  /// The length of the path of candidate i of neighbour w, measured along
+  /// it, or kRefusedCandidate when it leaves the domain. `e` is the edge
+  /// v -> w in the common frame.
+  float length(int, VertexId, Vec3f) { return kRefusedCandidate; }
+};
+
+namespace detail {
+template <class Path, class Domain, class = void>
+struct HasMeasuresPathsOn : std::false_type {};
+template <class Path, class Domain>
+struct HasMeasuresPathsOn<Path, Domain, std::void_t<decltype(Path::measuresPathsOn(std::declval<const Domain&>()))>>
+    : std::true_type {};
+}  // namespace detail
+
+/// Whether CandidatePath<Domain, Norm> measures along paths on `domain`:
+/// measuresPaths(), and measuresPathsOn(domain) where the specialisation
+/// has it.
+template <class Domain, class Norm>
+bool measuresPathsOn(const Domain& domain) {
+  using Path = CandidatePath<Domain, Norm>;
+  if constexpr (detail::HasMeasuresPathsOn<Path, Domain>::value)
+    return Path::measuresPaths() && Path::measuresPathsOn(domain);
+  else
+    return Path::measuresPaths();
+}
+
+}  // namespace stvd

@@ -1,0 +1,271 @@
+// A 2-manifold polygon surface (triangles, quads, general polygons) as a
+// propagation domain: the surface half of the adjacency core (paper,
+// sections 3 and 6). See docs/surfaces.md.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <initializer_list>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "stvd/propagation/chain_unfolding.hpp"
+#include "stvd/metric/metric_field.hpp"
+#include "stvd/metric/norms.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/types.hpp"
+
+namespace stvd {
+
+/// Input that is not an orientable 2-manifold polygon surface (an index out
+/// of range, a face with fewer than 3 or repeated vertices, an edge shared
+/// by more than two faces, a vertex whose faces form several fans, a
+/// non-orientable surface). what() names the face, edge or vertex.
+class SurfaceError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+/// Faces as polygons: `faceStart` has faceCount + 1 entries and face f is
+/// `faceVertex[faceStart[f] .. faceStart[f + 1])`, in order around the face.
+struct PolygonList {
+  std::vector<std::uint32_t> faceStart{0};
+  std::vector<VertexId> faceVertex;
+
+  std::size_t faceCount() const { return faceStart.size() - 1; }
+  void add(std::initializer_list<VertexId> face) {
+    faceVertex.insert(faceVertex.end(), face.begin(), face.end());
+    faceStart.push_back(static_cast<std::uint32_t>(faceVertex.size()));
+  }
+  template <class It>
+  void add(It begin, It end) {
+    faceVertex.insert(faceVertex.end(), begin, end);
+    faceStart.push_back(static_cast<std::uint32_t>(faceVertex.size()));
+  }
+};
+
+/// An orientable 2-manifold polygon surface, possibly with boundaries and
+/// several components.
+///
+/// Each vertex v has a 2D frame in its tangent plane: its 1-ring neighbours
+/// (the edge neighbours in its faces: no polygon diagonals) lie at angles
+/// that start at 0 for the first neighbour and grow counter-clockwise around
+/// the outward side (the side from which the faces, as oriented, run
+/// counter-clockwise) by the faces' corner angles at v. At an interior
+/// vertex the corner angles are scaled so that they sum to 2 pi (the
+/// relative 1-ring angles are kept); at a boundary vertex they are kept as
+/// they are. forEachNeighbor reports the edge v -> w in that frame as
+/// (x, y, 0) with the edge's 3D length.
+///
+/// Faces are re-oriented consistently per component when the input mixes
+/// orientations; a non-orientable component is rejected.
+class SurfaceDomain {
+ public:
+  /// Throws SurfaceError for input that is not an orientable 2-manifold.
+  SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces);
+
+  VertexId vertexCount() const { return static_cast<VertexId>(points_.size()); }
+  VertexId domainVertexCount() const { return vertexCount(); }
+  bool contains(VertexId v) const { return v < vertexCount(); }
+  std::size_t faceCount() const { return faces_.faceCount(); }
+  std::size_t edgeCount() const { return ringNeighbor_.size() / 2; }
+  /// The faces as used (re-oriented where the input was inconsistent).
+  const PolygonList& faces() const { return faces_; }
+  const std::vector<Vec3d>& points() const { return points_; }
+  Vec3d physicalPoint(VertexId v) const { return points_[v]; }
+  /// Unit normal at v: the corner-angle weighted mean of its face normals.
+  Vec3d normal(VertexId v) const { return normals_[v]; }
+  /// Unit tangent t1 of v's frame (the direction of its first neighbour,
+  /// projected into the tangent plane); t2 = normal x t1. For an isolated
+  /// vertex any unit vector orthogonal to the normal.
+  Vec3d tangent(VertexId v) const { return tangents_[v]; }
+  bool isBoundary(VertexId v) const { return boundary_[v] != 0; }
+  /// Sum of the corner angles at v before scaling (2 pi on a flat interior).
+  double angleSum(VertexId v) const { return angleSum_[v]; }
+  /// Component index per vertex (connected through edges), and their count.
+  const std::vector<std::uint32_t>& component() const { return component_; }
+  std::uint32_t componentCount() const { return componentCount_; }
+
+  /// 1-ring of v, counter-clockwise, with each neighbour's angle in v's frame.
+  std::uint32_t ringBegin(VertexId v) const { return ringStart_[v]; }
+  std::uint32_t ringEnd(VertexId v) const { return ringStart_[v + 1]; }
+  VertexId ringNeighbor(std::uint32_t i) const { return ringNeighbor_[i]; }
+  float ringAngle(std::uint32_t i) const { return ringAngle_[i]; }
+  /// The edge to ring entry i in v's frame, its length and unit direction.
+  float ringEdgeX(std::uint32_t i) const { return ringEdgeX_[i]; }
+  float ringEdgeY(std::uint32_t i) const { return ringEdgeY_[i]; }
+  double ringLength(std::uint32_t i) const { return ringLength_[i]; }
+  double ringDirectionX(std::uint32_t i) const { return ringDirectionX_[i]; }
+  double ringDirectionY(std::uint32_t i) const { return ringDirectionY_[i]; }
+  /// Ring entry i as a walk across the faces around v reads it: the
+  /// neighbour and the edge's length, and the face between entry i and the
+  /// next one counter-clockwise with its corner angle at v as it is on the
+  /// surface (not scaled to a full turn), as cosine and sine, so that
+  /// turning by it is one complex product. The last entry of a boundary fan
+  /// has no face after it (kNoFace, angle 0). The true angles unfold faces
+  /// isometrically, as the STVD candidates' paths need them
+  /// (CandidatePath<SurfaceDomain, ...>); one record per entry, so that a
+  /// fan is read from one or two cache lines.
+  struct RingCorner {
+    double cos, sin, length;
+    VertexId neighbor;
+    std::uint32_t face;
+  };
+  const RingCorner& ringCorner(std::uint32_t i) const { return ringCorner_[i]; }
+  std::uint32_t ringFace(std::uint32_t i) const { return ringCorner_[i].face; }
+  static constexpr std::uint32_t kNoFace = 0xffffffffu;
+
+  /// Index of w in v's ring; throws std::logic_error when w is no neighbour.
+  std::uint32_t ringIndex(VertexId v, VertexId w) const {
+    for (std::uint32_t i = ringStart_[v]; i < ringStart_[v + 1]; ++i)
+      if (ringNeighbor_[i] == w) return i;
+    throw std::logic_error("vertex " + std::to_string(w) + " is not a neighbour of vertex " +
+                           std::to_string(v));
+  }
+
+  /// Calls f(w, e) for every neighbour w of v with e the edge in v's frame.
+  template <class F>
+  STVD_ALWAYS_INLINE void forEachNeighbor(VertexId v, F&& f) const {
+    for (std::uint32_t i = ringStart_[v]; i < ringStart_[v + 1]; ++i)
+      f(ringNeighbor_[i], Vec3f{ringEdgeX_[i], ringEdgeY_[i], 0.f});
+  }
+
+  /// Per face (in faces() order), the mean of its corners' tensors: the
+  /// face-wise metric that Lanthier's method uses, with which a path
+  /// inside a face is measured.
+  std::vector<SymTensor3> faceTensors(const RiemannianMetric& metric) const;
+
+  /// Which tensor measures an edge.
+  enum class EdgeTensorRule {
+    /// The mean of the end points' tensors (the paper's per-edge norm).
+    EndpointMean,
+    /// The tensor of the edge's cheaper face, the one that measures the
+    /// edge shorter: the edge is a path in either face, so under the
+    /// face-wise metric its length is the smaller of the two, and no edge
+    /// undercuts a path through a face.
+    CheaperFace,
+  };
+
+  /// Per ring entry (v, w), three floats {dd, dp, pp}: the edge's tensor
+  /// restricted to the edge's own frame (d, n_e x d), d the unit edge
+  /// direction and n_e the mean normal of the two end points. Reversing the
+  /// edge flips both axes, which leaves the tensor unchanged: an edge has
+  /// one tensor, whichever way it is walked.
+  std::vector<float> edgeTensors(const RiemannianMetric& metric, EdgeTensorRule rule) const;
+
+ private:
+  std::vector<Vec3d> points_;
+  PolygonList faces_;
+  std::vector<Vec3d> normals_, tangents_;
+  std::vector<double> angleSum_;
+  std::vector<std::uint8_t> boundary_;
+  std::vector<std::uint32_t> component_;
+  std::uint32_t componentCount_ = 0;
+  std::vector<std::uint32_t> ringStart_;
+  std::vector<VertexId> ringNeighbor_;
+  std::vector<float> ringAngle_, ringEdgeX_, ringEdgeY_;
+  std::vector<double> ringLength_, ringDirectionX_, ringDirectionY_;
+  std::vector<RingCorner> ringCorner_;
+};
+
+/// The STVD chain on a surface: unfolded edge by edge into v's frame. At
+/// chain vertex c_i the next edge leaves at the angle, relative to the edge
+/// back to c_{i-1}, that the two have in c_i's own (scaled) frame, with the
+/// edge's 3D length; so edge lengths and relative 1-ring angles are kept
+/// (paper, figure 8). Nothing of the surface's embedding beyond lengths and
+/// corner angles is used.
+template <>
+constexpr int defaultMemoryDepth<SurfaceDomain>() {
+  return kDefaultSurfaceMemoryDepth;
+}
+
+template <>
+struct ChainUnfolding<SurfaceDomain> {
+  /// Edge norms are carried into the unfolded frame, not plain means.
+  static constexpr bool kEdgeNormIsMean = false;
+  /// The edge v -> w in v's frame, as forEachNeighbor(v, ...) reports it.
+  static Vec3f neighborEdge(const SurfaceDomain& domain, VertexId v, VertexId w) {
+    const std::uint32_t i = domain.ringIndex(v, w);
+    return Vec3f{domain.ringEdgeX(i), domain.ringEdgeY(i), 0.f};
+  }
+  static void place(const SurfaceDomain& domain, const VertexId* chain, int count, Vec3f* p) {
+    p[0] = Vec3f{};
+    if (count < 2) return;
+    // Directions are unit complex numbers (x, y); turning by the angle
+    // between two ring entries is a product, so no trigonometry is needed.
+    const std::uint32_t first = domain.ringIndex(chain[0], chain[1]);
+    double x = domain.ringEdgeX(first), y = domain.ringEdgeY(first);
+    p[1] = Vec3f{static_cast<float>(x), static_cast<float>(y), 0.f};
+    // Direction (in the common frame) of the edge from c_i back to c_{i-1}.
+    double backX = -domain.ringDirectionX(first), backY = -domain.ringDirectionY(first);
+    for (int i = 1; i + 1 < count; ++i) {
+      const std::uint32_t toPrevious = domain.ringIndex(chain[i], chain[i - 1]);
+      const std::uint32_t toNext = domain.ringIndex(chain[i], chain[i + 1]);
+      // The turn from the edge back to c_{i-1} to the edge on to c_{i+1}
+      // in c_i's frame: conj(previous) * next.
+      const double ax = domain.ringDirectionX(toPrevious), ay = domain.ringDirectionY(toPrevious);
+      const double bx = domain.ringDirectionX(toNext), by = domain.ringDirectionY(toNext);
+      const double turnX = ax * bx + ay * by, turnY = ax * by - ay * bx;
+      const double dx = backX * turnX - backY * turnY, dy = backX * turnY + backY * turnX;
+      const double length = domain.ringLength(toNext);
+      x += length * dx;
+      y += length * dy;
+      p[i + 1] = Vec3f{static_cast<float>(x), static_cast<float>(y), 0.f};
+      backX = -dx;
+      backY = -dy;
+    }
+  }
+
+  /// The tensor of each edge in its own frame (SurfaceDomain::edgeTensors),
+  /// made once per propagation: Dijkstra and the segment measure take the
+  /// cheaper face's, so that no edge undercuts a path through a face under
+  /// the face-wise metric; the chain rules keep the paper's mean of the end
+  /// points (their documented figures).
+  struct EdgeMetric {
+    std::vector<float> tensor;  // {dd, dp, pp} per ring entry
+  };
+  template <class Norm>
+  static EdgeMetric edgeMetric(const SurfaceDomain& domain, const MetricField<Norm>& metric,
+                               const PropagationOptions& options) {
+    static_assert(std::is_same_v<Norm, RiemannianNorm>,
+                  "surfaces are measured with RiemannianNorm (world tensors per vertex)");
+    const bool faceWise =
+        options.method == Method::Dijkstra || options.chainMeasure == ChainMeasure::Segment;
+    return {domain.edgeTensors(metric, faceWise ? SurfaceDomain::EdgeTensorRule::CheaperFace
+                                                : SurfaceDomain::EdgeTensorRule::EndpointMean)};
+  }
+
+  /// The edge's tensor in the frame where the edge is `e`: its tensor in its
+  /// own frame (edgeMetric), turned so that the edge direction becomes
+  /// e / |e|. Only the xx, xy, yy entries are set (vectors in the frame have
+  /// z = 0).
+  template <class Norm>
+  static SymTensor3 edgeNorm(const SurfaceDomain& domain, const EdgeMetric& edges, const SymTensor3&,
+                             const SymTensor3&, VertexId a, VertexId b, Vec3f e) {
+    static_assert(std::is_same_v<Norm, RiemannianNorm>,
+                  "surfaces are measured with RiemannianNorm (world tensors per vertex)");
+    const float* t = &edges.tensor[3 * std::size_t(domain.ringIndex(a, b))];
+    const float dd = t[0], dp = t[1], pp = t[2];
+    const float inv = 1.f / std::sqrt(std::max(e.x * e.x + e.y * e.y, 1e-30f));
+    const float ux = e.x * inv, uy = e.y * inv;  // edge direction
+    const float wx = -uy, wy = ux;               // its left normal in the frame
+    SymTensor3 m;
+    m.xx = dd * ux * ux + 2.f * dp * ux * wx + pp * wx * wx;
+    m.yy = dd * uy * uy + 2.f * dp * uy * wy + pp * wy * wy;
+    m.xy = dd * ux * uy + dp * (ux * wy + wx * uy) + pp * wx * wy;
+    return m;
+  }
+};
+
+extern template PropagationResult propagate(const SurfaceDomain&, const RiemannianMetric&,
+                                            const std::vector<VertexId>&,
+                                            const PropagationOptions&);
+
+}  // namespace stvd
+
+// The candidate paths of STVD on surfaces: wherever the propagation is
+// instantiated for a SurfaceDomain, this specialisation must be seen.
+#include "stvd/surface/surface_candidate_path.hpp"

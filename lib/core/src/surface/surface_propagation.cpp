@@ -1,0 +1,11 @@
+// The propagation compiled once for surfaces (world tensors per vertex,
+// carried into the unfolded frames by ChainUnfolding<SurfaceDomain>).
+#include "stvd/surface/surface_domain.hpp"
+#include "stvd/propagation/detail/relaxation.hpp"
+
+namespace stvd {
+
+template PropagationResult propagate(const SurfaceDomain&, const RiemannianMetric&,
+                                     const std::vector<VertexId>&, const PropagationOptions&);
+
+}  // namespace stvd
