@@ -38,7 +38,7 @@
 #include "../tests/tetmesh/l_shaped_prism_surface.hpp"
 #include "bench_scenes.hpp"
 #include "scenes.hpp"
-#include "stvd/propagation/detail/relaxation.hpp"
+#include "stvd/propagation/propagation_definition.hpp"
 #include "stvd/tetgen/tetrahedralize.hpp"
 #include "stvd/tetmesh/vertex_order.hpp"
 

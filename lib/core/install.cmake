@@ -14,7 +14,7 @@ install(TARGETS stvd EXPORT stvdTargets
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 # Every public header, including stvd/detail/ (used by the inline templates
-# and by propagation_impl.hpp for user-defined norms).
+# and by propagation/propagation_definition.hpp for user-defined norms).
 install(DIRECTORY ${CMAKE_CURRENT_LIST_DIR}/include/stvd
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
   FILES_MATCHING PATTERN "*.hpp")

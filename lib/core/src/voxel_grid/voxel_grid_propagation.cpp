@@ -1,5 +1,5 @@
 // The propagation compiled once for the built-in domains and norms.
-#include "stvd/propagation/detail/relaxation.hpp"
+#include "stvd/propagation/propagation_definition.hpp"
 
 namespace stvd {
 

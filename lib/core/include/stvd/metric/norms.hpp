@@ -23,7 +23,7 @@
 //
 // RiemannianNorm and RandersNorm below are the two built in. The
 // propagation is compiled for both in the library; a new norm is used by
-// including "stvd/propagation_impl.hpp" (see docs/architecture.md).
+// including "stvd/propagation/propagation_definition.hpp" (see docs/architecture.md).
 #pragma once
 
 #include <algorithm>
