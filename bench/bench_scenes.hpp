@@ -13,6 +13,7 @@
 #include "relative_error.hpp"
 #include "stvd/system/large_array.hpp"
 #include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd::bench {
 

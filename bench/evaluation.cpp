@@ -42,6 +42,8 @@
 #include "bench_scenes.hpp"
 #include "stvd/propagation/source_set_propagation.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 
 namespace {
 

@@ -32,6 +32,8 @@
 #include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/surface_io/surface_mesh_io.hpp"
 #include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
+#include "stvd/surface/surface_lanthier.hpp"
 
 namespace {
 

@@ -11,6 +11,7 @@
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/surface/surface_domain.hpp"
 #include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
 
 namespace {
 

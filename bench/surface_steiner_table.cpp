@@ -23,6 +23,8 @@
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
+#include "stvd/surface/surface_lanthier.hpp"
 #include "steiner_table_format.hpp"
 #include "surface_meshes.hpp"
 

@@ -38,6 +38,7 @@
 #include "../tests/tetmesh/l_shaped_prism_surface.hpp"
 #include "bench_scenes.hpp"
 #include "scenes.hpp"
+#include "stvd/cell_mesh/cell_mesh_propagation.hpp"
 #include "stvd/propagation/propagation_definition.hpp"
 #include "stvd/tetgen/tetrahedralize.hpp"
 #include "stvd/tetmesh/vertex_order.hpp"
@@ -56,10 +57,14 @@ struct MeshWithRule : CellMeshDomain {
 }  // namespace
 
 namespace stvd {
-template <class Norm, MeshSegmentRule Rule>
-class CandidatePath<MeshWithRule<Rule>, Norm> : public TetrahedralCandidatePath<Norm, Rule> {
- public:
-  using TetrahedralCandidatePath<Norm, Rule>::TetrahedralCandidatePath;
+template <MeshSegmentRule Rule>
+struct DomainHooks<MeshWithRule<Rule>> {
+  template <class Norm>
+  using CandidatePath = CellMeshCandidatePath<Norm, Rule>;
+  using ChainUnfolding = VolumeChainUnfolding<MeshWithRule<Rule>>;
+  static constexpr int kDefaultMemoryDepth = stvd::kDefaultMemoryDepth;
+  static constexpr bool kPrefetchesNeighborhood = false;
+  static constexpr bool kChainContinuesAlongStep = false;
 };
 }  // namespace stvd
 

@@ -23,6 +23,7 @@
 #include "stvd/system/parallel_tasks.hpp"
 #include "stvd/voxel_grid/region_connectivity.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 #include "subcommands.hpp"
 
 namespace stvd::tool {

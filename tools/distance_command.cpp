@@ -31,6 +31,8 @@
 
 #ifdef STVD_WITH_VDB_OUTPUT
 #include "stvd/vdb/distance_grid.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 #endif
 
 namespace stvd::tool {

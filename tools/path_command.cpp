@@ -21,6 +21,7 @@
 #include "stvd/imaging/streamline_io.hpp"
 #include "stvd/imaging/tensor_metric.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 #include "subcommands.hpp"
 
 namespace stvd::tool {

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd::tool {
 namespace {

@@ -22,6 +22,8 @@
 #include "stvd/surface/surface_domain.hpp"
 #include "stvd/surface_io/surface_mesh_io.hpp"
 #include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
+#include "stvd/surface/surface_lanthier.hpp"
 #include "surface_distance_command.hpp"
 #include "surface_seed_point.hpp"
 

@@ -23,6 +23,7 @@
 #include "stvd/tetmesh/tet_mesh.hpp"
 #include "stvd/tetmesh/tet_mesh_propagation.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
+#include "stvd/cell_mesh/cell_mesh_propagation.hpp"
 #include "tet_mesh_commands.hpp"
 
 namespace stvd::tool {

@@ -16,6 +16,7 @@
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace {
 

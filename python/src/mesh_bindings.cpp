@@ -25,6 +25,8 @@
 #include "stvd/surface/surface_domain.hpp"
 #include "stvd/surface/surface_metrics.hpp"
 #include "stvd/tetmesh/tet_mesh_propagation.hpp"
+#include "stvd/surface/surface_propagation.hpp"
+#include "stvd/surface/surface_lanthier.hpp"
 #include "tensor_field.hpp"
 
 namespace stvd::python {

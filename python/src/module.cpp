@@ -14,6 +14,11 @@
 #include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/surface/surface_domain.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/cell_mesh/cell_mesh_propagation.hpp"
+#include "stvd/surface/surface_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
+#include "stvd/surface/surface_lanthier.hpp"
 
 namespace py = pybind11;
 

@@ -29,6 +29,8 @@
 #include "stvd/voxel_grid/region_connectivity.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 #include "tensor_field.hpp"
 
 namespace stvd::python {

@@ -18,6 +18,8 @@
 #include "scenes.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/cell_mesh/cell_mesh_candidate_path.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/cell_mesh/cell_mesh_propagation.hpp"
 
 namespace stvd {
 namespace {

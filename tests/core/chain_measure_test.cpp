@@ -22,6 +22,7 @@
 #include "method_cases.hpp"
 #include "scenes.hpp"
 #include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd {
 namespace {

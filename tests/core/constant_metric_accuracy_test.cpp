@@ -16,6 +16,7 @@
 #include "method_cases.hpp"
 #include "relative_error.hpp"
 #include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd {
 namespace {

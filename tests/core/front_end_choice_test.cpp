@@ -11,6 +11,8 @@
 #include "stvd/front_end/propagation_choice.hpp"
 #include "stvd/surface/surface_domain.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/surface/surface_propagation.hpp"
 
 namespace stvd {
 namespace {

@@ -16,6 +16,8 @@
 #include "stvd/metric/metric_field.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/cell_mesh/cell_mesh_propagation.hpp"
 
 namespace stvd {
 namespace {

@@ -13,6 +13,7 @@
 #include "scenes.hpp"
 #include "method_cases.hpp"
 #include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd {
 namespace {

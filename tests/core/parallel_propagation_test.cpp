@@ -17,6 +17,7 @@
 
 #include "scenes.hpp"
 #include "stvd/propagation/source_set_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd {
 namespace {

@@ -22,6 +22,7 @@
 #include "stvd/voxel_grid/path_tracing.hpp"
 #include "stvd/voxel_grid/path_refinement.hpp"
 #include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 #include "wall_scenes.hpp"
 
 namespace stvd {

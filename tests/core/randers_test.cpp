@@ -15,6 +15,7 @@
 #include "relative_error.hpp"
 #include "scenes.hpp"
 #include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd {
 namespace {

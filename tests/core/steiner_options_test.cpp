@@ -12,6 +12,7 @@
 #include "exact_metrics.hpp"
 #include "scenes.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 
 namespace stvd {
 namespace {

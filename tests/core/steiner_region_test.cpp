@@ -16,6 +16,8 @@
 #include "scenes.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 #include "wall_scenes.hpp"
 
 namespace stvd {

@@ -16,6 +16,7 @@
 #include "scenes.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/cell_mesh/tetrahedral_cells.hpp"
+#include "stvd/cell_mesh/cell_mesh_lanthier.hpp"
 
 namespace stvd {
 namespace {

@@ -16,6 +16,7 @@
 #include "stvd/metric/metric_field.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd::test {
 

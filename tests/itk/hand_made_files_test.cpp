@@ -9,6 +9,7 @@
 #include "stvd/imaging/tensor_metric.hpp"
 #include "stvd/imaging/tensor_volume.hpp"
 #include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd::imaging {
 namespace {

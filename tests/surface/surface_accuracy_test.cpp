@@ -13,6 +13,7 @@
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/surface/surface_domain.hpp"
 #include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
 #include "surface_meshes.hpp"
 
 namespace stvd::test {

@@ -16,6 +16,7 @@
 #include "stvd/surface/surface_candidate_path.hpp"
 #include "stvd/surface/surface_domain.hpp"
 #include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
 #include "surface_meshes.hpp"
 
 namespace stvd::test {

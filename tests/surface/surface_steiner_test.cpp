@@ -20,6 +20,8 @@
 #include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/surface/surface_domain.hpp"
 #include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
+#include "stvd/surface/surface_lanthier.hpp"
 #include "surface_meshes.hpp"
 
 namespace stvd::test {

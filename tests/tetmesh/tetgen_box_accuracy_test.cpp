@@ -24,6 +24,7 @@
 #include "l_shaped_prism_surface.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/tetgen/tetrahedralize.hpp"
+#include "stvd/cell_mesh/cell_mesh_propagation.hpp"
 
 namespace stvd {
 namespace {

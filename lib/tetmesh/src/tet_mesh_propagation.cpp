@@ -9,6 +9,7 @@
 #include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/cell_mesh/tetrahedral_cells.hpp"
 #include "stvd/tetmesh/vertex_order.hpp"
+#include "stvd/cell_mesh/cell_mesh_lanthier.hpp"
 
 namespace stvd::tetmesh {
 

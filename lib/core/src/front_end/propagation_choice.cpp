@@ -5,6 +5,7 @@
 
 #include "stvd/voxel_grid/stencil.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 
 namespace stvd {
 

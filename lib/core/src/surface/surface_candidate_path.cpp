@@ -94,7 +94,7 @@ struct Funnel {
 /// One chain vertex at a time: the fans of the chain vertices on the side
 /// each is passed, unfolded with true angles into a plane where c_0 = v is
 /// at the origin and w on the positive x axis.
-struct CandidatePath<SurfaceDomain, RiemannianNorm>::Walk {
+struct SurfaceCandidatePath::Walk {
   const SurfaceDomain& surface;
 
   /// Where a line is at chain vertex c: c's position, the unit direction
@@ -156,9 +156,8 @@ struct CandidatePath<SurfaceDomain, RiemannianNorm>::Walk {
   }
 };
 
-CandidatePath<SurfaceDomain, RiemannianNorm>::CandidatePath(const SurfaceDomain& surface,
-                                                            const RiemannianMetric& metric,
-                                                            const PropagationOptions& options)
+SurfaceCandidatePath::SurfaceCandidatePath(const SurfaceDomain& surface, const RiemannianMetric& metric,
+                                           const PropagationOptions& options)
     : surface_(surface), checksLines_(options.chainMeasure == ChainMeasure::Segment) {
   if (!checksLines_ || options.method == Method::Dijkstra) return;
   faceTensor_ = surface.faceTensors(metric);
@@ -172,8 +171,7 @@ CandidatePath<SurfaceDomain, RiemannianNorm>::CandidatePath(const SurfaceDomain&
   if (isotropic && g0.xx > 0.f) isotropicScale_ = std::sqrt(g0.xx);
 }
 
-const CandidatePath<SurfaceDomain, RiemannianNorm>::Lines& CandidatePath<SurfaceDomain, RiemannianNorm>::lines(
-    VertexId w) {
+const SurfaceCandidatePath::Lines& SurfaceCandidatePath::lines(VertexId w) {
   Lines& l = lines_;
   // The chain of v never changes once v is final: the same v, w and at
   // least as many chain vertices give the same lines.
@@ -186,11 +184,11 @@ const CandidatePath<SurfaceDomain, RiemannianNorm>::Lines& CandidatePath<Surface
   return l;
 }
 
-bool CandidatePath<SurfaceDomain, RiemannianNorm>::accepts(int i, VertexId w) {
+bool SurfaceCandidatePath::accepts(int i, VertexId w) {
   return ((lines(w).valid >> i) & 1u) != 0;
 }
 
-void CandidatePath<SurfaceDomain, RiemannianNorm>::trace(VertexId w, Lines& lines) const {
+void SurfaceCandidatePath::trace(VertexId w, Lines& lines) const {
   using Side = Walk::Side;
   const Walk walk{surface_};
   const VertexId* c = chain_;
@@ -257,7 +255,7 @@ void CandidatePath<SurfaceDomain, RiemannianNorm>::trace(VertexId w, Lines& line
   }
 }
 
-float CandidatePath<SurfaceDomain, RiemannianNorm>::length(int i, VertexId w, Vec3f) {
+float SurfaceCandidatePath::length(int i, VertexId w, Vec3f) {
   const Lines& l = lines(w);
   if (!((l.valid >> i) & 1u)) return kRefusedCandidate;
   if (isotropicScale_ > 0.f) return static_cast<float>(isotropicScale_ * l.length[i]);

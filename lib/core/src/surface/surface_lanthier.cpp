@@ -1,11 +1,14 @@
-// The Steiner-point layout over the faces of a polygon surface: every face
-// is one cell, M points on each edge are shared by the edge's faces.
+// Lanthier's method over a polygon surface: the Steiner-point layout over
+// its faces (every face is one cell, M points on each edge are shared by the
+// edge's faces) and the propagation over them.
+#include "stvd/surface/surface_lanthier.hpp"
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
 
-#include "lanthier/steiner_cells.hpp"
 #include "stvd/propagation/detail/front_queue.hpp"
+#include "surface/surface_steiner_cells.hpp"
 
 namespace stvd::detail {
 
@@ -96,3 +99,25 @@ int SurfaceSteinerCells::gather(std::uint32_t f) {
 }
 
 }  // namespace stvd::detail
+
+namespace stvd {
+
+SteinerPropagationResult steinerPropagate(const SurfaceDomain& surface, const RiemannianMetric& metric,
+                                          const std::vector<VertexId>& sources, const SteinerOptions& options) {
+  detail::validate(surface, surface.vertexCount(), metric, sources, options);
+  detail::SurfaceSteinerCells cells(surface, options.steinerPoints);
+  return detail::SteinerDijkstra<detail::SurfaceSteinerCells, RiemannianNorm>(
+             cells, metric, surface.vertexCount(), surface.vertexCount(), options)
+      .run(sources);
+}
+
+Vec3d steinerPointPosition(const SurfaceDomain& surface, int steinerPoints, SteinerPointId p) {
+  if (steinerPoints < 1 || steinerPoints > kMaxSteinerPoints)
+    throw std::invalid_argument("number of Steiner points per edge M = " + std::to_string(steinerPoints) +
+                                " is outside 1.." + std::to_string(kMaxSteinerPoints));
+  const detail::SurfaceSteinerCells cells(surface, steinerPoints);
+  if (p >= cells.pointCount()) throw std::invalid_argument("Steiner point " + std::to_string(p) + " out of range");
+  return cells.position(p);
+}
+
+}  // namespace stvd

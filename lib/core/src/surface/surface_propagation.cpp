@@ -1,6 +1,7 @@
 // The propagation compiled once for surfaces (world tensors per vertex,
-// carried into the unfolded frames by ChainUnfolding<SurfaceDomain>).
-#include "stvd/surface/surface_domain.hpp"
+// carried into the unfolded frames by SurfaceChainUnfolding).
+#include "stvd/surface/surface_propagation.hpp"
+
 #include "stvd/propagation/propagation_definition.hpp"
 
 namespace stvd {

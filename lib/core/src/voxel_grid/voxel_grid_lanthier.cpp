@@ -1,13 +1,16 @@
-// The Steiner-point layout over a voxel grid: the cells of the domain's
-// region (complete cubes and the edges between domain voxels, and where the
-// domain is thin its complete squares and joined contact diagonals), their
-// points numbered per voxel.
+// Lanthier's method over a voxel grid: the Steiner-point layout over the
+// cells of the domain's region (complete cubes and the edges between domain
+// voxels, and where the domain is thin its complete squares and joined
+// contact diagonals), their points numbered per voxel, and the propagation
+// over them.
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
 
-#include "lanthier/steiner_cells.hpp"
 #include "stvd/propagation/detail/front_queue.hpp"
+#include "voxel_grid/voxel_grid_steiner_cells.hpp"
 
 namespace stvd::detail {
 namespace {
@@ -261,3 +264,38 @@ Vec3d GridSteinerCells::position(SteinerPointId p) const {
 }
 
 }  // namespace stvd::detail
+
+namespace stvd {
+
+template <class Norm>
+SteinerPropagationResult steinerPropagate(const VoxelGridDomain& domain, const MetricField<Norm>& metric,
+                                          const std::vector<VertexId>& sources, const SteinerOptions& options) {
+  detail::validate(domain, domain.vertexCount(), metric, sources, options);
+  detail::GridSteinerCells cells(domain, options.steinerPoints);
+  return detail::SteinerDijkstra<detail::GridSteinerCells, Norm>(cells, metric, domain.vertexCount(),
+                                                                 domain.domainVertexCount(), options)
+      .run(sources);
+}
+
+Vec3d steinerPointPosition(const VoxelGridDomain& domain, int steinerPoints, SteinerPointId p) {
+  const detail::GridSteinerCells cells(domain, steinerPoints, false);
+  if (p >= cells.pointCount()) throw std::invalid_argument("Steiner point " + std::to_string(p) + " out of range");
+  return cells.position(p);
+}
+
+template SteinerPropagationResult steinerPropagate(const VoxelGridDomain&, const RiemannianMetric&,
+                                                   const std::vector<VertexId>&, const SteinerOptions&);
+template SteinerPropagationResult steinerPropagate(const VoxelGridDomain&, const RandersMetric&,
+                                                   const std::vector<VertexId>&, const SteinerOptions&);
+
+std::uint64_t steinerGridPointCount(std::uint64_t domainVoxelCount, int steinerPoints) {
+  const std::uint64_t m = static_cast<std::uint64_t>(steinerPoints);
+  return (1 + 3 * m + 3 * m * m) * domainVoxelCount;
+}
+
+std::uint64_t steinerMemoryEstimate(std::uint64_t graphPoints, std::uint64_t vertexCount) {
+  constexpr std::uint64_t kPerPoint = 24, kResult = sizeof(double) + sizeof(VertexId);
+  return kPerPoint * graphPoints + kResult * vertexCount + (std::uint64_t{1} << 20);
+}
+
+}  // namespace stvd

@@ -1,4 +1,6 @@
-// The propagation compiled once for the built-in domains and norms.
+// The propagation compiled once for voxel grids and the built-in norms.
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+
 #include "stvd/propagation/propagation_definition.hpp"
 
 namespace stvd {
@@ -11,10 +13,6 @@ std::uint64_t propagationMemoryEstimate(std::uint64_t vertexCount, std::uint64_t
 template PropagationResult propagate(const VoxelGridDomain&, const RiemannianMetric&,
                                      const std::vector<VertexId>&, const PropagationOptions&);
 template PropagationResult propagate(const VoxelGridDomain&, const RandersMetric&,
-                                     const std::vector<VertexId>&, const PropagationOptions&);
-template PropagationResult propagate(const CellMeshDomain&, const RiemannianMetric&,
-                                     const std::vector<VertexId>&, const PropagationOptions&);
-template PropagationResult propagate(const CellMeshDomain&, const RandersMetric&,
                                      const std::vector<VertexId>&, const PropagationOptions&);
 
 }  // namespace stvd

@@ -32,6 +32,9 @@ enum class MeshSegmentRule {
   Midpoint,
 };
 
+/// The rule CellMeshDomain uses (docs/tet_meshes.md: the error table).
+inline constexpr MeshSegmentRule kMeshSegmentRule = MeshSegmentRule::PerTetrahedron;
+
 /// The candidate i of neighbour w is the segment from c_{i-1} to w.
 ///
 /// accepts(): the segment is walked from w's tetrahedra towards c_{i-1}
@@ -50,14 +53,14 @@ enum class MeshSegmentRule {
 ///
 /// A mesh without tetrahedra (CellMeshDomain::fromEdges, fromPolyhedra)
 /// measures nothing (measuresPathsOn() is false) and refuses nothing.
-template <class Norm, MeshSegmentRule Rule>
-class TetrahedralCandidatePath {
+template <class Norm, MeshSegmentRule Rule = kMeshSegmentRule>
+class CellMeshCandidatePath {
  public:
   using Params = typename Norm::VertexParams;
   static_assert(std::is_trivially_copyable_v<Params> && sizeof(Params) % sizeof(float) == 0,
                 "mesh segments interpolate Norm::VertexParams as a plain struct of floats");
 
-  TetrahedralCandidatePath(const CellMeshDomain& domain, const MetricField<Norm>& metric)
+  CellMeshCandidatePath(const CellMeshDomain& domain, const MetricField<Norm>& metric)
       : points_(domain.points().data()), region_(domain.tetrahedra()), metric_(metric) {}
 
   static constexpr bool measuresPaths() { return true; }
@@ -187,15 +190,6 @@ class TetrahedralCandidatePath {
       region_ != nullptr && region_->nonConvexEdgeCount() + region_->nonConvexVertexCount() > 0
           ? std::size_t{1} << kWalkedLog2
           : 0);
-};
-
-/// The rule CellMeshDomain uses (docs/tet_meshes.md: the error table).
-inline constexpr MeshSegmentRule kMeshSegmentRule = MeshSegmentRule::PerTetrahedron;
-
-template <class Norm>
-class CandidatePath<CellMeshDomain, Norm> : public TetrahedralCandidatePath<Norm, kMeshSegmentRule> {
- public:
-  using TetrahedralCandidatePath<Norm, kMeshSegmentRule>::TetrahedralCandidatePath;
 };
 
 }  // namespace stvd

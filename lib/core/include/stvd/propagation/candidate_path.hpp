@@ -1,13 +1,17 @@
 // Where a domain decides whether the path an STVD candidate stands for
 // exists, and how long it is: the one mechanism behind "every distance is
 // the length of a path that lies in the domain" (docs/architecture.md).
+// Each domain names its class in its DomainHooks (domain_hooks.hpp):
+// VoxelGridCandidatePath, CellMeshCandidatePath, SurfaceCandidatePath.
 #pragma once
 
 #include <limits>
 #include <type_traits>
 #include <utility>
 
+#include "stvd/detail/compiler.hpp"
 #include "stvd/metric/metric_field.hpp"
+#include "stvd/propagation/domain_hooks.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd {
@@ -27,20 +31,21 @@ inline constexpr float kRefusedCandidate = std::numeric_limits<float>::infinity(
 /// The propagation makes one CandidatePath per run and calls beginChain()
 /// once per finalised vertex, before any neighbour of it is measured.
 ///
-/// This primary template serves domains that cannot tell: an explicit graph
-/// of edges without cells has no region whose inside could be checked, and
-/// no interpolation along a segment. It accepts every candidate, and
-/// measuresPaths() is false, so ChainMeasure::Segment falls back to
-/// ChainMeasure::LargestEdgeNorm there, the chain rule that cannot go below
-/// the admissible bound (docs/architecture.md). Voxel grids and tetrahedral
-/// meshes specialise it.
+/// This class is the interface, and the candidate path of a domain that
+/// cannot tell: an explicit graph of edges without cells has no region
+/// whose inside could be checked, and no interpolation along a segment. It
+/// accepts every candidate, and measuresPaths() is false, so
+/// ChainMeasure::Segment falls back to ChainMeasure::LargestEdgeNorm there,
+/// the chain rule that cannot go below the admissible bound
+/// (docs/architecture.md). A domain takes it only by naming it in its
+/// DomainHooks; the built-in domains each have their own.
 template <class Domain, class Norm>
-class CandidatePath {
+class UncheckedCandidatePath {
  public:
-  CandidatePath(const Domain&, const MetricField<Norm>&) {}
+  UncheckedCandidatePath(const Domain&, const MetricField<Norm>&) {}
 
   /// Whether length() measures along the path (ChainMeasure::Segment). A
-  /// specialisation whose domain type covers domains of both kinds (a cell
+  /// candidate path whose domain type covers domains of both kinds (a cell
   /// mesh built from tetrahedra or only from edges) also defines
   ///   static bool measuresPathsOn(const Domain&),
   /// which the propagation asks too (measuresPathsOn below).
@@ -78,10 +83,28 @@ struct HasMeasuresPathsOn : std::false_type {};
 template <class Path, class Domain>
 struct HasMeasuresPathsOn<Path, Domain, std::void_t<decltype(Path::measuresPathsOn(std::declval<const Domain&>()))>>
     : std::true_type {};
+
+/// CandidatePath::measuresWhileChecking(), where a path offers it: true
+/// when checking the candidates' paths costs about what measuring them does
+/// (a surface, where one walk along the chain finds every candidate's line),
+/// so that every candidate is measured when it is screened instead of
+/// deferring the best one. False for the others.
+template <class Path, class = void>
+struct OffersMeasuringWhileChecking : std::false_type {};
+template <class Path>
+struct OffersMeasuringWhileChecking<Path, std::void_t<decltype(std::declval<const Path&>().measuresWhileChecking())>>
+    : std::true_type {};
+template <class Path>
+STVD_ALWAYS_INLINE bool measuresWhileChecking(const Path& path) {
+  if constexpr (OffersMeasuringWhileChecking<Path>::value)
+    return path.measuresWhileChecking();
+  else
+    return false;
+}
 }  // namespace detail
 
 /// Whether CandidatePath<Domain, Norm> measures along paths on `domain`:
-/// measuresPaths(), and measuresPathsOn(domain) where the specialisation
+/// measuresPaths(), and measuresPathsOn(domain) where the candidate path
 /// has it.
 template <class Domain, class Norm>
 bool measuresPathsOn(const Domain& domain) {

@@ -1,5 +1,8 @@
 // Where a domain decides how a predecessor chain becomes vectors in one
 // common frame, the step in which STVD differs between volumes and surfaces.
+// Each domain names its class in its DomainHooks (domain_hooks.hpp):
+// VolumeChainUnfolding below for every domain in R^3, SurfaceChainUnfolding
+// (surface/surface_chain_unfolding.hpp) for surfaces.
 #pragma once
 
 #include <type_traits>
@@ -26,12 +29,13 @@ struct HasPlaceChain<Domain, std::void_t<decltype(std::declval<const Domain&>().
 /// differences of consecutive P, and the edge vectors that the domain's
 /// forEachNeighbor(v, ...) reports must be expressed in the same frame.
 ///
-/// This primary template serves every domain embedded in R^3 (voxel grids,
+/// This class serves every domain embedded in R^3 (voxel grids,
 /// tetrahedral and polyhedral meshes): the 3D edge vectors are summed
 /// directly (paper, section 6.2), so P[i] = x(c_i) - x(v). A 2-manifold
-/// surface domain specialises it to unfold the chain edge by edge into v's
-/// tangent plane, preserving edge lengths and relative 1-ring angles
-/// (section 6), with vectors in that plane stored as (x, y, 0).
+/// surface domain has its own (SurfaceChainUnfolding), which unfolds the
+/// chain edge by edge into v's tangent plane, preserving edge lengths and
+/// relative 1-ring angles (section 6), with vectors in that plane stored as
+/// (x, y, 0).
 ///
 /// edgeNorm() gives the norm that measures the edge from -> to whose vector
 /// in the common frame is `e`; the propagation asks it for every edge it
@@ -47,7 +51,7 @@ struct HasPlaceChain<Domain, std::void_t<decltype(std::declval<const Domain&>().
 /// norms (on a surface, a tensor per edge) is made once per propagation by
 /// edgeMetric() and handed to every edgeNorm() call; in R^3 it is empty.
 template <class Domain>
-struct ChainUnfolding {
+struct VolumeChainUnfolding {
   /// Whether edgeNorm() is Norm::edgeParams of the end points, the mean of
   /// their norms where EdgeRuleIsMean<Norm> (the end-point screen relies on
   /// both).

@@ -9,10 +9,9 @@
 #include <optional>
 #include <vector>
 
-#include "stvd/cell_mesh/cell_mesh_domain.hpp"
 #include "stvd/metric/metric_field.hpp"
+#include "stvd/propagation/domain_hooks.hpp"
 #include "stvd/types.hpp"
-#include "stvd/voxel_grid/voxel_grid_domain.hpp"
 
 namespace stvd {
 
@@ -89,12 +88,6 @@ inline constexpr int kDefaultMemoryDepth = 6;
 /// triangles need longer chains (CAD mesh "cheese": 5.8 % at k = 4, 1.9 % at
 /// k = 8 against exact geodesics).
 inline constexpr int kDefaultSurfaceMemoryDepth = 8;
-/// The default k of a domain: kDefaultMemoryDepth, or for surfaces
-/// kDefaultSurfaceMemoryDepth (specialised in surface_domain.hpp).
-template <class Domain>
-constexpr int defaultMemoryDepth() {
-  return kDefaultMemoryDepth;
-}
 /// Default rule of the library and the tool.
 inline constexpr ChainMeasure kDefaultChainMeasure = ChainMeasure::Segment;
 
@@ -209,18 +202,9 @@ PropagationResult shortTermVectorDijkstra(const Domain& domain, const MetricFiel
   return propagate(domain, metric, sources, options);
 }
 
-// Compiled once in the library for the built-in domains and norms.
-extern template PropagationResult propagate(const VoxelGridDomain&, const RiemannianMetric&,
-                                            const std::vector<VertexId>&,
-                                            const PropagationOptions&);
-extern template PropagationResult propagate(const VoxelGridDomain&, const RandersMetric&,
-                                            const std::vector<VertexId>&,
-                                            const PropagationOptions&);
-extern template PropagationResult propagate(const CellMeshDomain&, const RiemannianMetric&,
-                                            const std::vector<VertexId>&,
-                                            const PropagationOptions&);
-extern template PropagationResult propagate(const CellMeshDomain&, const RandersMetric&,
-                                            const std::vector<VertexId>&,
-                                            const PropagationOptions&);
+// Compiled once in the library for the built-in domains and norms: the
+// extern templates are in each domain's propagation header
+// (voxel_grid/voxel_grid_propagation.hpp, ...), the definition in
+// propagation_definition.hpp.
 
 }  // namespace stvd

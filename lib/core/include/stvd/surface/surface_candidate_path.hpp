@@ -45,13 +45,13 @@ namespace stvd {
 /// A polygon enters a fan as the triangle of its corner at the fan's
 /// centre (a convex polygon holds it), so lines are refused that a
 /// polygon would hold further from the chain.
-template <>
-class CandidatePath<SurfaceDomain, RiemannianNorm> {
+class SurfaceCandidatePath {
  public:
   /// Lines are checked and measured for ChainMeasure::Segment only: the
   /// chain rules measure the chain unfolded with rescaled angles, which a
   /// real line does not repair, and stay as the paper defines them.
-  CandidatePath(const SurfaceDomain& surface, const RiemannianMetric& metric, const PropagationOptions& options);
+  SurfaceCandidatePath(const SurfaceDomain& surface, const RiemannianMetric& metric,
+                       const PropagationOptions& options);
 
   static constexpr bool measuresPaths() { return true; }
   /// A line's length depends on the chain it was unfolded along: a pending

@@ -38,13 +38,13 @@ namespace stvd {
 /// or reads, a voxel beyond it: all voxels read are those segmentInDomain
 /// checked.
 template <class Norm>
-class CandidatePath<VoxelGridDomain, Norm> {
+class VoxelGridCandidatePath {
  public:
   using Params = typename Norm::VertexParams;
   static_assert(std::is_trivially_copyable_v<Params> && sizeof(Params) % sizeof(float) == 0,
                 "grid segments interpolate Norm::VertexParams as a plain struct of floats");
 
-  CandidatePath(const VoxelGridDomain& domain, const MetricField<Norm>& metric)
+  VoxelGridCandidatePath(const VoxelGridDomain& domain, const MetricField<Norm>& metric)
       : domain_(domain), metric_(metric) {}
 
   static constexpr bool measuresPaths() { return true; }

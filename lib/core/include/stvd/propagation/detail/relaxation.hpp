@@ -18,36 +18,17 @@
 #include <type_traits>
 #include <utility>
 
-#include "stvd/cell_mesh/cell_mesh_candidate_path.hpp"
 #include "stvd/propagation/candidate_path.hpp"
 #include "stvd/propagation/chain_unfolding.hpp"
 #include "stvd/propagation/detail/chain_screen.hpp"
 #include "stvd/propagation/detail/front_queue.hpp"
 #include "stvd/propagation/detail/vertex_record.hpp"
+#include "stvd/propagation/domain_hooks.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/system/large_array.hpp"
-#include "stvd/voxel_grid/voxel_grid_candidate_path.hpp"
 
 namespace stvd {
 namespace detail {
-
-/// CandidatePath::measuresWhileChecking(), where a path offers it: true
-/// when checking the candidates' paths costs about what measuring them does
-/// (a surface, where one walk along the chain finds every candidate's line),
-/// so that every candidate is measured when it is screened instead of
-/// deferring the best one. False for the others.
-template <class Path, class = void>
-struct OffersMeasuringWhileChecking : std::false_type {};
-template <class Path>
-struct OffersMeasuringWhileChecking<Path, std::void_t<decltype(std::declval<const Path&>().measuresWhileChecking())>>
-    : std::true_type {};
-template <class Path>
-STVD_ALWAYS_INLINE bool measuresWhileChecking(const Path& path) {
-  if constexpr (OffersMeasuringWhileChecking<Path>::value)
-    return path.measuresWhileChecking();
-  else
-    return false;
-}
 
 /// A domain's CandidatePath, given the options where it takes them (a
 /// surface checks the segment measure's lines only, and leaves the chain
@@ -239,7 +220,7 @@ class Propagation {
   // (after v's relaxation), the first two links are known; the rest of the
   // chain is guessed to go on by the second link's offset, as it does where
   // the front is straight. Only a grid's numbering makes that guess
-  // meaningful.
+  // meaningful (DomainHooks::kChainContinuesAlongStep).
   STVD_ALWAYS_INLINE void prefetchChain(VertexId u) {
     if constexpr (Deferred) {
       // Here the chain is known exactly: c_1's record (one of u's
@@ -254,7 +235,7 @@ class Propagation {
         detail::prefetch(&state_[c]);
         detail::prefetch(&metric_[c]);
       }
-    } else if constexpr (std::is_same_v<Domain, VoxelGridDomain>) {
+    } else if constexpr (DomainHooks<Domain>::kChainContinuesAlongStep) {
       const VertexId p1 = state_[u].predecessor;
       if (p1 == kNoVertex) return;
       const VertexId p2 = state_[p1].predecessor;
@@ -643,8 +624,7 @@ class Propagation {
   // stencil's block on a grid, single vertices from the adjacency list of a
   // cell mesh. Surfaces are not prefetched (not tried): measuring their
   // edges also reads the end points' positions and normals.
-  static constexpr bool kPrefetches =
-      std::is_same_v<Domain, VoxelGridDomain> || std::is_same_v<Domain, CellMeshDomain>;
+  static constexpr bool kPrefetches = DomainHooks<Domain>::kPrefetchesNeighborhood;
   std::vector<VertexState> state_;
   FrontQueue queue_;
   const typename ChainUnfolding<Domain>::EdgeMetric edgeMetric_;
