@@ -98,14 +98,14 @@ int main(int argc, char** argv) {
     auto [d, s] = timed([&] { return propagate(domain, metric, {source}, o); });
     rows.push_back({name, method == Method::Dijkstra ? 1 : memoryDepth<VoxelGridDomain>(o), std::move(d), s});
   };
-  SteinerOptions steiner;
+  LanthierOptions steiner;
   steiner.steinerPoints = steinerPoints;
-  auto [reference, referenceSeconds] = timed([&] { return steinerPropagate(domain, metric, {source}, steiner); });
+  auto [reference, referenceSeconds] = timed([&] { return lanthierPropagate(domain, metric, {source}, steiner); });
   rows.push_back({"Lanthier", steinerPoints, reference, referenceSeconds});
   if (steinerPoints > 4) {
-    SteinerOptions coarse;
+    LanthierOptions coarse;
     coarse.steinerPoints = 4;
-    auto [d, s] = timed([&] { return steinerPropagate(domain, metric, {source}, coarse); });
+    auto [d, s] = timed([&] { return lanthierPropagate(domain, metric, {source}, coarse); });
     rows.push_back({"Lanthier", 4, std::move(d), s});
   }
   stvd("STVD-segment (default)", std::nullopt, kDefaultChainMeasure, Method::ShortTermVectorDijkstra);

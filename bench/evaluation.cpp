@@ -124,11 +124,11 @@ bench::Scene makeScene(const std::string& kind, int n, double gamma, const Stenc
 }
 
 Measured measureSteiner(const bench::Scene& s, int steinerPoints) {
-  SteinerOptions o;
+  LanthierOptions o;
   o.steinerPoints = steinerPoints;
   Measured m;
   const auto start = std::chrono::steady_clock::now();
-  m.result = steinerPropagate(s.domain, s.metric, {s.source}, o);
+  m.result = lanthierPropagate(s.domain, s.metric, {s.source}, o);
   m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return m;
 }

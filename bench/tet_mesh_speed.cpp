@@ -48,20 +48,20 @@ namespace {
 using namespace stvd;
 
 /// The same mesh as a domain type of its own, whose candidates are measured
-/// with another MeshSegmentRule than CellMeshDomain's.
-template <MeshSegmentRule Rule>
-struct MeshWithRule : CellMeshDomain {
-  explicit MeshWithRule(const CellMeshDomain& mesh) : CellMeshDomain(mesh) {}
+/// with another MeshSegmentSampling than CellMeshDomain's.
+template <MeshSegmentSampling Sampling>
+struct MeshWithSampling : CellMeshDomain {
+  explicit MeshWithSampling(const CellMeshDomain& mesh) : CellMeshDomain(mesh) {}
 };
 
 }  // namespace
 
 namespace stvd {
-template <MeshSegmentRule Rule>
-struct DomainHooks<MeshWithRule<Rule>> {
+template <MeshSegmentSampling Sampling>
+struct DomainHooks<MeshWithSampling<Sampling>> {
   template <class Norm>
-  using CandidatePath = CellMeshCandidatePath<Norm, Rule>;
-  using ChainUnfolding = VolumeChainUnfolding<MeshWithRule<Rule>>;
+  using CandidatePath = CellMeshCandidatePath<Norm, Sampling>;
+  using ChainUnfolding = VolumeChainUnfolding<MeshWithSampling<Sampling>>;
   static constexpr int kDefaultMemoryDepth = stvd::kDefaultMemoryDepth;
   static constexpr bool kPrefetchesNeighborhood = false;
   static constexpr bool kChainContinuesAlongStep = false;
@@ -251,8 +251,8 @@ void tetMeshRule(benchmark::State& state) {
   const PropagationOptions options = optionsFor(k, measure);
   PropagationResult r;
   for (auto _ : state) {
-    if (rule == 1) r = propagateAs<MeshWithRule<MeshSegmentRule::Midpoint>>(s, options);
-    else if (rule == 2) r = propagateAs<MeshWithRule<MeshSegmentRule::EqualPieces>>(s, options);
+    if (rule == 1) r = propagateAs<MeshWithSampling<MeshSegmentSampling::Midpoint>>(s, options);
+    else if (rule == 2) r = propagateAs<MeshWithSampling<MeshSegmentSampling::EqualPieces>>(s, options);
     else r = propagate(s.domain, s.metric, {s.source}, options);
     benchmark::DoNotOptimize(r.distance.data());
   }

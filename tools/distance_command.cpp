@@ -33,6 +33,7 @@
 #include "stvd/vdb/distance_grid.hpp"
 #include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 #include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
+#include "stvd/front_end/memory_estimates.hpp"
 #endif
 
 namespace stvd::tool {
@@ -389,12 +390,12 @@ int runDistance(int argc, char** argv) {
   };
   PropagationResult result;
   if (o.lanthier) {
-    SteinerOptions steiner;
+    LanthierOptions steiner;
     steiner.steinerPoints = o.steinerPoints;
     steiner.maxDistance = o.maxDistance;
     steiner.progress = options.progress;
     try {
-      result = steinerPropagate(domain, metric, sources, steiner);
+      result = lanthierPropagate(domain, metric, sources, steiner);
     } catch (const std::invalid_argument& e) {  // too large a graph
       throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
     }

@@ -22,6 +22,7 @@
 #include "stvd/imaging/tensor_metric.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
 #include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/front_end/memory_estimates.hpp"
 #include "subcommands.hpp"
 
 namespace stvd::tool {

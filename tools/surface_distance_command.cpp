@@ -24,6 +24,7 @@
 #include "stvd/surface/surface_metrics.hpp"
 #include "stvd/surface/surface_propagation.hpp"
 #include "stvd/surface/surface_lanthier.hpp"
+#include "stvd/front_end/memory_estimates.hpp"
 #include "surface_distance_command.hpp"
 #include "surface_seed_point.hpp"
 
@@ -412,11 +413,11 @@ int runSurfaceDistance(int argc, char** argv) {
   phase = Clock::now();
   PropagationResult result;
   if (o.lanthier) {
-    SteinerOptions steiner;
+    LanthierOptions steiner;
     steiner.steinerPoints = o.steinerPoints;
     steiner.maxDistance = o.maxDistance;
     try {
-      result = steinerPropagate(*surface, *metric, sources, steiner);
+      result = lanthierPropagate(*surface, *metric, sources, steiner);
     } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
       throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
     }

@@ -24,6 +24,7 @@
 #include "stvd/tetmesh/tet_mesh_propagation.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
 #include "stvd/cell_mesh/cell_mesh_propagation.hpp"
+#include "stvd/front_end/memory_estimates.hpp"
 #include "tet_mesh_commands.hpp"
 
 namespace stvd::tool {

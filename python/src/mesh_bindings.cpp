@@ -27,6 +27,7 @@
 #include "stvd/tetmesh/tet_mesh_propagation.hpp"
 #include "stvd/surface/surface_propagation.hpp"
 #include "stvd/surface/surface_lanthier.hpp"
+#include "stvd/front_end/memory_estimates.hpp"
 #include "tensor_field.hpp"
 
 namespace stvd::python {
@@ -247,12 +248,12 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
     py::gil_scoped_release release;
     const std::vector<VertexId> sources = seedVertices(seeds, all, "vertices");
     if (choice.lanthier) {
-      SteinerOptions steiner;
+      LanthierOptions steiner;
       steiner.steinerPoints = choice.steinerPoints;
       steiner.maxDistance = limit;
       steiner.progress = relay.hook();
       try {
-        result = steinerPropagate(*surface, metric, sources, steiner);
+        result = lanthierPropagate(*surface, metric, sources, steiner);
       } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
         throw OptionError("vertices: --method lanthier: " + std::string(e.what()));
       }

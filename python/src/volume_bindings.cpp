@@ -31,6 +31,7 @@
 #include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 #include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
+#include "stvd/front_end/memory_estimates.hpp"
 #include "tensor_field.hpp"
 
 namespace stvd::python {
@@ -120,12 +121,12 @@ std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const Te
         std::move(seeds), leftOut});
     const std::vector<VertexId> sources = imaging::sourceVertices(out->domain, out->seeds);
     if (choice.lanthier) {
-      SteinerOptions steiner;
+      LanthierOptions steiner;
       steiner.steinerPoints = choice.steinerPoints;
       steiner.maxDistance = maxDistance;
       steiner.progress = relay.hook();
       try {
-        out->result = steinerPropagate(out->domain, field->metric, sources, steiner);
+        out->result = lanthierPropagate(out->domain, field->metric, sources, steiner);
       } catch (const std::invalid_argument& e) {  // a grid too thin for cubes, or too large a graph
         throw OptionError(field->name + ": --method lanthier: " + e.what());
       }

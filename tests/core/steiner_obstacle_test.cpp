@@ -103,9 +103,9 @@ TEST(SteinerObstacle, WallWithHoleIsPassedOnlyThroughTheHoleAndNeverCut) {
   const VoxelGridDomain domain(scene.geometry(), Stencil::full26(), scene.mask());
   const RiemannianMetric metric = RiemannianMetric::constant(domain.vertexCount(), test::toSymTensor(scene.tensor()));
   const VertexId source = domain.vertexAt(4, 5, 2);
-  SteinerOptions options;
+  LanthierOptions options;
   options.steinerPoints = 4;
-  const SteinerPropagationResult steiner = steinerPropagate(domain, metric, {source}, options);
+  const LanthierResult steiner = lanthierPropagate(domain, metric, {source}, options);
   const PropagationResult stvd = shortTermVectorDijkstra(domain, metric, {source}, 8);  // default measure
   // The chain rules (the paper's and the largest-norm one) at k = 16.
   std::vector<PropagationResult> chainRules;

@@ -64,12 +64,12 @@ TetMeshPropagation propagateOverTetrahedra(const std::vector<Vec3d>& points,
       throw InputError(meshName + ": " + e.what());
     }
     out.edgeCount = cells->edges().size();
-    SteinerOptions steiner;
+    LanthierOptions steiner;
     steiner.steinerPoints = choice.steinerPoints;
     steiner.maxDistance = maxDistance;
     steiner.progress = std::move(progress);
     try {
-      result = steinerPropagate(*cells, metric, orderedSources, steiner);
+      result = lanthierPropagate(*cells, metric, orderedSources, steiner);
     } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
       throw OptionError(meshName + ": --method lanthier: " + e.what());
     }

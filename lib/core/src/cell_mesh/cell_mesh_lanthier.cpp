@@ -75,11 +75,11 @@ void TetSteinerCells::gather(std::uint32_t t) {
 }  // namespace detail
 
 template <class Norm>
-SteinerPropagationResult steinerPropagate(const TetrahedralCells& mesh, const MetricField<Norm>& metric,
-                                          const std::vector<VertexId>& sources, const SteinerOptions& options) {
+LanthierResult lanthierPropagate(const TetrahedralCells& mesh, const MetricField<Norm>& metric,
+                                          const std::vector<VertexId>& sources, const LanthierOptions& options) {
   detail::validate(mesh, mesh.vertexCount(), metric, sources, options);
   detail::TetSteinerCells cells(mesh, options.steinerPoints);
-  return detail::SteinerDijkstra<detail::TetSteinerCells, Norm>(cells, metric, mesh.vertexCount(),
+  return detail::LanthierDijkstra<detail::TetSteinerCells, Norm>(cells, metric, mesh.vertexCount(),
                                                                 mesh.vertexCount(), options)
       .run(sources);
 }
@@ -90,9 +90,9 @@ Vec3d steinerPointPosition(const TetrahedralCells& mesh, int steinerPoints, Stei
   return cells.position(p);
 }
 
-template SteinerPropagationResult steinerPropagate(const TetrahedralCells&, const RiemannianMetric&,
-                                                   const std::vector<VertexId>&, const SteinerOptions&);
-template SteinerPropagationResult steinerPropagate(const TetrahedralCells&, const RandersMetric&,
-                                                   const std::vector<VertexId>&, const SteinerOptions&);
+template LanthierResult lanthierPropagate(const TetrahedralCells&, const RiemannianMetric&,
+                                                   const std::vector<VertexId>&, const LanthierOptions&);
+template LanthierResult lanthierPropagate(const TetrahedralCells&, const RandersMetric&,
+                                                   const std::vector<VertexId>&, const LanthierOptions&);
 
 }  // namespace stvd

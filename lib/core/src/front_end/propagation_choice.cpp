@@ -5,7 +5,6 @@
 
 #include "stvd/voxel_grid/stencil.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
-#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 
 namespace stvd {
 
@@ -124,29 +123,6 @@ std::string methodText(const PropagationChoice& o, int k) {
                         : o.chainMeasure == ChainMeasure::LargestEdgeNorm ? " (largest-norm chain measure)"
                                                                           : " (projection chain measure)";
   return "STVD with k = " + std::to_string(k) + measure;
-}
-
-std::uint64_t gridRunMemoryEstimate(const PropagationChoice& choice, std::uint64_t voxels,
-                                    std::uint64_t domainVoxels) {
-  if (!choice.lanthier) return propagationMemoryEstimate(voxels, domainVoxels);
-  return steinerMemoryEstimate(steinerGridPointCount(domainVoxels, choice.steinerPoints), voxels) +
-         2 * sizeof(VertexId) * voxels;  // the grid cells' numbering of domain voxels
-}
-
-std::uint64_t surfaceRunMemoryEstimate(const PropagationChoice& choice, std::uint64_t vertices,
-                                       std::uint64_t corners) {
-  const std::uint64_t m = static_cast<std::uint64_t>(choice.steinerPoints);
-  return 64 * vertices + (choice.lanthier ? steinerMemoryEstimate(vertices + m * corners, vertices)
-                                          : propagationMemoryEstimate(vertices, vertices));
-}
-
-std::uint64_t tetMeshRunMemoryEstimate(const PropagationChoice& choice, std::uint64_t vertices,
-                                       std::uint64_t tetrahedra) {
-  const std::uint64_t v = vertices, t = tetrahedra, m = static_cast<std::uint64_t>(choice.steinerPoints);
-  constexpr std::uint64_t kMeshBytesPerVertex = 24 + 64, kDomainBytesPerTet = 16 + 160, kCellBytesPerTet = 160;
-  return kMeshBytesPerVertex * v + kDomainBytesPerTet * t +
-         (choice.lanthier ? kCellBytesPerTet * t + steinerMemoryEstimate(v + 6 * m * t + 2 * m * (m - 1) * t, v)
-                          : propagationMemoryEstimate(v, v));
 }
 
 std::string methodName(const PropagationChoice& o) {

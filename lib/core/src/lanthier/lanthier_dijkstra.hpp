@@ -34,10 +34,10 @@ struct SteinerCellView {
 
 /// Dijkstra over the implicit Steiner graph of `cells`.
 template <class Cells, class Norm>
-class SteinerDijkstra {
+class LanthierDijkstra {
  public:
-  SteinerDijkstra(Cells& cells, const MetricField<Norm>& metric, VertexId vertexCount,
-                  VertexId domainVertexCount, const SteinerOptions& options)
+  LanthierDijkstra(Cells& cells, const MetricField<Norm>& metric, VertexId vertexCount,
+                  VertexId domainVertexCount, const LanthierOptions& options)
       : cells_(cells),
         metric_(metric),
         options_(options),
@@ -48,7 +48,7 @@ class SteinerDijkstra {
         length_(cells.maxCellPoints()),
         corner_(cells.maxCellCorners()) {}
 
-  SteinerPropagationResult run(const std::vector<VertexId>& sources) {
+  LanthierResult run(const std::vector<VertexId>& sources) {
     for (const VertexId s : sources) {
       const SteinerPointId p = cells_.pointOfVertex(s);
       distance_[p] = 0.0;
@@ -64,7 +64,7 @@ class SteinerDijkstra {
       }
     }
 
-    SteinerPropagationResult result;
+    LanthierResult result;
     constexpr std::uint64_t kProgressInterval = 1u << 16;
     // Progress counts original vertices: they are finalised interleaved with
     // the Steiner points in distance order, and unlike the points they all
@@ -159,7 +159,7 @@ class SteinerDijkstra {
 
   Cells& cells_;
   const MetricField<Norm>& metric_;
-  const SteinerOptions& options_;
+  const LanthierOptions& options_;
   VertexId vertexCount_, domainVertexCount_;
   std::vector<double> distance_;
   FrontQueue queue_;
@@ -171,7 +171,7 @@ class SteinerDijkstra {
 
 template <class DomainLike, class Norm>
 void validate(const DomainLike& domain, VertexId vertexCount, const MetricField<Norm>& metric,
-              const std::vector<VertexId>& sources, const SteinerOptions& options) {
+              const std::vector<VertexId>& sources, const LanthierOptions& options) {
   if (metric.size() != vertexCount)
     throw std::invalid_argument("metric has " + std::to_string(metric.size()) + " vertices but the domain has " +
                                 std::to_string(vertexCount));

@@ -102,11 +102,11 @@ int SurfaceSteinerCells::gather(std::uint32_t f) {
 
 namespace stvd {
 
-SteinerPropagationResult steinerPropagate(const SurfaceDomain& surface, const RiemannianMetric& metric,
-                                          const std::vector<VertexId>& sources, const SteinerOptions& options) {
+LanthierResult lanthierPropagate(const SurfaceDomain& surface, const RiemannianMetric& metric,
+                                          const std::vector<VertexId>& sources, const LanthierOptions& options) {
   detail::validate(surface, surface.vertexCount(), metric, sources, options);
   detail::SurfaceSteinerCells cells(surface, options.steinerPoints);
-  return detail::SteinerDijkstra<detail::SurfaceSteinerCells, RiemannianNorm>(
+  return detail::LanthierDijkstra<detail::SurfaceSteinerCells, RiemannianNorm>(
              cells, metric, surface.vertexCount(), surface.vertexCount(), options)
       .run(sources);
 }

@@ -45,7 +45,7 @@ void otherAxes(int a, int& b, int& c) {
 
 GridSteinerCells::GridSteinerCells(const VoxelGridDomain& domain, int steinerPoints, bool findCells)
     : domain_(domain), m_(steinerPoints) {
-  const std::uint64_t slots = steinerGridPointCount(1, m_);
+  const std::uint64_t slots = lanthierGridPointCount(1, m_);
   if (domain.domainVertexCount() < domain.vertexCount()) {
     numberOfVoxel_.assign(domain.vertexCount(), kNoVertex);
     voxelOfNumber_.reserve(domain.domainVertexCount());
@@ -268,11 +268,11 @@ Vec3d GridSteinerCells::position(SteinerPointId p) const {
 namespace stvd {
 
 template <class Norm>
-SteinerPropagationResult steinerPropagate(const VoxelGridDomain& domain, const MetricField<Norm>& metric,
-                                          const std::vector<VertexId>& sources, const SteinerOptions& options) {
+LanthierResult lanthierPropagate(const VoxelGridDomain& domain, const MetricField<Norm>& metric,
+                                          const std::vector<VertexId>& sources, const LanthierOptions& options) {
   detail::validate(domain, domain.vertexCount(), metric, sources, options);
   detail::GridSteinerCells cells(domain, options.steinerPoints);
-  return detail::SteinerDijkstra<detail::GridSteinerCells, Norm>(cells, metric, domain.vertexCount(),
+  return detail::LanthierDijkstra<detail::GridSteinerCells, Norm>(cells, metric, domain.vertexCount(),
                                                                  domain.domainVertexCount(), options)
       .run(sources);
 }
@@ -283,19 +283,14 @@ Vec3d steinerPointPosition(const VoxelGridDomain& domain, int steinerPoints, Ste
   return cells.position(p);
 }
 
-template SteinerPropagationResult steinerPropagate(const VoxelGridDomain&, const RiemannianMetric&,
-                                                   const std::vector<VertexId>&, const SteinerOptions&);
-template SteinerPropagationResult steinerPropagate(const VoxelGridDomain&, const RandersMetric&,
-                                                   const std::vector<VertexId>&, const SteinerOptions&);
+template LanthierResult lanthierPropagate(const VoxelGridDomain&, const RiemannianMetric&,
+                                                   const std::vector<VertexId>&, const LanthierOptions&);
+template LanthierResult lanthierPropagate(const VoxelGridDomain&, const RandersMetric&,
+                                                   const std::vector<VertexId>&, const LanthierOptions&);
 
-std::uint64_t steinerGridPointCount(std::uint64_t domainVoxelCount, int steinerPoints) {
+std::uint64_t lanthierGridPointCount(std::uint64_t domainVoxelCount, int steinerPoints) {
   const std::uint64_t m = static_cast<std::uint64_t>(steinerPoints);
   return (1 + 3 * m + 3 * m * m) * domainVoxelCount;
-}
-
-std::uint64_t steinerMemoryEstimate(std::uint64_t graphPoints, std::uint64_t vertexCount) {
-  constexpr std::uint64_t kPerPoint = 24, kResult = sizeof(double) + sizeof(VertexId);
-  return kPerPoint * graphPoints + kResult * vertexCount + (std::uint64_t{1} << 20);
 }
 
 }  // namespace stvd

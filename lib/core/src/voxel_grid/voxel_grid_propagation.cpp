@@ -5,11 +5,6 @@
 
 namespace stvd {
 
-std::uint64_t propagationMemoryEstimate(std::uint64_t vertexCount, std::uint64_t domainVertexCount) {
-  constexpr std::uint64_t kRecord = 16, kResult = sizeof(double) + sizeof(VertexId), kQueuePerVertex = 64;
-  return (kRecord + kResult) * vertexCount + kQueuePerVertex * domainVertexCount + (std::uint64_t{1} << 20);
-}
-
 template PropagationResult propagate(const VoxelGridDomain&, const RiemannianMetric&,
                                      const std::vector<VertexId>&, const PropagationOptions&);
 template PropagationResult propagate(const VoxelGridDomain&, const RandersMetric&,

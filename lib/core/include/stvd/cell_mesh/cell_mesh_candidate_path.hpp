@@ -18,7 +18,7 @@ namespace stvd {
 
 /// Where along a candidate's segment the metric is sampled
 /// (docs/tet_meshes.md compares them on exact metrics).
-enum class MeshSegmentRule {
+enum class MeshSegmentSampling {
   /// One sample per tetrahedron crossed, at the midpoint of the part of the
   /// segment inside it, weighted by that part's length: the mesh's
   /// counterpart of the grids' one sample per voxel step, and
@@ -33,7 +33,7 @@ enum class MeshSegmentRule {
 };
 
 /// The rule CellMeshDomain uses (docs/tet_meshes.md: the error table).
-inline constexpr MeshSegmentRule kMeshSegmentRule = MeshSegmentRule::PerTetrahedron;
+inline constexpr MeshSegmentSampling kMeshSegmentSampling = MeshSegmentSampling::PerTetrahedron;
 
 /// The candidate i of neighbour w is the segment from c_{i-1} to w.
 ///
@@ -45,7 +45,7 @@ inline constexpr MeshSegmentRule kMeshSegmentRule = MeshSegmentRule::PerTetrahed
 ///
 /// length() and segmentLength(): the same walk (so a pending candidate that
 /// accepts() let through unwalked is still refused if it leaves the mesh),
-/// sampling the norm as Rule says; at a sample the norm is the barycentric
+/// sampling the norm as Sampling says; at a sample the norm is the barycentric
 /// interpolation of the four corners' parameters in the tetrahedron holding
 /// it (for Riemannian norms the tensors G; as on grids, a convex
 /// combination of valid parameters is valid, so no sample is cheaper than
@@ -53,7 +53,7 @@ inline constexpr MeshSegmentRule kMeshSegmentRule = MeshSegmentRule::PerTetrahed
 ///
 /// A mesh without tetrahedra (CellMeshDomain::fromEdges, fromPolyhedra)
 /// measures nothing (measuresPathsOn() is false) and refuses nothing.
-template <class Norm, MeshSegmentRule Rule = kMeshSegmentRule>
+template <class Norm, MeshSegmentSampling Sampling = kMeshSegmentSampling>
 class CellMeshCandidatePath {
  public:
   using Params = typename Norm::VertexParams;
@@ -67,7 +67,7 @@ class CellMeshCandidatePath {
   static bool measuresPathsOn(const CellMeshDomain& domain) { return domain.tetrahedra() != nullptr; }
   /// Only equal pieces need the chain (to know i); the other rules measure a
   /// pending candidate from its two end points (segmentLength).
-  static constexpr bool usesPlacedChain() { return Rule == MeshSegmentRule::EqualPieces; }
+  static constexpr bool usesPlacedChain() { return Sampling == MeshSegmentSampling::EqualPieces; }
 
   STVD_ALWAYS_INLINE void beginChain(const VertexId* chain, int count, const Vec3f* placed) {
     chain_ = chain;
@@ -101,12 +101,12 @@ class CellMeshCandidatePath {
 
   float length(int i, VertexId w, Vec3f e) const {
     if (region_ == nullptr) return kRefusedCandidate;
-    return measure(chain_[i - 1], w, e - placed_[i - 1], Rule == MeshSegmentRule::EqualPieces ? i : 1);
+    return measure(chain_[i - 1], w, e - placed_[i - 1], Sampling == MeshSegmentSampling::EqualPieces ? i : 1);
   }
 
   /// length() from the candidate's end points alone, for a pending candidate.
   float segmentLength(VertexId from, VertexId w) const {
-    static_assert(Rule != MeshSegmentRule::EqualPieces, "equal pieces need the chain (usesPlacedChain)");
+    static_assert(Sampling != MeshSegmentSampling::EqualPieces, "equal pieces need the chain (usesPlacedChain)");
     return measure(from, w, toFloat(points_[w] - points_[from]), 1);
   }
 
@@ -126,12 +126,12 @@ class CellMeshCandidatePath {
   static constexpr int kMaxSteps = 32 + 32 * kMaxMemoryDepth;
 
   // The segment from `from` to w (its vector `segment`, from `from` to w),
-  // walked from w's end and measured as Rule says; `pieces` is i for
+  // walked from w's end and measured as Sampling says; `pieces` is i for
   // EqualPieces.
   float measure(VertexId from, VertexId w, Vec3f segment, int pieces) const {
     double total = 0.0;
     bool inside;
-    if constexpr (Rule == MeshSegmentRule::PerTetrahedron) {
+    if constexpr (Sampling == MeshSegmentSampling::PerTetrahedron) {
       inside = region_->walk(points_, w, from, kMaxSteps, [&](const SegmentPiece& p) {
         total += (p.s1 - p.s0) * normAt(p, 0.5 * (p.s0 + p.s1), segment);
       });

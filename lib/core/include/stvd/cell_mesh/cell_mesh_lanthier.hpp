@@ -17,10 +17,10 @@ namespace stvd {
 /// per mesh vertex. Throws as the grid version does (voxel_grid_lanthier.hpp),
 /// except for the grid size.
 template <class Norm>
-SteinerPropagationResult steinerPropagate(const TetrahedralCells& cells,
+LanthierResult lanthierPropagate(const TetrahedralCells& cells,
                                           const MetricField<Norm>& metric,
                                           const std::vector<VertexId>& sources,
-                                          const SteinerOptions& options = {});
+                                          const LanthierOptions& options = {});
 
 /// Physical position of graph point p for M Steiner points per edge.
 ///
@@ -32,13 +32,13 @@ SteinerPropagationResult steinerPropagate(const TetrahedralCells& cells,
 Vec3d steinerPointPosition(const TetrahedralCells& cells, int steinerPoints, SteinerPointId p);
 
 // Compiled in the library (cell_mesh_lanthier.cpp).
-extern template SteinerPropagationResult steinerPropagate(const TetrahedralCells&,
+extern template LanthierResult lanthierPropagate(const TetrahedralCells&,
                                                           const RiemannianMetric&,
                                                           const std::vector<VertexId>&,
-                                                          const SteinerOptions&);
-extern template SteinerPropagationResult steinerPropagate(const TetrahedralCells&,
+                                                          const LanthierOptions&);
+extern template LanthierResult lanthierPropagate(const TetrahedralCells&,
                                                           const RandersMetric&,
                                                           const std::vector<VertexId>&,
-                                                          const SteinerOptions&);
+                                                          const LanthierOptions&);
 
 }  // namespace stvd

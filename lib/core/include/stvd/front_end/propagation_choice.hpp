@@ -43,7 +43,7 @@ struct PropagationChoice {
   VoxelConnectivity connectivity = VoxelConnectivity::Faces;
   bool connectivityGiven = false;
   /// Whether the memory the run needs is compared with the memory available
-  /// before it starts (stvd/system_memory.hpp; --no-memory-check: false).
+  /// before it starts (stvd/system/memory.hpp; --no-memory-check: false).
   bool memoryCheck = true;
 };
 
@@ -91,24 +91,6 @@ int memoryDepthOf(const PropagationChoice& choice) {
 std::string methodText(const PropagationChoice& choice, int k);
 /// "stvd", "dijkstra" or "lanthier".
 std::string methodName(const PropagationChoice& choice);
-/// What one run of the choice allocates over a voxel grid of `voxels`
-/// slots, `domainVoxels` of them in the domain (the grid and the metric not
-/// included): propagationMemoryEstimate, or for Lanthier's method its graph
-/// and the grid cells' numbering of domain voxels. For the front ends'
-/// memory checks (stvd/system_memory.hpp).
-std::uint64_t gridRunMemoryEstimate(const PropagationChoice& choice, std::uint64_t voxels,
-                                    std::uint64_t domainVoxels);
-/// The same over a surface of `vertices` vertices whose faces have
-/// `corners` corners in all: the propagation, or Lanthier's graph (M points
-/// on each face edge), and 64 bytes per vertex for the output.
-std::uint64_t surfaceRunMemoryEstimate(const PropagationChoice& choice, std::uint64_t vertices,
-                                       std::uint64_t corners);
-/// The same over a tetrahedral mesh: the renumbered copies, the domain's
-/// edges (built from six per tetrahedron), the propagation or Lanthier's
-/// graph (at most six edges and four faces per tetrahedron carry points)
-/// and the output.
-std::uint64_t tetMeshRunMemoryEstimate(const PropagationChoice& choice, std::uint64_t vertices,
-                                       std::uint64_t tetrahedra);
 /// What the domain's connectivity joins, for summaries: "domain connectivity
 /// 6 (voxels joined through faces only)".
 std::string connectivityText(VoxelConnectivity connectivity);

@@ -33,7 +33,7 @@ using SteinerPointId = std::uint32_t;
 /// Largest supported number of Steiner points per cell edge.
 inline constexpr int kMaxSteinerPoints = 16;
 
-struct SteinerOptions {
+struct LanthierOptions {
   /// M: Steiner points per cell edge, 1..kMaxSteinerPoints. In 3D every
   /// face also gets the interior points of the same lattice (M x M on a
   /// square face, M (M - 1) / 2 on a triangle), so a path can cross a face
@@ -52,7 +52,7 @@ struct SteinerOptions {
   std::function<bool(const PropagationProgress&)> progress;
 };
 
-struct SteinerPropagationResult : PropagationResult {
+struct LanthierResult : PropagationResult {
   // Inherited, per original vertex: distance (kUnreachable where not final),
   // termination, finalizedVertices (original vertices made final),
   // relaxedEdges (segments evaluated: one per finalised point and boundary
@@ -66,14 +66,6 @@ struct SteinerPropagationResult : PropagationResult {
   /// Numbering: steinerPointPosition below.
   std::vector<double> pointDistance;
 };
-
-/// An upper estimate of the memory steinerPropagate allocates for a graph of
-/// `graphPoints` points over `vertexCount` original vertices (the cells,
-/// domain and metric not included): 24 bytes per graph point (its distance,
-/// queue slot and entries; 15.6 measured on the sample brain with M = 2),
-/// the result's 12 bytes per vertex and 1 MiB. For checking a run against
-/// the memory available before it starts.
-std::uint64_t steinerMemoryEstimate(std::uint64_t graphPoints, std::uint64_t vertexCount);
 
 // The entry points are declared per domain, beside the domain:
 // voxel_grid/voxel_grid_lanthier.hpp, cell_mesh/cell_mesh_lanthier.hpp and

@@ -159,16 +159,6 @@ struct PropagationResult {
   std::uint64_t peakStateBytes = 0;
 };
 
-/// An upper estimate of the memory propagate() allocates over `vertexCount`
-/// vertex slots of which `domainVertexCount` are in the domain (the domain
-/// and the metric not included): the 16-byte record per slot, the queue
-/// (allowed 64 bytes per domain vertex plus 1 MiB; on the sample brain it
-/// peaked at 43 to 58 bytes per domain voxel with the 26- to 290-neighbour
-/// stencils, stale entries and partly filled 4 KiB chunks included) and the
-/// result's 12 bytes per slot. For checking a run against the memory
-/// available before it starts (stvd/system_memory.hpp).
-std::uint64_t propagationMemoryEstimate(std::uint64_t vertexCount, std::uint64_t domainVertexCount);
-
 /// The memory depth a run of `options` over a Domain uses.
 template <class Domain>
 int memoryDepth(const PropagationOptions& options) {

@@ -28,9 +28,9 @@ namespace stvd {
 /// Only the Riemannian norm (world tensors per vertex, surface_metrics.hpp).
 /// Throws as the grid version does (voxel_grid_lanthier.hpp), except for the
 /// grid size.
-SteinerPropagationResult steinerPropagate(const SurfaceDomain& surface, const RiemannianMetric& metric,
+LanthierResult lanthierPropagate(const SurfaceDomain& surface, const RiemannianMetric& metric,
                                           const std::vector<VertexId>& sources,
-                                          const SteinerOptions& options = {});
+                                          const LanthierOptions& options = {});
 
 /// Physical position of graph point p for M Steiner points per edge.
 ///

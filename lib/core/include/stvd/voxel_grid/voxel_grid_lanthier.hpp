@@ -15,7 +15,7 @@ namespace stvd {
 /// Points of the Steiner graph over a grid whose domain holds
 /// `domainVoxelCount` voxels: each voxel owns 1 + 3M + 3M^2 of them (itself,
 /// M on each of three cube edges, M x M on each of three cube faces).
-std::uint64_t steinerGridPointCount(std::uint64_t domainVoxelCount, int steinerPoints);
+std::uint64_t lanthierGridPointCount(std::uint64_t domainVoxelCount, int steinerPoints);
 
 /// Grid version. The graph covers the domain's region, the same region that
 /// Dijkstra's steps and STVD's candidates keep to (VoxelConnectivity), so
@@ -39,10 +39,10 @@ std::uint64_t steinerGridPointCount(std::uint64_t domainVoxelCount, int steinerP
 /// source or target outside the domain, M out of range, a NaN maximum
 /// distance, or a graph with more points than 32-bit indices can number.
 template <class Norm>
-SteinerPropagationResult steinerPropagate(const VoxelGridDomain& domain,
+LanthierResult lanthierPropagate(const VoxelGridDomain& domain,
                                           const MetricField<Norm>& metric,
                                           const std::vector<VertexId>& sources,
-                                          const SteinerOptions& options = {});
+                                          const LanthierOptions& options = {});
 
 /// Physical position of graph point p for M Steiner points per edge.
 ///
@@ -61,13 +61,13 @@ SteinerPropagationResult steinerPropagate(const VoxelGridDomain& domain,
 Vec3d steinerPointPosition(const VoxelGridDomain& domain, int steinerPoints, SteinerPointId p);
 
 // Compiled in the library (voxel_grid_lanthier.cpp).
-extern template SteinerPropagationResult steinerPropagate(const VoxelGridDomain&,
+extern template LanthierResult lanthierPropagate(const VoxelGridDomain&,
                                                           const RiemannianMetric&,
                                                           const std::vector<VertexId>&,
-                                                          const SteinerOptions&);
-extern template SteinerPropagationResult steinerPropagate(const VoxelGridDomain&,
+                                                          const LanthierOptions&);
+extern template LanthierResult lanthierPropagate(const VoxelGridDomain&,
                                                           const RandersMetric&,
                                                           const std::vector<VertexId>&,
-                                                          const SteinerOptions&);
+                                                          const LanthierOptions&);
 
 }  // namespace stvd

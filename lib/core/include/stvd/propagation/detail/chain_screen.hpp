@@ -138,8 +138,11 @@ struct CandidateScreen {
   alignas(64) float length[kMaxMemoryDepth][NeighborBatch<Norm>::kCapacity];
 };
 
-/// Which chain rule a screen pass computes.
-enum class ChainRule { ProjectionWeighted, LargestEdgeNorm, ChainMean };
+/// What a screen pass computes: the chain measure ProjectionWeighted or
+/// LargestEdgeNorm (the candidates' lengths), or for ChainMeasure::Segment
+/// its screen (SegmentScreen::ChainMean here; SegmentScreen::
+/// ProjectionWeighted runs the ProjectionWeighted pass).
+enum class ChainScreen { ProjectionWeighted, LargestEdgeNorm, ChainMean };
 
 /// Fills screen.length for every candidate i = 2..m+1 of every neighbour in
 /// the batch, one candidate at a time and all neighbours at once.
@@ -157,7 +160,7 @@ enum class ChainRule { ProjectionWeighted, LargestEdgeNorm, ChainMean };
 /// w's norm is recovered from edge 1's, the mean of v's and w's (used only
 /// where the norm's edge rule is that mean: EdgeRuleIsMean).
 /// A constant norm gives exactly |E| ||Ebar|| = ||E|| with every rule.
-template <ChainRule Rule, class Norm>
+template <ChainScreen Screen, class Norm>
 STVD_ALWAYS_INLINE void screenChainCandidates(const ChainMemory<Norm>& chain, const NeighborBatch<Norm>& batch,
                                               CandidateScreen<Norm>& screen) {
   constexpr int kCapacity = NeighborBatch<Norm>::kCapacity;
@@ -167,7 +170,7 @@ STVD_ALWAYS_INLINE void screenChainCandidates(const ChainMemory<Norm>& chain, co
     const int i = lane + 2;  // candidate i sums edges 1..i
     const float bx = chain.backX[lane], by = chain.backY[lane], bz = chain.backZ[lane];
     float* out = screen.length[lane];
-    if constexpr (Rule == ChainRule::ChainMean) {
+    if constexpr (Screen == ChainScreen::ChainMean) {
       // The mean of the tensors of c_0 .. c_{i-1} and w is
       // (S + 2 G_e - G_v) / (i + 1), S the sum of the first i, G_e edge 1's
       // norm (the mean of G_v and G_w): scale * G_e + shift.
@@ -194,7 +197,7 @@ STVD_ALWAYS_INLINE void screenChainCandidates(const ChainMemory<Norm>& chain, co
       uz[n] = ez * inv;
       // Edge 1 (v -> w) belongs to every candidate.
       const float norm1 = Norm::length(batch.edgeNorm(n), ux[n], uy[n], uz[n]);
-      if constexpr (Rule == ChainRule::ProjectionWeighted)
+      if constexpr (Screen == ChainScreen::ProjectionWeighted)
         acc[n] = (batch.ex[n] * ux[n] + batch.ey[n] * uy[n] + batch.ez[n] * uz[n]) * norm1;
       else
         acc[n] = norm1;
@@ -205,7 +208,7 @@ STVD_ALWAYS_INLINE void screenChainCandidates(const ChainMemory<Norm>& chain, co
       STVD_SIMD_LOOP
       for (int n = 0; n < size; ++n) {
         const float normJ = Norm::length(gj, ux[n], uy[n], uz[n]);
-        if constexpr (Rule == ChainRule::ProjectionWeighted)
+        if constexpr (Screen == ChainScreen::ProjectionWeighted)
           acc[n] += (ej.x * ux[n] + ej.y * uy[n] + ej.z * uz[n]) * normJ;
         else
           acc[n] = std::max(acc[n], normJ);
@@ -213,7 +216,7 @@ STVD_ALWAYS_INLINE void screenChainCandidates(const ChainMemory<Norm>& chain, co
     }
     STVD_SIMD_LOOP
     for (int n = 0; n < size; ++n)
-      out[n] = Rule == ChainRule::ProjectionWeighted ? std::max(acc[n], 0.f) : length[n] * acc[n];
+      out[n] = Screen == ChainScreen::ProjectionWeighted ? std::max(acc[n], 0.f) : length[n] * acc[n];
   }
 }
 

@@ -43,9 +43,12 @@ CandidatePath<Domain, Norm> makeCandidatePath(const Domain& domain, const Metric
     return CandidatePath<Domain, Norm>(domain, metric);
 }
 
-template <class Domain, class Norm, bool Deferred>
+/// One run of propagate(). SegmentMeasure: ChainMeasure::Segment on a domain
+/// that measures along paths, with deferred measurement and the 32-byte
+/// record; otherwise Dijkstra or a chain rule, with the 16-byte record.
+template <class Domain, class Norm, bool SegmentMeasure>
 class Propagation {
-  using VertexState = VertexRecord<Deferred>;
+  using VertexState = VertexRecord<SegmentMeasure>;
 
  public:
   Propagation(const Domain& domain, const MetricField<Norm>& metric,
@@ -60,7 +63,7 @@ class Propagation {
 
   PropagationResult run(const std::vector<VertexId>& sources) {
     for (const VertexId s : sources) {
-      if constexpr (Deferred) {
+      if constexpr (SegmentMeasure) {
         state_[s].measured = 0.0;
         state_[s].open.key = 0.0;
       } else {
@@ -81,21 +84,21 @@ class Propagation {
     // STVD with k = 1 runs the vector code with an empty memory; that it
     // matches Dijkstra bit for bit is tested.
     const int k = memoryDepth<Domain>(options_);
-    if constexpr (Deferred) {
+    if constexpr (SegmentMeasure) {
       if (options_.segmentScreen == SegmentScreen::ChainMean && ChainUnfolding<Domain>::kEdgeNormIsMean &&
           EdgeRuleIsMean<Norm>::value)
-        runVector<ChainRule::ChainMean>(k, isTarget, remainingTargets);
+        runVector<ChainScreen::ChainMean>(k, isTarget, remainingTargets);
       else
-        runVector<ChainRule::ProjectionWeighted>(k, isTarget, remainingTargets);
+        runVector<ChainScreen::ProjectionWeighted>(k, isTarget, remainingTargets);
     } else if (options_.method == Method::Dijkstra) {
       loop(isTarget, remainingTargets, [this](VertexId v) { relaxDijkstra(v); });
     } else if (options_.chainMeasure == ChainMeasure::ProjectionWeighted) {
-      runVector<ChainRule::ProjectionWeighted>(k, isTarget, remainingTargets);
+      runVector<ChainScreen::ProjectionWeighted>(k, isTarget, remainingTargets);
     } else {
       // LargestEdgeNorm, and the segment measure on a domain that cannot
       // measure along a path (CandidatePath), which falls back to the rule
       // that cannot go below the admissible bound.
-      runVector<ChainRule::LargestEdgeNorm>(k, isTarget, remainingTargets);
+      runVector<ChainScreen::LargestEdgeNorm>(k, isTarget, remainingTargets);
     }
 
     PropagationResult result;
@@ -107,7 +110,7 @@ class Propagation {
     result.predecessor = std::vector<VertexId>(domain_.vertexCount(), kNoVertex);
     for (VertexId v = 0; v < domain_.vertexCount(); ++v) {
       if (queue_.isFinal(v)) {
-        if (Deferred && state_[v].finalDistance() > options_.maxDistance) {
+        if (SegmentMeasure && state_[v].finalDistance() > options_.maxDistance) {
           --finalized_;  // settled a little beyond the limit: not reached
           continue;
         }
@@ -128,9 +131,9 @@ class Propagation {
   }
 
  private:
-  template <ChainRule Rule>
+  template <ChainScreen Screen>
   void runVector(int k, const std::vector<std::uint8_t>& isTarget, std::size_t remainingTargets) {
-    loop(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<Rule>(v, k); });
+    loop(isTarget, remainingTargets, [this, k](VertexId v) { relaxVector<Screen>(v, k); });
   }
 
   template <class Relax>
@@ -141,14 +144,14 @@ class Propagation {
     progress.domainVertices = domain_.domainVertexCount();
     while (!queue_.empty()) {
       if (queue_.minKey() > options_.maxDistance) {
-        // Deferred: a key may be a screened estimate, and a candidate
+        // Segment measure: a key may be a screened estimate, and a candidate
         // screened above the limit may measure below it; measure it before
         // stopping, so that a limit at a full run's largest distance
         // completes that run. (A vertex settled a little beyond the limit is
         // reported unreachable, run(), so that a run with a limit finalises
         // what a full run finalises first.)
         bool stop = true;
-        if constexpr (Deferred) {
+        if constexpr (SegmentMeasure) {
           if (state_[queue_.minVertex()].open.pendingBase != kNoVertex) {
             if (!settleMin()) continue;  // queued again with its measured distance
             stop = state_[queue_.minVertex()].finalDistance() > options_.maxDistance;
@@ -158,14 +161,14 @@ class Propagation {
           termination_ = Termination::MaxDistanceReached;
           break;
         }
-      } else if constexpr (Deferred) {
+      } else if constexpr (SegmentMeasure) {
         if (!settleMin()) continue;
       }
       const VertexId v = queue_.popMin();
       ++finalized_;
       if (!queue_.empty()) {
         prefetchNeighborhood(queue_.minVertex());
-        if constexpr (Deferred) prefetchPending(queue_.minVertex());
+        if constexpr (SegmentMeasure) prefetchPending(queue_.minVertex());
       }
       if (!isTarget.empty() && isTarget[v] && --remainingTargets == 0) {
         termination_ = Termination::TargetsReached;
@@ -222,7 +225,7 @@ class Propagation {
   // the front is straight. Only a grid's numbering makes that guess
   // meaningful (DomainHooks::kChainContinuesAlongStep).
   STVD_ALWAYS_INLINE void prefetchChain(VertexId u) {
-    if constexpr (Deferred) {
+    if constexpr (SegmentMeasure) {
       // Here the chain is known exactly: c_1's record (one of u's
       // neighbours, asked for with them) holds c_2 onwards.
       const VertexId p1 = state_[u].predecessor;
@@ -310,7 +313,7 @@ class Propagation {
   STVD_ALWAYS_INLINE int gatherChain(VertexId v, int k, VertexId* chain) {
     chain[0] = v;
     int count = 1;
-    if constexpr (Deferred) {
+    if constexpr (SegmentMeasure) {
       constexpr int kStored = VertexState::kStoredAncestors;
       VertexState& sv = state_[v];
       const VertexId p1 = sv.predecessor;
@@ -338,7 +341,7 @@ class Propagation {
   // value is the candidate's length, otherwise the best candidate that could
   // still win is measured along its path. Either way a candidate whose path
   // leaves the domain is refused and the next one tried.
-  template <ChainRule Rule>
+  template <ChainScreen Screen>
   STVD_HOT_LOOP void relaxVector(VertexId v, int k) {
     VertexId chain[kMaxMemoryDepth];
     const int count = gatherChain(v, k, chain);
@@ -348,7 +351,7 @@ class Propagation {
     ChainUnfolding<Domain>::place(domain_, chain, count, p);
     // The chain's edges and their norms, which the two chain rules measure
     // with (the chain-mean screen needs only the vertices' norms).
-    if constexpr (Rule != ChainRule::ChainMean) {
+    if constexpr (Screen != ChainScreen::ChainMean) {
       for (int j = 2; j <= count; ++j) {
         memory.edge[j] = p[j - 2] - p[j - 1];
         // The norm in the unfolded frame (Norm::edgeParams of the end points
@@ -364,7 +367,7 @@ class Propagation {
       memory.backZ[lane] = p[lane + 1].z;
       memory.baseDistance[lane] = state_[chain[lane + 1]].finalDistance();
     }
-    if constexpr (Rule == ChainRule::ChainMean) {
+    if constexpr (Screen == ChainScreen::ChainMean) {
       std::memcpy(memory.vertexNorm, &metric_[v], sizeof memory.vertexNorm);
       constexpr int kFloats = ChainMemory<Norm>::kNormFloats;
       float sum[kFloats];
@@ -384,20 +387,20 @@ class Propagation {
     forEachNeighborBatch(v, batch, [&](NeighborBatch<Norm>& b) STVD_ALWAYS_INLINE_LAMBDA {
       // i = 1 is the Dijkstra term, measured exactly as Dijkstra measures it.
       b.setDijkstraCandidates(dv);
-      if constexpr (Deferred) {
+      if constexpr (SegmentMeasure) {
         if (count == 1) keepDijkstraTerms(v, b);
       }
       if (count > 1) {
         CandidateScreen<Norm> screen;
-        screenChainCandidates<Rule>(memory, b, screen);
-        if constexpr (Deferred)
+        screenChainCandidates<Screen>(memory, b, screen);
+        if constexpr (SegmentMeasure)
           keepBestScreenedCandidates(v, memory, b, screen, mayRefuse);
         else if (mayRefuse)
           acceptBestCandidates(memory, b, screen);
         else
           lowerToScreenedCandidates(memory, b, screen);
       }
-      if constexpr (Deferred)
+      if constexpr (SegmentMeasure)
         applyDeferred(v, b, chain);
       else
         applyCandidates(v, b);
@@ -441,7 +444,7 @@ class Propagation {
     }
   }
 
-  // ChainMeasure::Segment, deferred measurement (Deferred = true).
+  // ChainMeasure::Segment, deferred measurement (SegmentMeasure = true).
   // Measuring a candidate along its path costs several times its screen,
   // and a vertex is relaxed from a dozen neighbours whose best candidates
   // differ by fractions of a percent, so measuring at every relaxation would
@@ -617,7 +620,7 @@ class Propagation {
   const PropagationOptions& options_;
   // FrontQueue finds the slot of vertex v at word v << kRecordWordsLog2
   // from the first record's slot.
-  static constexpr unsigned kRecordWordsLog2 = Deferred ? 3 : 2;
+  static constexpr unsigned kRecordWordsLog2 = SegmentMeasure ? 3 : 2;
   static_assert(sizeof(VertexState) == sizeof(std::uint32_t) << kRecordWordsLog2,
                 "one record per 16 or 32 bytes");
   // Prefetching needs the domain's runs of neighbour numbers: rows of the

@@ -14,8 +14,9 @@ namespace detail {
 
 /// What the propagation knows of a vertex, in one record: a neighbour's
 /// distance and queue slot are read together, and with separate arrays each
-/// look at a neighbour costs several cache lines.
-template <bool Deferred>
+/// look at a neighbour costs several cache lines. SegmentMeasure: whether
+/// the run is ChainMeasure::Segment's, with its deferred measurement.
+template <bool SegmentMeasure>
 struct VertexRecord;
 
 /// Dijkstra and the chain rules: 16 bytes.
