@@ -16,7 +16,7 @@
 #include "stvd/system/files/file_contents.hpp"
 #include "stvd/system/files/output_transaction.hpp"
 #include "stvd/voxel_grid/path_tracing.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/scalar_image.hpp"
 #include "stvd/imaging/streamline_io.hpp"
 #include "stvd/imaging/tensor_metric.hpp"

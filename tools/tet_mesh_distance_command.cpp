@@ -13,7 +13,7 @@
 #include "memory_check.hpp"
 #include "tool_run_files.hpp"
 #include "stvd/system/files/output_transaction.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/metric_sampling.hpp"
 #include "stvd/imaging/scalar_image.hpp"
 #include "stvd/imaging/tensor_frames.hpp"

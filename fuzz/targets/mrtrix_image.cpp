@@ -4,7 +4,7 @@
 // tensor volume, the three roles an MRtrix image has in stvd. A reader that
 // returns must return one value (or tensor) per voxel of its grid.
 #include "fuzz_input_file.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/scalar_image.hpp"
 #include "stvd/imaging/tensor_volume.hpp"
 

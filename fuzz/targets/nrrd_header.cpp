@@ -7,7 +7,7 @@
 #include "nrrd_header.hpp"
 #include "fuzz_input_file.hpp"
 #include "stvd/imaging/image_files.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const stvd::fuzz::FuzzInputFile input("header.nrrd", data, size);

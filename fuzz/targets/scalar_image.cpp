@@ -3,7 +3,7 @@
 // picks the extension (image_file_kinds.hpp).
 #include "fuzz_input_file.hpp"
 #include "image_file_kinds.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/scalar_image.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -7,7 +7,7 @@
 #include "bindings.hpp"
 #include "stvd/cell_mesh/cell_mesh_domain.hpp"
 #include "stvd/voxel_grid/path_tracing.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/tensor_input.hpp"
 #include "stvd/imaging/tensor_metric.hpp"
 #include "stvd/front_end/propagation_choice.hpp"

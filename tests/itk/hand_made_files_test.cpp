@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "known_field.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/tensor_metric.hpp"
 #include "stvd/imaging/tensor_volume.hpp"
 #include "stvd/propagation/propagation.hpp"

@@ -15,7 +15,7 @@
 #include <sstream>
 
 #include "known_field.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/scalar_image.hpp"
 #include "stvd/imaging/tensor_volume.hpp"
 #include "test_support.hpp"

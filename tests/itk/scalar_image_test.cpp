@@ -4,7 +4,7 @@
 
 #include <fstream>
 
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/scalar_image.hpp"
 #include "test_support.hpp"
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/streamline_io.hpp"
 #include "stvd/imaging/tensor_arrays.hpp"
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <tuple>
 
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/tensor_volume.hpp"
 #include "test_support.hpp"
 

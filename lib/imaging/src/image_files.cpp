@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "stvd/system/files/file_identity.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/mrtrix_image.hpp"
 
 namespace fs = std::filesystem;

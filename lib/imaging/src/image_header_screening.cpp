@@ -17,7 +17,7 @@
 #include <memory>
 #include <sstream>
 
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/system/memory.hpp"
 
 namespace stvd::imaging::detail {

@@ -19,7 +19,7 @@
 #include "stvd/imaging/detail/image_header_screening.hpp"
 #include "stvd/system/files/file_contents.hpp"
 #include "stvd/system/files/output_transaction.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/label_values.hpp"
 
 namespace stvd::imaging {

@@ -9,7 +9,7 @@
 
 #include "stvd/system/files/file_contents.hpp"
 #include "stvd/system/files/output_transaction.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "written_files.hpp"
 
 namespace stvd::imaging {

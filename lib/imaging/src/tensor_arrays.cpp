@@ -4,7 +4,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 
 namespace stvd::imaging {
 

@@ -22,7 +22,7 @@
 #include <stdexcept>
 
 #include "library_messages.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 
 
 namespace stvd::imaging::detail {

@@ -10,7 +10,7 @@
 #include "written_files.hpp"
 #include "stvd/system/files/output_transaction.hpp"
 #include "stvd/imaging/image_files.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/label_values.hpp"
 #include "stvd/imaging/mrtrix_image.hpp"
 #include "stvd/imaging/scalar_image.hpp"

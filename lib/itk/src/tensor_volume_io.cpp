@@ -12,7 +12,7 @@
 #include "nrrd_header.hpp"
 #include "written_files.hpp"
 #include "stvd/imaging/image_files.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/mrtrix_image.hpp"
 #include "stvd/imaging/tensor_arrays.hpp"
 #include "stvd/imaging/tensor_volume.hpp"

@@ -8,7 +8,7 @@
 
 #include "itk_io_support.hpp"
 #include "stvd/system/files/output_transaction.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/imaging/mrtrix_image.hpp"
 
 namespace stvd::imaging::detail {

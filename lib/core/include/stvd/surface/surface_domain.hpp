@@ -13,19 +13,11 @@
 #include <vector>
 
 #include "stvd/detail/compiler.hpp"
+#include "stvd/errors.hpp"
 #include "stvd/metric/metric_field.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd {
-
-/// Input that is not an orientable 2-manifold polygon surface (an index out
-/// of range, a face with fewer than 3 or repeated vertices, an edge shared
-/// by more than two faces, a vertex whose faces form several fans, a
-/// non-orientable surface). what() names the face, edge or vertex.
-class SurfaceError : public std::invalid_argument {
- public:
-  using std::invalid_argument::invalid_argument;
-};
 
 /// Faces as polygons: `faceStart` has faceCount + 1 entries and face f is
 /// `faceVertex[faceStart[f] .. faceStart[f + 1])`, in order around the face.

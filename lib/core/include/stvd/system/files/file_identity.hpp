@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "stvd/errors.hpp"
+
 namespace stvd::files {
 
 /// A file a run reads or writes, with what it is to the run, for messages:
@@ -18,13 +20,6 @@ namespace stvd::files {
 struct RunFile {
   std::string role;
   std::string path;
-};
-
-/// An output that is one of the inputs, or another output. what() is one
-/// line: "<output path>: the <output role> is the <other role> (...)".
-class FileConflict : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
 };
 
 /// True when `a` and `b` name the same file, however they are spelled:

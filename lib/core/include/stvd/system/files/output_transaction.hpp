@@ -19,18 +19,9 @@
 #include <string>
 #include <vector>
 
+#include "stvd/errors.hpp"
+
 namespace stvd::files {
-
-/// An output that cannot be written. what() is one line: "<path>: <problem>".
-class OutputError : public std::runtime_error {
- public:
-  OutputError(const std::string& path, const std::string& problem)
-      : std::runtime_error(path + ": " + problem), path_(path) {}
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
 
 /// Throws OutputError naming `path` when it cannot become an output file:
 /// its folder does not exist, is not a folder, or is not writable, or
