@@ -16,6 +16,7 @@
 #include "stvd/imaging/mrtrix_image.hpp"
 #include "stvd/imaging/scalar_image.hpp"
 #include "stvd/front_end/propagation_choice.hpp"
+#include "stvd/itk/tensor_input_io.hpp"
 
 namespace stvd::tool {
 

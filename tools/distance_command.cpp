@@ -18,7 +18,7 @@
 #include "run_statistics.hpp"
 #include "stvd/system/files/file_contents.hpp"
 #include "stvd/system/files/output_transaction.hpp"
-#include "stvd/imaging/scalar_image.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
 #include "stvd/imaging/symmetric_eigen.hpp"
 #include "stvd/imaging/tensor_frames.hpp"
 #include "stvd/propagation/propagation.hpp"

@@ -1,6 +1,6 @@
 #include "geodesic_options.hpp"
 
-#include "stvd/imaging/scalar_image.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
 
 namespace stvd::tool {
 

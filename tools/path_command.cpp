@@ -17,7 +17,7 @@
 #include "stvd/system/files/output_transaction.hpp"
 #include "stvd/voxel_grid/path_tracing.hpp"
 #include "stvd/errors.hpp"
-#include "stvd/imaging/scalar_image.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
 #include "stvd/imaging/streamline_io.hpp"
 #include "stvd/imaging/tensor_metric.hpp"
 #include "stvd/voxel_grid/stencil.hpp"

@@ -15,7 +15,7 @@
 #include "stvd/system/files/output_transaction.hpp"
 #include "stvd/errors.hpp"
 #include "stvd/imaging/metric_sampling.hpp"
-#include "stvd/imaging/scalar_image.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
 #include "stvd/imaging/tensor_frames.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"

@@ -5,8 +5,8 @@
 // returns must return one value (or tensor) per voxel of its grid.
 #include "fuzz_input_file.hpp"
 #include "stvd/errors.hpp"
-#include "stvd/imaging/scalar_image.hpp"
-#include "stvd/imaging/tensor_volume.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const stvd::fuzz::FuzzInputFile input("image.mif", data, size);

@@ -4,7 +4,7 @@
 #include "fuzz_input_file.hpp"
 #include "image_file_kinds.hpp"
 #include "stvd/errors.hpp"
-#include "stvd/imaging/scalar_image.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;

@@ -5,7 +5,7 @@
 #include "fuzz_input_file.hpp"
 #include "image_file_kinds.hpp"
 #include "stvd/errors.hpp"
-#include "stvd/imaging/tensor_volume.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;

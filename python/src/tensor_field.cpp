@@ -9,6 +9,8 @@
 #include "array_access.hpp"
 #include "stvd/imaging/tensor_arrays.hpp"
 #include "stvd/imaging/tensor_metric.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
 
 namespace stvd::python {
 

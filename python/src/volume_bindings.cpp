@@ -19,7 +19,7 @@
 #include "propagation_keywords.hpp"
 #include "stvd/system/files/output_transaction.hpp"
 #include "stvd/voxel_grid/path_tracing.hpp"
-#include "stvd/imaging/scalar_image.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
 #include "stvd/imaging/seed_voxels.hpp"
 #include "stvd/imaging/streamline_io.hpp"
 #include "stvd/voxel_grid/label_regions.hpp"

@@ -7,7 +7,7 @@
 #include "known_field.hpp"
 #include "stvd/errors.hpp"
 #include "stvd/imaging/tensor_metric.hpp"
-#include "stvd/imaging/tensor_volume.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 

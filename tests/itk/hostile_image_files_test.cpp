@@ -16,8 +16,8 @@
 
 #include "known_field.hpp"
 #include "stvd/errors.hpp"
-#include "stvd/imaging/scalar_image.hpp"
-#include "stvd/imaging/tensor_volume.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
 #include "test_support.hpp"
 
 namespace stvd::testing {

@@ -5,7 +5,7 @@
 #include <fstream>
 
 #include "stvd/errors.hpp"
-#include "stvd/imaging/scalar_image.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
 #include "test_support.hpp"
 
 namespace stvd::imaging {

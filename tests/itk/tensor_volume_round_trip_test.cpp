@@ -6,7 +6,7 @@
 #include <tuple>
 
 #include "stvd/errors.hpp"
-#include "stvd/imaging/tensor_volume.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
 #include "test_support.hpp"
 
 namespace stvd::imaging {

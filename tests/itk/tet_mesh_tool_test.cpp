@@ -19,7 +19,7 @@
 #include <map>
 #include <sstream>
 
-#include "stvd/imaging/scalar_image.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
 #include "kuhn_cube.hpp"

@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "known_field.hpp"
-#include "stvd/imaging/scalar_image.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
 #include "stvd/imaging/tensor_volume.hpp"
 #include "test_support.hpp"
 

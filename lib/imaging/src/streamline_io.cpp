@@ -10,7 +10,7 @@
 #include "stvd/system/files/file_contents.hpp"
 #include "stvd/system/files/output_transaction.hpp"
 #include "stvd/errors.hpp"
-#include "written_files.hpp"
+#include "stvd/imaging/detail/image_output.hpp"
 
 namespace stvd::imaging {
 namespace {

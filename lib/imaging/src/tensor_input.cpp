@@ -53,12 +53,6 @@ TensorInput tensorInputOf(TensorReadResult read, const std::string& name) {
   return input;
 }
 
-TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options) {
-  TensorInput input = tensorInputOf(readTensorVolume(path, {options.order, options.frame}), path);
-  if (!options.maskPath.empty()) addMask(input, readScalarImage(options.maskPath), options.maskPath, path);
-  return input;
-}
-
 void addMask(TensorInput& input, const ScalarImage& mask, const std::string& maskName, const std::string& inputName) {
   for (const std::string& w : mask.warnings) input.warnings.push_back(maskName + ": " + w);
   requireSameGrid(mask.geometry, input.read.volume.geometry, maskName, "the mask is", inputName);

@@ -100,14 +100,4 @@ void checkWrittenImage(const std::string& path, const std::string& reportedPath,
     checkReadsBack(path, reportedPath, components, [&] { return readMrtrixImage(path).values; });
 }
 
-void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write) {
-  try {
-    files::writeAtomically(path, write);
-  } catch (const files::OutputError& e) {
-    std::string problem = e.what();
-    problem.erase(0, e.path().size() + 2);
-    throw ImageIoError(path, problem);
-  }
-}
-
 }  // namespace stvd::imaging::detail

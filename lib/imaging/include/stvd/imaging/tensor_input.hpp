@@ -1,6 +1,7 @@
 // A tensor volume as stvd's front ends take it in: the tensors (read from a
-// file, or converted from arrays, tensor_arrays.hpp) with the mask that
-// restricts the domain, and how the metric is to be made from them.
+// file, stvd/itk/tensor_input_io.hpp, or converted from arrays,
+// tensor_arrays.hpp) with the mask that restricts the domain, and how the
+// metric is to be made from them.
 #pragma once
 
 #include <cstdint>
@@ -63,11 +64,6 @@ struct TensorInput {
 /// The input of tensors as read (from a file named `name`, or converted
 /// from arrays): the file's own mask, if any, and its warnings.
 TensorInput tensorInputOf(TensorReadResult read, const std::string& name);
-
-/// Reads the tensor file and, when options.maskPath is set, the mask file.
-/// Throws ImageIoError naming the file: unreadable, wrong layout, or a mask
-/// on another grid.
-TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options);
 
 /// Restricts `input` to the voxels where `mask` is neither zero nor NaN,
 /// and takes on the mask's warnings. `maskName` and `inputName` name the

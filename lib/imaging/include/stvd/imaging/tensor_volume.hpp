@@ -1,5 +1,7 @@
-// Tensor volumes on disk (NIfTI and NRRD, read and written through ITK) and
-// in memory (an ITK-free struct the core can use directly).
+// Tensor volumes in memory (an ITK-free struct the core can use directly),
+// with what a file said about them and how to read and write them. The
+// files themselves: stvd/itk/tensor_volume_io.hpp (NIfTI and NRRD through
+// ITK, MRtrix through mrtrix_image.hpp).
 //
 // Frames. Every TensorVolume in memory holds its tensors in the physical
 // LPS frame of its geometry: the frame ITK uses for image geometry, and the
@@ -78,17 +80,6 @@ struct TensorReadResult {
   TensorFileInfo info;
 };
 
-/// Reads a tensor volume from a .nii, .nii.gz, .nrrd, .nhdr, .mif, .mif.gz
-/// or .mih file (MRtrix: X Y Z 6, order mrtrix unless stated) and brings
-/// its tensors into the LPS frame. The header is checked before the file's
-/// data are read (see docs/reliability.md). A tensor with a NaN or infinite
-/// component in the file is NaN in every component, whatever the format
-/// (niftilib would have turned it into zeros). Throws ImageIoError with a
-/// one-line message naming the file: unreadable, truncated or hostile file,
-/// not a tensor layout (scalar image, wrong component count), a 4D NIfTI
-/// without an order, an order that contradicts the file.
-TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options = {});
-
 struct TensorWriteOptions {
   /// NIfTI: NiftiSymMatrix5D or NiftiSixVolumes; NRRD: NrrdSymMatrix;
   /// .mif, .mif.gz: MrtrixSixVolumes.
@@ -101,11 +92,5 @@ struct TensorWriteOptions {
   /// measurement frame).
   TensorFrame frame = TensorFrame::Voxel;
 };
-
-/// Writes `volume` (tensors in LPS) as float32 in the given layout, order
-/// and frame, atomically and checked as writeScalarImage writes (see
-/// scalar_image.hpp). The mask is not written. Throws ImageIoError.
-void writeTensorVolume(const std::string& path, const TensorVolume& volume,
-                       const TensorWriteOptions& options);
 
 }  // namespace stvd::imaging
