@@ -11,12 +11,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "stvd/voxel_grid/grid_geometry.hpp"
-#include "stvd/metric/metric_field.hpp"
-#include "stvd/propagation/propagation.hpp"
-#include "stvd/voxel_grid/stencil.hpp"
-#include "stvd/voxel_grid/voxel_grid_domain.hpp"
-#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/stvd.hpp"
 
 namespace {
 
