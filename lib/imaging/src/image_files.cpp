@@ -6,9 +6,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "stvd/system/files/file_identity.hpp"
 #include "stvd/errors.hpp"
 #include "stvd/imaging/mrtrix_image.hpp"
+#include "stvd/system/files/file_identity.hpp"
 
 namespace fs = std::filesystem;
 

@@ -16,11 +16,11 @@
 #include <memory>
 #include <sstream>
 
+#include "stvd/errors.hpp"
 #include "stvd/imaging/detail/image_header_screening.hpp"
+#include "stvd/imaging/label_values.hpp"
 #include "stvd/system/files/file_contents.hpp"
 #include "stvd/system/files/output_transaction.hpp"
-#include "stvd/errors.hpp"
-#include "stvd/imaging/label_values.hpp"
 
 namespace stvd::imaging {
 namespace {

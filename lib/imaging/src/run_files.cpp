@@ -1,7 +1,7 @@
 #include "stvd/imaging/run_files.hpp"
 
-#include "stvd/system/files/output_transaction.hpp"
 #include "stvd/imaging/image_files.hpp"
+#include "stvd/system/files/output_transaction.hpp"
 
 namespace stvd::imaging {
 namespace {

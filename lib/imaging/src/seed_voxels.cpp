@@ -4,9 +4,9 @@
 #include <cmath>
 
 #include "stvd/errors.hpp"
+#include "stvd/front_end/number_text.hpp"
 #include "stvd/imaging/symmetric_eigen.hpp"
 #include "stvd/voxel_grid/label_regions.hpp"
-#include "stvd/front_end/number_text.hpp"
 
 namespace stvd::imaging {
 

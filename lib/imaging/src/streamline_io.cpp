@@ -7,10 +7,10 @@
 #include <limits>
 #include <sstream>
 
-#include "stvd/system/files/file_contents.hpp"
-#include "stvd/system/files/output_transaction.hpp"
 #include "stvd/errors.hpp"
 #include "stvd/imaging/detail/image_output.hpp"
+#include "stvd/system/files/file_contents.hpp"
+#include "stvd/system/files/output_transaction.hpp"
 
 namespace stvd::imaging {
 namespace {

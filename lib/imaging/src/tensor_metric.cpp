@@ -72,7 +72,7 @@ MetricFromTensors buildMetric(const std::vector<SymTensor3>& tensors, const std:
   MetricFromTensors out;
   const std::size_t n = tensors.size();
   // Read per neighbour in the propagation's inner loop: huge pages
-  // (stvd/large_array.hpp).
+  // (stvd/system/large_array.hpp).
   out.metric = makeLargeArray(n, SymTensor3{1.f, 0.f, 0.f, 1.f, 0.f, 1.f});
   out.inDomain.assign(n, 0);
   MetricVoxelCounts& c = out.counts;

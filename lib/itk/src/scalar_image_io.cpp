@@ -9,13 +9,13 @@
 #include <sstream>
 
 #include "itk_io_support.hpp"
-#include "stvd/imaging/detail/image_output.hpp"
-#include "written_files.hpp"
-#include "stvd/system/files/output_transaction.hpp"
-#include "stvd/imaging/image_files.hpp"
 #include "stvd/errors.hpp"
+#include "stvd/imaging/detail/image_output.hpp"
+#include "stvd/imaging/image_files.hpp"
 #include "stvd/imaging/label_values.hpp"
 #include "stvd/imaging/mrtrix_image.hpp"
+#include "stvd/system/files/output_transaction.hpp"
+#include "written_files.hpp"
 
 namespace stvd::imaging {
 

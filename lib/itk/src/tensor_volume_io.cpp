@@ -10,13 +10,13 @@
 
 #include "itk_io_support.hpp"
 #include "nrrd_header.hpp"
-#include "stvd/imaging/detail/image_output.hpp"
-#include "written_files.hpp"
-#include "stvd/imaging/image_files.hpp"
 #include "stvd/errors.hpp"
+#include "stvd/imaging/detail/image_output.hpp"
+#include "stvd/imaging/image_files.hpp"
 #include "stvd/imaging/mrtrix_image.hpp"
 #include "stvd/imaging/tensor_arrays.hpp"
 #include "stvd/itk/tensor_volume_io.hpp"
+#include "written_files.hpp"
 
 namespace stvd::imaging {
 namespace {

@@ -7,9 +7,9 @@
 #include <cstring>
 
 #include "itk_io_support.hpp"
-#include "stvd/system/files/output_transaction.hpp"
 #include "stvd/errors.hpp"
 #include "stvd/imaging/mrtrix_image.hpp"
+#include "stvd/system/files/output_transaction.hpp"
 
 namespace stvd::imaging::detail {
 namespace {

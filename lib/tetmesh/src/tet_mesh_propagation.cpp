@@ -4,12 +4,12 @@
 #include <utility>
 
 #include "stvd/cell_mesh/cell_mesh_domain.hpp"
-#include "stvd/errors.hpp"
-#include "stvd/metric/metric_field.hpp"
-#include "stvd/lanthier/lanthier_propagation.hpp"
-#include "stvd/cell_mesh/tetrahedral_cells.hpp"
-#include "stvd/tetmesh/vertex_order.hpp"
 #include "stvd/cell_mesh/cell_mesh_lanthier.hpp"
+#include "stvd/cell_mesh/tetrahedral_cells.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/metric/metric_field.hpp"
+#include "stvd/tetmesh/vertex_order.hpp"
 
 namespace stvd::tetmesh {
 

@@ -19,9 +19,10 @@
 #include "stvd/metric/metric_field.hpp"
 #include "stvd/metric/norms.hpp"
 
-// Propagation: options, results, propagate(); many source sets on threads;
-// Lanthier's method.
+// Propagation: options, results, propagate(); a vertex's predecessor chain;
+// many source sets on threads; Lanthier's method.
 #include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/propagation/predecessor_path.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/propagation/source_set_propagation.hpp"
 

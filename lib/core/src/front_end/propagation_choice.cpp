@@ -3,8 +3,8 @@
 #include <cmath>
 #include <limits>
 
-#include "stvd/voxel_grid/stencil.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/stencil.hpp"
 
 namespace stvd {
 

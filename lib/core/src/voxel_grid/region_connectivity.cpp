@@ -1,7 +1,7 @@
 #include "stvd/voxel_grid/region_connectivity.hpp"
 
-#include "stvd/voxel_grid/label_regions.hpp"
 #include "stvd/system/parallel_tasks.hpp"
+#include "stvd/voxel_grid/label_regions.hpp"
 
 namespace stvd {
 

@@ -10,8 +10,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "stvd/propagation/candidate_path.hpp"
 #include "stvd/cell_mesh/cell_mesh_domain.hpp"
+#include "stvd/propagation/candidate_path.hpp"
 #include "stvd/propagation/propagation.hpp"
 
 namespace stvd {

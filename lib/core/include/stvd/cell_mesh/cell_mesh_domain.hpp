@@ -7,8 +7,8 @@
 #include <optional>
 #include <vector>
 
-#include "stvd/detail/compiler.hpp"
 #include "stvd/cell_mesh/tetrahedral_region.hpp"
+#include "stvd/detail/compiler.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd {

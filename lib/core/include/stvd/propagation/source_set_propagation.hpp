@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "stvd/system/parallel_tasks.hpp"
 #include "stvd/propagation/propagation.hpp"
+#include "stvd/system/parallel_tasks.hpp"
 
 namespace stvd {
 

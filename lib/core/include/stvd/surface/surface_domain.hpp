@@ -97,7 +97,7 @@ class SurfaceDomain {
   /// turning by it is one complex product. The last entry of a boundary fan
   /// has no face after it (kNoFace, angle 0). The true angles unfold faces
   /// isometrically, as the STVD candidates' paths need them
-  /// (CandidatePath<SurfaceDomain, ...>); one record per entry, so that a
+  /// (SurfaceCandidatePath); one record per entry, so that a
   /// fan is read from one or two cache lines.
   struct RingCorner {
     double cos, sin, length;

@@ -8,20 +8,14 @@
 #include <cstdint>
 #include <vector>
 
-#include "stvd/voxel_grid/path_refinement.hpp"
 #include "stvd/metric/metric_field.hpp"
+#include "stvd/propagation/predecessor_path.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/types.hpp"
+#include "stvd/voxel_grid/path_refinement.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
 
 namespace stvd {
-
-/// The predecessor chain of `target`, from its source (first) to `target`
-/// (last). Empty when the target has no finite distance. Throws
-/// std::invalid_argument when `target` is out of range and std::logic_error
-/// when the chain does not end at a vertex of distance 0 within vertexCount
-/// steps (a corrupt predecessor array).
-std::vector<VertexId> predecessorPath(const PropagationResult& result, VertexId target);
 
 /// Why the gradient descent handed over to the predecessor chain.
 enum class PathFallback {

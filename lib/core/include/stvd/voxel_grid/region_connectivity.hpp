@@ -9,9 +9,9 @@
 #include <limits>
 #include <vector>
 
-#include "stvd/voxel_grid/path_tracing.hpp"
 #include "stvd/metric/metric_field.hpp"
 #include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/path_tracing.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
 
 namespace stvd {

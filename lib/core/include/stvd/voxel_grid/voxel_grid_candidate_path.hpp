@@ -10,8 +10,8 @@
 #include <cstring>
 #include <type_traits>
 
-#include "stvd/propagation/candidate_path.hpp"
 #include "stvd/metric/norms.hpp"
+#include "stvd/propagation/candidate_path.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
 

@@ -7,9 +7,9 @@
 #include <cstdlib>
 #include <vector>
 
+#include "stvd/types.hpp"
 #include "stvd/voxel_grid/grid_geometry.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
-#include "stvd/types.hpp"
 
 namespace stvd {
 

@@ -1,7 +1,7 @@
 // The files behind an image path: what reading it opens and what writing it
 // creates. A detached NRRD header and an MRtrix .mih header name data files
 // of their own, and a NIfTI pair is a header and an image file; an output must be none of an input's
-// files (stvd/files/file_identity.hpp), and writing an image must not
+// files (stvd/system/files/file_identity.hpp), and writing an image must not
 // replace a file that is not part of it.
 #pragma once
 

@@ -1,5 +1,5 @@
 // What a stored value means as a label, whatever it comes from: the rules of
-// readLabelImage (scalar_image.hpp), shared by the ITK path, the MRtrix
+// readLabelImage (stvd/itk/scalar_image_io.hpp), shared by the ITK path, the MRtrix
 // reader and label arrays in memory (the Python package's).
 #pragma once
 

@@ -13,8 +13,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "stvd/voxel_grid/grid_geometry.hpp"
 #include "stvd/types.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
 
 namespace stvd::imaging {
 

@@ -76,7 +76,7 @@ struct MrtrixLabelImage {
   GridGeometry geometry;
   /// Every label in logical order: integer datatypes (Bit, [U]Int8-64)
   /// without scaling exactly; other values by the rules of readLabelImage
-  /// (scalar_image.hpp): integers of magnitude at most 2^53, NaN as 0.
+  /// (stvd/itk/scalar_image_io.hpp): integers of magnitude at most 2^53, NaN as 0.
   std::vector<std::int64_t> labels;
 };
 

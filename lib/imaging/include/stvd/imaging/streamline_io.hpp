@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "stvd/system/files/output_transaction.hpp"
-#include "stvd/voxel_grid/grid_geometry.hpp"
 #include "stvd/types.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
 
 namespace stvd::imaging {
 

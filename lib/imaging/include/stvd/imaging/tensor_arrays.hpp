@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "stvd/voxel_grid/grid_geometry.hpp"
 #include "stvd/imaging/tensor_frames.hpp"
 #include "stvd/imaging/tensor_layout.hpp"
 #include "stvd/imaging/tensor_volume.hpp"
 #include "stvd/types.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
 
 namespace stvd::imaging {
 

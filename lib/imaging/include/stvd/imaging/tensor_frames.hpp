@@ -3,8 +3,8 @@
 
 #include <array>
 
-#include "stvd/voxel_grid/grid_geometry.hpp"
 #include "stvd/types.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
 
 namespace stvd::imaging {
 

@@ -23,7 +23,7 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
 
 /// Writes `volume` (tensors in LPS) as float32 in the given layout, order
 /// and frame, atomically and checked as writeScalarImage writes (see
-/// scalar_image.hpp). The mask is not written. Throws ImageIoError.
+/// scalar_image_io.hpp). The mask is not written. Throws ImageIoError.
 void writeTensorVolume(const std::string& path, const TensorVolume& volume,
                        const TensorWriteOptions& options);
 

@@ -42,8 +42,8 @@
 #include <limits>
 #include <vector>
 
-#include "stvd/propagation/detail/chunked_lists.hpp"
 #include "stvd/detail/compiler.hpp"
+#include "stvd/propagation/detail/chunked_lists.hpp"
 #include "stvd/system/large_array.hpp"
 #include "stvd/types.hpp"
 
