@@ -12,6 +12,7 @@
 #include "stvd/itk/tensor_layout.hpp"
 #include "stvd/itk/tensor_metric.hpp"
 #include "stvd/itk/tensor_volume.hpp"
+#include "stvd/option_declarations.hpp"
 
 namespace stvd::imaging {
 
@@ -27,10 +28,15 @@ struct TensorInputOptions {
   /// Go on when the tensors look read in a wrong layout
   /// (implausibleTensorsReason, tensor_plausibility.hpp).
   bool acceptImplausible = false;
+  /// How messages about these options name them: the tool's flags, or the
+  /// Python package's keywords.
+  OptionNaming naming = OptionNaming::Flags;
 };
 
 // The setters take a value as the user gave it and throw OptionError with
-// the tool's message when it is not one of the accepted ones.
+// the tool's message when it is not one of the accepted ones (the checks of
+// the options' declarations, stvd/itk/tensor_input_options.hpp, which the
+// front ends use themselves through tensorInputOptionsOf).
 
 /// "lower" (alias "nifti"), "fsl" (alias "upper") or "mrtrix".
 void setTensorOrder(TensorInputOptions& options, const std::string& name);
