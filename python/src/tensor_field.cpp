@@ -8,6 +8,7 @@
 
 #include "array_access.hpp"
 #include "stvd/itk/tensor_arrays.hpp"
+#include "stvd/itk/tensor_input_options.hpp"
 #include "stvd/itk/tensor_metric.hpp"
 
 namespace stvd::python {
@@ -23,16 +24,19 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
                                           const std::optional<std::string>& diffusionMetric,
                                           const std::optional<double>& maxAnisotropy,
                                           const std::optional<double>& faThreshold, bool acceptImplausible) {
-  imaging::TensorInputOptions o;
-  o.acceptImplausible = acceptImplausible;
-  if (order) imaging::setTensorOrder(o, *order);
-  if (frame) imaging::setTensorFrame(o, *frame);
-  if (kind) imaging::setTensorKind(o, *kind);
-  if (diffusionMetric) imaging::setDiffusionMetric(o, *diffusionMetric);
-  if (maxAnisotropy) imaging::setMaxAnisotropy(o, *maxAnisotropy);
-  if (faThreshold) imaging::setFaThreshold(o, *faThreshold);
-  imaging::checkTensorInputOptions(o);
-  return o;
+  // Checked by the options' declarations, with messages in keyword names.
+  OptionValues values(OptionNaming::Keywords);
+  const auto option = [](const char* flag) -> const OptionDeclaration& { return imaging::tensorInputOption(flag); };
+  if (order) values.set(option("--tensor-order"), *order);
+  if (frame) values.set(option("--tensor-frame"), *frame);
+  if (kind) values.set(option("--tensor-kind"), *kind);
+  if (diffusionMetric) values.set(option("--diffusion-metric"), *diffusionMetric);
+  if (maxAnisotropy) values.set(option("--max-anisotropy"), *maxAnisotropy);
+  if (faThreshold) values.set(option("--fa-threshold"), *faThreshold);
+  if (acceptImplausible) values.set(option("--accept-implausible-tensors"), true);
+  const imaging::TensorInputOptions options = imaging::tensorInputOptionsOf(values);
+  imaging::checkTensorInputOptions(options);
+  return options;
 }
 
 std::string scalarImageName(const py::handle& spec) {

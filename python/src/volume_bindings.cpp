@@ -19,14 +19,18 @@
 #include "propagation_keywords.hpp"
 #include "stvd/files/output_transaction.hpp"
 #include "stvd/geodesic_path.hpp"
+#include "stvd/geodesic_path_options.hpp"
 #include "stvd/itk/scalar_image.hpp"
+#include "stvd/itk/seed_options.hpp"
 #include "stvd/itk/seed_voxels.hpp"
 #include "stvd/itk/streamline_io.hpp"
 #include "stvd/label_regions.hpp"
 #include "stvd/number_text.hpp"
 #include "stvd/parallel_tasks.hpp"
 #include "stvd/propagation_choice.hpp"
+#include "stvd/propagation_choice_options.hpp"
 #include "stvd/region_connectivity.hpp"
+#include "stvd/region_connectivity_options.hpp"
 #include "stvd/stencil.hpp"
 #include "stvd/steiner_propagation.hpp"
 #include "tensor_field.hpp"
@@ -85,7 +89,7 @@ std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const Te
                                                   double maxDistance, const py::handle& progress, bool memoryCheck) {
   checkPropagationChoice(choice, /*lanthierAllowed=*/true);
   if (seedVoxels.empty() && seedPoints.empty() && seedLabels.is_none())
-    throw OptionError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
+    throw OptionError(imaging::noSeedMessage(OptionNaming::Keywords));
   std::optional<imaging::ScalarImage> labels;
   std::string labelsName;
   if (!seedLabels.is_none()) {
@@ -125,7 +129,9 @@ std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const Te
       try {
         out->result = steinerPropagate(out->domain, field->metric, sources, steiner);
       } catch (const std::invalid_argument& e) {  // a grid too thin for cubes, or too large a graph
-        throw OptionError(field->name + ": --method lanthier: " + e.what());
+        throw OptionError(field->name + ": " +
+                          optionWithValue(propagationOption("--method"), "lanthier", OptionNaming::Keywords) + ": " +
+                          e.what());
       }
     } else {
       PropagationOptions options = propagationOptions(choice);
@@ -144,18 +150,17 @@ py::list tracePaths(const std::shared_ptr<VolumePropagation>& p, const std::vect
                     const std::optional<double>& step, const std::optional<int>& smooth, const std::optional<bool>& refine,
                     bool discrete) {
   checkPropagationChoice(p->choice, /*lanthierAllowed=*/false);
-  PathTracingOptions tracing;
-  if (step) {
-    if (!(*step > 0.0 && *step <= 1.0)) throw OptionError("--step must be in (0, 1]");
-    tracing.stepFraction = *step;
-  }
-  if (smooth) {
-    if (*smooth < 0 || *smooth > 1000) throw OptionError("--smooth must be between 0 and 1000");
-    tracing.smoothingPasses = *smooth;
-  }
-  if (refine) tracing.refine = *refine;
+  // Checked by the options' declarations, with messages in keyword names.
+  OptionValues values(OptionNaming::Keywords);
+  const auto option = [](const char* flag) -> const OptionDeclaration& {
+    return *findOption(pathTracingOptionDeclarations(), flag);
+  };
+  if (step) values.set(option("--step"), *step);
+  if (smooth) values.set(option("--smooth"), static_cast<long long>(*smooth));
+  if (refine && !*refine) values.set(option("--no-refine"), true);
+  const PathTracingOptions tracing = pathTracingOptionsOf(values);
   if (targetVoxels.empty() && targetPoints.empty() && targetLabels.is_none())
-    throw OptionError("no target: add --target-voxel I,J,K, --target-point X,Y,Z or --targets LABELS");
+    throw OptionError(imaging::noTargetMessage(OptionNaming::Keywords));
   const TensorField& field = *p->field;
   std::optional<imaging::LabelImage> labels;
   std::string labelsName;
@@ -399,11 +404,13 @@ void bindVolumes(py::module_& m) {
              const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
              const std::optional<std::string>& stencil, const std::optional<int>& threads, const py::object& progress,
              const std::optional<std::string>& domainConnectivity, bool memoryCheck) {
-            if (threads && (*threads < 1 || *threads > 1024))
-              throw OptionError("--threads must be between 1 and 1024");
+            OptionValues given(OptionNaming::Keywords);
+            if (threads)
+              given.set(*findOption(regionConnectivityOptionDeclarations(), "--threads"),
+                        static_cast<long long>(*threads));
             return connectivity(field, labels,
                                 choiceOf(method, k, chainMeasure, stencil, std::nullopt, domainConnectivity),
-                                threads ? static_cast<unsigned>(*threads) : 0u, progress, memoryCheck);
+                                regionThreadsOf(given), progress, memoryCheck);
           },
           py::arg("labels"), py::arg("method") = py::none(), py::arg("k") = py::none(),
           py::arg("chain_measure") = py::none(), py::arg("stencil") = py::none(), py::arg("threads") = py::none(),
@@ -430,7 +437,7 @@ void bindVolumes(py::module_& m) {
       .def(
           "distance_map",
           [](const VolumePropagation& p, double unreachable) {
-            checkUnreachableValue(unreachable, py::str(py::float_(unreachable)));
+            checkUnreachableValue(unreachable, py::str(py::float_(unreachable)), OptionNaming::Keywords);
             py::array_t<float> map = newFortranFloatArray(p.field->geometry().size);
             float* out = map.mutable_data();
             const float value = static_cast<float>(unreachable);
@@ -444,7 +451,7 @@ void bindVolumes(py::module_& m) {
           "write_distance_map",
           [](const VolumePropagation& p, files::OutputTransaction& outputs, const std::string& path,
              double unreachable) {
-            checkUnreachableValue(unreachable, py::str(py::float_(unreachable)));
+            checkUnreachableValue(unreachable, py::str(py::float_(unreachable)), OptionNaming::Keywords);
             // The values and the writer of `stvd distance`: the same bytes.
             const float value = static_cast<float>(unreachable);
             py::gil_scoped_release release;

@@ -13,11 +13,15 @@ import os
 import re
 from dataclasses import dataclass, field
 
+from . import _core
+
 REQUIRED_COLUMNS = ("subject", "tensors", "labels")
 OPTIONAL_COLUMNS = ("mask", "tensor_order", "tensor_frame", "seeds")
 PATH_COLUMNS = ("tensors", "labels", "mask", "seeds")
-TENSOR_ORDERS = ("lower", "fsl", "mrtrix")
-TENSOR_FRAMES = ("voxel", "world")
+# The names the library declares for its options (without their aliases).
+_DECLARED = {d["flag"]: d for d in _core.option_declarations()}
+TENSOR_ORDERS = tuple(_DECLARED["--tensor-order"]["choices"])
+TENSOR_FRAMES = tuple(_DECLARED["--tensor-frame"]["choices"])
 
 # A subject id names its output folder, and a seed set names a file in it:
 # letters, digits, '.', '_' and '-', not starting with '.'.

@@ -42,6 +42,7 @@ import os
 import sys
 import time
 
+from . import _core
 from ._manifest import ManifestError, read_manifest, read_seed_sets
 from ._outputs import OutputFiles, check_outputs_are_not_inputs, remove_leftover_staging_folders
 from ._subject import CONNECTIVITY, CONNECTIVITY_FILE, REPORT_FILE, compute_parts, one_line, output_files
@@ -55,10 +56,11 @@ LOCK_FILE = ".stvd-cohort.lock"
 TABLE_COLUMNS = ("subject", "status", "regions", "pairs_connected", "mean_geodesic_mm", "maps", "map_max_mm",
                  "error")
 
-# The options of the package's calls that a cohort run passes on, as the
-# tool's flags name them (None: the library's default, stvd.defaults).
-OPTION_NAMES = ("method", "k", "chain_measure", "stencil", "max_distance", "tensor_kind", "diffusion_metric",
-                "max_anisotropy", "fa_threshold", "unreachable_value")
+# The options of the package's calls that a cohort run passes on (None:
+# the library's default, stvd.defaults), as the library declares them for
+# `stvd cohort`: flag, keyword, kind of value and help with the default.
+OPTIONS = tuple(d for d in _core.option_declarations() if "cohort" in d["commands"])
+OPTION_NAMES = tuple(d["keyword"] for d in OPTIONS)
 
 __all__ = ["run", "Cohort", "ManifestError", "main"]
 
@@ -535,10 +537,10 @@ def _parser():
     work = parser.add_argument_group("what it computes (options as in stvd distance; defaults: the tool's)")
     work.add_argument("--no-connectivity", action="store_true", help="distance maps only")
     work.add_argument("--no-maps", action="store_true", help="connectivity only")
-    for flag, kind in (("--method", str), ("--k", int), ("--chain-measure", str), ("--stencil", str),
-                       ("--max-distance", float), ("--tensor-kind", str), ("--diffusion-metric", str),
-                       ("--max-anisotropy", float), ("--fa-threshold", float), ("--unreachable-value", float)):
-        work.add_argument(flag, type=kind)
+    for option in OPTIONS:
+        work.add_argument(option["flag"], dest=option["keyword"], metavar=option["value_name"],
+                          type={"integer": int, "number": float}.get(option["type"], str),
+                          help=option["help"]["cohort"].replace("\n", " ").replace("%", "%%"))
     shown = parser.add_argument_group("output")
     shown.add_argument("--progress", dest="progress", action="store_true", default=None,
                        help="a progress bar (default: when stderr is a terminal)")
