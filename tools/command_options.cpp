@@ -32,9 +32,9 @@ std::vector<OptionDeclaration> toolDeclarations() {
   std::vector<OptionDeclaration> table;
   OptionDeclaration output = outputOption(
       "--output", "FILE", kVolumeCommands | kMeshCommands,
-      "the distance map (required): .nii, .nii.gz, .nrrd, .nhdr, .mif, .mif.gz or .vdb.\nIts folder must exist; it "
-      "must not be an input. Written with the statistics into a staging folder next to it and moved into place "
-      "when both are complete.");
+      "the distance map (required): .nii, .nii.gz, .nrrd (gzip-compressed), .nhdr (with the data file "
+      "<base>.raw.gz), .mif, .mif.gz (MRtrix) or .vdb (OpenVDB).\nIts folder must exist; it must not be an input. "
+      "Written with the statistics into a staging folder next to it and moved into place when both are complete.");
   output.shortFlag = "-o";
   output.helpFor = {
       {kPathCommand,
@@ -77,13 +77,13 @@ std::vector<OptionDeclaration> toolDeclarations() {
   OptionDeclaration report = outputOption(
       "--report", "FILE.html", kVolumeCommands,
       "a self-contained QC page: slices of the map over FA through the seed, the statistics and the warnings "
-      "(Python 3 and matplotlib; docs/report.md).");
+      "(Python 3 and matplotlib, checked before any output is written; docs/report.md).");
   report.helpFor = {{kPathCommand,
                      "a self-contained QC page: the paths over the distance map and FA, their figures, the "
-                     "statistics and the warnings (Python 3 and matplotlib; docs/report.md)."},
+                     "statistics and the warnings (Python 3 and matplotlib, checked before any output is written; docs/report.md)."},
                     {kConnectivityCommand,
                      "a self-contained QC page: the regions over FA, the matrices as heat maps, the statistics and "
-                     "the warnings (Python 3 and matplotlib; docs/report.md)."}};
+                     "the warnings (Python 3 and matplotlib, checked before any output is written; docs/report.md)."}};
   table.push_back(report);
   OptionDeclaration voxel = outputOption(
       "--voxel", "I,J,K", kInfoCommand,

@@ -54,7 +54,7 @@ std::vector<OptionDeclaration> declarations() {
   steiner.range = {1.0, double(kMaxSteinerPoints)};
   steiner.help =
       "lanthier: Steiner points per cube edge, {range}; time and memory grow like M^4 and M^2 (shipped "
-      "brain: M = 2 3 s, M = 8 4 min, 1.1 GB).";
+      "brain: M = 2 3 s, M = 8 4 min and 450 MB; docs/steiner.md).";
   steiner.helpFor = {
       {kSurfaceDistanceCommand, "lanthier: Steiner points per face edge, {range}; time grows like M^2, memory like M."},
       {kTetMeshDistanceCommand,

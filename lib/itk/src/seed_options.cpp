@@ -59,7 +59,7 @@ std::vector<OptionDeclaration> declarations() {
   labels.commands = seeded;
   labels.help =
       "every non-zero voxel of the image LABELS (same grid) inside the domain is a seed; the others are left out "
-      "(counted in the report).";
+      "(counted in the report), and none inside is an error.";
   table.push_back(labels);
 
   table.push_back(triple("--target-voxel", "targets", OptionType::Voxel, OptionGroup::Targets, kPathCommand,
