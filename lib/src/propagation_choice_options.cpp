@@ -52,6 +52,10 @@ std::vector<OptionDeclaration> declarations() {
   steiner.group = OptionGroup::Propagation;
   steiner.commands = kDistanceCommand | kMeshCommands;
   steiner.range = {1.0, double(kMaxSteinerPoints)};
+  // Commands that trace paths have no use for it (lanthier gives no
+  // predecessors) and say so.
+  steiner.refusedBy = kPathCommand | kConnectivityCommand;
+  steiner.refusal = "applies to --method lanthier only, which gives distances but no paths";
   steiner.help =
       "lanthier: Steiner points per cube edge, {range}; time and memory grow like M^4 and M^2 (shipped "
       "brain: M = 2 3 s, M = 8 4 min and 450 MB; docs/steiner.md).";
