@@ -43,6 +43,7 @@ subject. Never a file by the look of its name.
 
 import argparse
 import contextlib
+import errno
 import fcntl
 import json
 import logging
@@ -384,11 +385,13 @@ def _locked(outdir):
     try:
         fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, 0o644)
     except OSError as error:
-        raise OSError(error.errno, f"cannot open the lock file {LOCK_FILE}: {error.strerror}") from None
+        if error.errno == errno.ELOOP:
+            raise OSError(f"the lock file {LOCK_FILE} is a symbolic link, which stvd does not follow") from None
+        raise OSError(f"cannot open the lock file {LOCK_FILE}: {error.strerror}") from None
     with os.fdopen(fd, "rb") as lock:
         mode = os.fstat(fd).st_mode
         if not stat.S_ISREG(mode):
-            raise OSError(0, f"the lock file {LOCK_FILE} is {kind_of(mode)}, not a regular file")
+            raise OSError(f"the lock file {LOCK_FILE} is {kind_of(mode)}, not a regular file")
         try:
             fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:

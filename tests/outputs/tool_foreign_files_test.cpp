@@ -250,31 +250,44 @@ TEST_F(ToolReplacedOutputs, StagingFoldersOfAKilledRunAreRemovedByTheNextAndNoth
 
 class ToolSideInputs : public SmallInputsTest {};
 
-TEST_F(ToolSideInputs, ASeedImageOnAHugeGridIsRefusedFromItsHeader) {
+TEST_F(ToolSideInputs, ASideImageOnAHugeGridIsRefusedFromItsHeader) {
   // 800^3 voxels of zeros in half a megabyte: the header and then 500
   // gzip members of 1,024,000 zero bytes each.
+  const std::string bomb = in("huge.nii.gz");
   {
-    std::ofstream bomb(in("seeds.nii.gz"), std::ios::binary);
-    bomb << gzipMember(uint8NiftiHeader(800, 800, 800));
+    std::ofstream file(bomb, std::ios::binary);
+    file << gzipMember(uint8NiftiHeader(800, 800, 800));
     const std::string zeros = gzipMember(std::string(1024000, '\0'));
-    for (int m = 0; m < 500; ++m) bomb << zeros;
+    for (int m = 0; m < 500; ++m) file << zeros;
   }
-  ASSERT_LT(fs::file_size(in("seeds.nii.gz")), 1u << 20);
-  std::vector<std::string> arguments = distanceRun(out("d.nii.gz"));
-  arguments.erase(arguments.begin() + 4, arguments.begin() + 6);  // no --seed-voxel
-  arguments.insert(arguments.end(), {"--seeds", in("seeds.nii.gz")});
-  struct rusage before {};
-  ::getrusage(RUSAGE_CHILDREN, &before);
-  const ToolRun run = runTool(arguments);
-  const ChildCost cost = childCostSince(before);
-  EXPECT_EQ(run.exitCode, 3) << run.err;
-  EXPECT_NE(run.err.find(in("seeds.nii.gz") + ": the seed labels are on another grid than " + in("t.nii") +
-                         " (size 800x800x800 differs from 11x9x7)"),
-            std::string::npos)
-      << run.err;
-  // Read in full, the image took 3 GB and 15 to 50 s of CPU time.
-  EXPECT_LT(cost.peakMiB, 1024.0);
-  EXPECT_LT(cost.cpuSeconds, 2.0);
+  ASSERT_LT(fs::file_size(bomb), 1u << 20);
+  // As seed labels, a mask, a label image and target labels.
+  std::vector<std::string> seeds = distanceRun(out("d.nii.gz"));
+  seeds.erase(seeds.begin() + 4, seeds.begin() + 6);  // no --seed-voxel
+  seeds.insert(seeds.end(), {"--seeds", bomb});
+  std::vector<std::string> mask = distanceRun(out("d.nii.gz"));
+  mask[7] = bomb;  // --mask FILE
+  std::vector<std::string> labels = connectivityRun(out("c.tsv"));
+  labels[5] = bomb;  // --labels FILE
+  std::vector<std::string> targets = pathRun(out("p.trk"), out("p.tsv"));
+  targets[7] = bomb;  // --targets FILE
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
+      {seeds, "the seed labels are"}, {mask, "the mask is"}, {labels, "the labels are"},
+      {targets, "the target labels are"}};
+  for (const auto& [arguments, subject] : cases) {
+    struct rusage before {};
+    ::getrusage(RUSAGE_CHILDREN, &before);
+    const ToolRun run = runTool(arguments);
+    const ChildCost cost = childCostSince(before);
+    EXPECT_EQ(run.exitCode, 3) << run.err;
+    EXPECT_NE(run.err.find(bomb + ": " + subject + " on another grid than " + in("t.nii") +
+                           " (size 800x800x800 differs from 11x9x7)"),
+              std::string::npos)
+        << run.err;
+    // Read in full, the image took 3 GB and 15 to 50 s of CPU time.
+    EXPECT_LT(cost.peakMiB, 1024.0) << subject;
+    EXPECT_LT(cost.cpuSeconds, 2.0) << subject;
+  }
   EXPECT_TRUE(listFolder(path("out")).empty());
 }
 

@@ -133,7 +133,7 @@ def test_every_good_subject_has_a_qc_page_and_the_index_lists_all_in_the_manifes
         if row["subject"] in BAD:
             assert html.escape(row["error"]) in index
         else:
-            assert f'href="{row["subject"]}/report.html"' in index
+            assert f'href="./{row["subject"]}/report.html"' in index
 
 
 def test_the_same_brain_under_a_flipped_header_gives_the_same_geodesic_distances(serial):

@@ -230,3 +230,18 @@ def test_a_seed_set_name_too_long_for_its_file_fails_its_subject_in_our_words(co
     assert error.startswith(f"{seeds}, row ") and ", column name: '" in error, error
     assert "is 250 bytes long, more than the 239 an output file's name may have here" in error, error
     assert not (tmp_path / "out" / "base" / "distance_CC_body.nii.gz").exists()
+
+
+def test_a_link_planted_as_the_lock_file_is_not_followed(cohort, tmp_path):
+    # Opening the lock file through a link would create (as root, anywhere)
+    # the file it points to.
+    folder = tmp_path / "study"
+    manifest = one_subject(cohort, folder)
+    outdir = tmp_path / "out"
+    outdir.mkdir()
+    os.symlink(tmp_path / "victim", outdir / ".stvd-cohort.lock")
+    process = run_cohort_command(manifest, "-o", outdir, "--serial", "--no-report")
+    assert process.returncode == 5, process.stderr
+    assert process.stderr == (f"stvd: {outdir}: cannot write the outputs: the lock file .stvd-cohort.lock is a "
+                              "symbolic link, which stvd does not follow\n")
+    assert not (tmp_path / "victim").exists()
