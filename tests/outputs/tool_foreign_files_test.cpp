@@ -332,7 +332,7 @@ TEST_F(ToolSideInputs, AFifoOrADeviceNamedLikeAnInputIsRefusedAtOnce) {
   withMask[withMask.size() - 4] = in("mask.fifo.nii");  // --mask FILE
   std::vector<std::string> withSeeds = distanceRun(out("d.nii.gz"));
   withSeeds.insert(withSeeds.end(), {"--seeds", in("seeds.nhdr")});
-  const std::vector<Case> cases{
+  std::vector<Case> cases{
       {withMask, in("mask.fifo.nii")},
       {withSeeds, in("seeds.nhdr")},
       {{"distance", in("zero.nii"), "--seed-voxel", "1,1,1", "-o", out("d.nii.gz")}, in("zero.nii")},
@@ -340,6 +340,7 @@ TEST_F(ToolSideInputs, AFifoOrADeviceNamedLikeAnInputIsRefusedAtOnce) {
       {{"distance", in("zero.ply"), "--seed-vertex", "0", "-o", out("d.ply")}, in("zero.ply")},
       {{"distance", in("zero.node"), "--seed-vertex", "1", "-o", out("d.vtk")}, in("zero.node")},
   };
+  if (withTetrahedralize()) cases.push_back({{"tetrahedralize", in("mesh.off"), "-o", out("m")}, in("mesh.off")});
   for (const Case& c : cases) {
     const ToolRun run = runToolInBash("timeout 20 \"$0\" \"$@\"", c.arguments);
     EXPECT_EQ(run.exitCode, 3) << c.file << ": " << run.err;
