@@ -19,7 +19,9 @@
 #include "run_files.hpp"
 #include "run_statistics.hpp"
 #include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_destination.hpp"
 #include "stvd/files/output_transaction.hpp"
+#include "stvd/itk/image_grid.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/tensor_input_options.hpp"
 #include "stvd/label_regions.hpp"
@@ -146,7 +148,7 @@ int runConnectivity(int argc, char** argv) {
   const GridGeometry& g = input.read.volume.geometry;
   imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.input, input, o.tensor);
 
-  const imaging::LabelImage labels = imaging::readLabelImage(o.labels);
+  const imaging::LabelImage labels = imaging::readLabelImageOnGrid(o.labels, g, "the labels are", o.input);
   noteInputWarnings(o.labels, labels.warnings);
   imaging::requireSameGrid(labels.geometry, g, o.labels, "the labels are", o.input);
   std::size_t empty = 0;
@@ -215,7 +217,16 @@ int runConnectivity(int argc, char** argv) {
               << "." << std::endl;
   if (report.requested()) {
     const ScratchFolder scratch;
-    report.write({"--stats", scratch.statisticsFile(o.statsPath, statisticsJson(run))}, o.quiet);
+    std::vector<std::string> arguments{"--stats", scratch.statisticsFile(o.statsPath, statisticsJson(run))};
+    if (files::isStreamOutput(o.output)) {  // a table sent to a stream cannot be read back: a copy
+      try {
+        files::writeFileContents(scratch.file("connectivity.tsv"), tsv.str());
+      } catch (const std::runtime_error& e) {
+        throw ToolError(kExitOutput, e.what());
+      }
+      arguments.insert(arguments.end(), {"--table", scratch.file("connectivity.tsv")});
+    }
+    report.write(arguments, o.quiet);
   }
   return kExitOk;
 }

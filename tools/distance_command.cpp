@@ -19,6 +19,7 @@
 #include "run_files.hpp"
 #include "run_statistics.hpp"
 #include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_destination.hpp"
 #include "stvd/files/output_transaction.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/seed_options.hpp"
@@ -259,7 +260,8 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
 }
 
 /// The report reads the statistics and a NIfTI distance map: the run's own
-/// files when it wrote them, copies in a scratch folder otherwise.
+/// files when it wrote them to files, copies in a scratch folder otherwise
+/// (another format, or a stream such as a FIFO, which cannot be read back).
 void writeDistanceReport(ReportRequest& report, const DistanceOptions& o, const RunStatistics& run,
                          const GridGeometry& g, const std::vector<float>& values) {
   const ScratchFolder scratch;
@@ -269,7 +271,8 @@ void writeDistanceReport(ReportRequest& report, const DistanceOptions& o, const 
     const std::string name = std::filesystem::path(o.output).filename().string();
     const bool nifti = name.size() > 4 && (name.substr(name.size() - 4) == ".nii" ||
                                            (name.size() > 7 && name.substr(name.size() - 7) == ".nii.gz"));
-    if (!nifti) imaging::writeScalarImage(mapPath = scratch.file("distance.nii"), g, values);
+    if (!nifti || files::isStreamOutput(o.output))
+      imaging::writeScalarImage(mapPath = scratch.file("distance.nii"), g, values);
   } catch (const std::runtime_error& e) {
     throw ToolError(kExitOutput, e.what());
   }

@@ -1,5 +1,6 @@
 #include "geodesic_options.hpp"
 
+#include "stvd/itk/image_grid.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/seed_options.hpp"
 
@@ -20,7 +21,8 @@ std::vector<Seed> resolveSeeds(const std::string& inputPath, const SeedOptions& 
   std::vector<Seed> seeds = imaging::seedVoxelsAt(inputPath, o.seedVoxels, o.seedPoints, o.seedPointsInLps, input,
                                                   metric, inDomain, role);
   if (!o.seedLabels.empty()) {
-    const imaging::ScalarImage labels = imaging::readScalarImage(o.seedLabels);
+    const imaging::ScalarImage labels = imaging::readScalarImageOnGrid(o.seedLabels, input.read.volume.geometry,
+                                                                       "the seed labels are", inputPath);
     noteInputWarnings(o.seedLabels, labels.warnings);
     const std::vector<Seed> labelled = imaging::labelSeedVoxels(o.seedLabels, labels, inputPath,
                                                                 input.read.volume.geometry, inDomain, labelSeedsLeftOut);

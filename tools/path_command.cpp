@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <sstream>
@@ -16,10 +17,12 @@
 #include "run_files.hpp"
 #include "run_statistics.hpp"
 #include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_destination.hpp"
 #include "stvd/files/output_transaction.hpp"
 #include "stvd/geodesic_path.hpp"
 #include "stvd/geodesic_path_options.hpp"
 #include "stvd/itk/image_io_error.hpp"
+#include "stvd/itk/image_grid.hpp"
 #include "stvd/itk/scalar_image.hpp"
 #include "stvd/itk/seed_options.hpp"
 #include "stvd/itk/streamline_io.hpp"
@@ -175,7 +178,8 @@ int runPath(int argc, char** argv) {
   std::vector<Target> targets;
   for (const Seed& t : targetSeeds) targets.push_back({domain.vertexAt(t.index.i, t.index.j, t.index.k), t.givenAs});
   if (!o.targetLabels.empty()) {
-    const imaging::LabelImage labels = imaging::readLabelImage(o.targetLabels);
+    const imaging::LabelImage labels =
+        imaging::readLabelImageOnGrid(o.targetLabels, g, "the target labels are", o.input);
     noteInputWarnings(o.targetLabels, labels.warnings);
     const std::vector<Target> fromLabels =
         imaging::labelTargets(o.targetLabels, labels, o.input, g, built.inDomain, result.distance);
@@ -257,9 +261,9 @@ int runPath(int argc, char** argv) {
                  {"total", std::chrono::duration<double>(Clock::now() - start).count()}};
   // The paths, their table and the statistics appear together or not at all.
   files::OutputTransaction outputs;
+  const std::string table = tsv.str();
   try {
     imaging::writeStreamlines(outputs, o.output, set);
-    const std::string table = tsv.str();
     outputs.write(o.tsvPath, [&](const std::string& staging) { files::writeFileContents(staging, table); });
     if (!o.statsPath.empty()) {
       const std::string json = statisticsJson(run);
@@ -288,12 +292,21 @@ int runPath(int argc, char** argv) {
     for (std::size_t v = 0; v < values.size(); ++v)
       values[v] = std::isfinite(result.distance[v]) ? static_cast<float>(result.distance[v])
                                                     : std::numeric_limits<float>::quiet_NaN();
+    std::vector<std::string> arguments{"--stats", statsPath, "--distance", scratch.file("distance.nii")};
     try {
       imaging::writeScalarImage(scratch.file("distance.nii"), g, values);
+      // Paths or a table sent to a stream (a FIFO, /dev/stdout) cannot be
+      // read back: the report gets copies.
+      if (files::isStreamOutput(o.output) || files::isStreamOutput(o.tsvPath)) {
+        const std::string paths = scratch.file("paths" + std::filesystem::path(o.output).extension().string());
+        imaging::writeStreamlines(paths, set);
+        files::writeFileContents(scratch.file("paths.tsv"), table);
+        arguments.insert(arguments.end(), {"--paths", paths, "--paths-table", scratch.file("paths.tsv")});
+      }
     } catch (const std::runtime_error& e) {
       throw ToolError(kExitOutput, e.what());
     }
-    report.write({"--stats", statsPath, "--distance", scratch.file("distance.nii")}, o.quiet);
+    report.write(arguments, o.quiet);
   }
   return kExitOk;
 }

@@ -16,6 +16,7 @@
 
 #include "command_line.hpp"
 #include "stvd/files/file_contents.hpp"
+#include "stvd/files/output_destination.hpp"
 
 extern char** environ;
 
@@ -215,7 +216,9 @@ ScratchFolder::ScratchFolder() {
 }
 
 std::string ScratchFolder::statisticsFile(const std::string& statsPath, const std::string& json) const {
-  if (!statsPath.empty()) return statsPath;
+  // A statistics "file" that is a stream (/dev/stdout, a FIFO) cannot be
+  // read back: the report gets a copy.
+  if (!statsPath.empty() && !files::isStreamOutput(statsPath)) return statsPath;
   try {
     files::writeFileContents(file("run.json"), json);
   } catch (const std::runtime_error& e) {

@@ -60,7 +60,8 @@ class ScratchFolder {
   ~ScratchFolder();
   std::string file(const std::string& name) const { return path_ + "/" + name; }
   /// The statistics file a report reads: `statsPath` when the run wrote
-  /// one, otherwise `json` written here as run.json.
+  /// one to a file, otherwise (none, or a stream such as /dev/stdout) `json`
+  /// written here as run.json.
   std::string statisticsFile(const std::string& statsPath, const std::string& json) const;
 
  private:

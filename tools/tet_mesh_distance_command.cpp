@@ -15,6 +15,7 @@
 #include "option_help.hpp"
 #include "run_files.hpp"
 #include "stvd/files/output_transaction.hpp"
+#include "stvd/itk/image_grid.hpp"
 #include "stvd/itk/image_io_error.hpp"
 #include "stvd/itk/metric_sampling.hpp"
 #include "stvd/itk/scalar_image.hpp"
@@ -258,11 +259,12 @@ int runTetMeshDistance(int argc, char** argv) {
     throw ToolError(kExitInput, e.what());
   }
 
-  // The grid of an image output, read before the work.
+  // The grid of an image output, read before the work: from the
+  // reference's header alone (its values are not used).
   imaging::ScalarImage reference;
   if (!o.reference.empty()) {
     try {
-      reference = imaging::readScalarImage(o.reference);
+      reference.geometry = imaging::readImageGrid(o.reference, &reference.warnings);
     } catch (const imaging::ImageIoError& e) {
       throw ToolError(kExitInput, e.what());
     }

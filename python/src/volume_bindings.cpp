@@ -93,7 +93,7 @@ std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const Te
   std::optional<imaging::ScalarImage> labels;
   std::string labelsName;
   if (!seedLabels.is_none()) {
-    labels = scalarImageOf(seedLabels, field->geometry());
+    labels = scalarImageOf(seedLabels, field->geometry(), "the seed labels are", field->name);
     labelsName = scalarImageName(seedLabels);
   }
   // The run's state and result, as the tool estimates them, and the float32
@@ -165,7 +165,7 @@ py::list tracePaths(const std::shared_ptr<VolumePropagation>& p, const std::vect
   std::optional<imaging::LabelImage> labels;
   std::string labelsName;
   if (!targetLabels.is_none()) {
-    labels = labelImageOf(targetLabels, field.geometry());
+    labels = labelImageOf(targetLabels, field.geometry(), "the target labels are", field.name);
     labelsName = scalarImageName(targetLabels);
   }
 
@@ -238,7 +238,7 @@ py::list tracePaths(const std::shared_ptr<VolumePropagation>& p, const std::vect
 py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py::handle& labelsSpec,
                       PropagationChoice choice, unsigned threads, const py::handle& progress, bool memoryCheck) {
   checkPropagationChoice(choice, /*lanthierAllowed=*/false);
-  const imaging::LabelImage labels = labelImageOf(labelsSpec, field->geometry());
+  const imaging::LabelImage labels = labelImageOf(labelsSpec, field->geometry(), "the labels are", field->name);
   const std::string labelsName = scalarImageName(labelsSpec);
   ProgressRelay relay(progress);
   std::vector<LabelRegion> regions;

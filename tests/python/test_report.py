@@ -175,7 +175,7 @@ def test_cohort_index_from_entries_and_from_a_folder(tmp_path):
     counts = stvd.report.cohort_index_from_folder(tmp_path)
     assert counts == {"warnings": 2, "missing": 1}
     text = (tmp_path / "index.html").read_text()
-    assert text.count("<a href=\"sub-01/report.html\">") == 2  # the name and the thumbnail
+    assert text.count("<a href=\"./sub-01/report.html\">") == 2  # the name and the thumbnail
     assert "3 subjects: 1 missing, 2 warnings." in text
     # The cohort run's form: entries with a failed subject and its error.
     entries = stvd.report.cohort_entries_from_folder(tmp_path)[:2]

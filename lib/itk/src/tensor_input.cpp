@@ -1,3 +1,4 @@
+#include "stvd/itk/image_grid.hpp"
 #include "stvd/itk/tensor_input.hpp"
 
 #include <cmath>
@@ -52,7 +53,11 @@ TensorInput tensorInputOf(TensorReadResult read, const std::string& name) {
 
 TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options) {
   TensorInput input = tensorInputOf(readTensorVolume(path, {options.order, options.frame}), path);
-  if (!options.maskPath.empty()) addMask(input, readScalarImage(options.maskPath), options.maskPath, path);
+  // The mask's header is compared with the tensors' grid before its data
+  // are read (image_grid.hpp).
+  if (!options.maskPath.empty())
+    addMask(input, readScalarImageOnGrid(options.maskPath, input.read.volume.geometry, "the mask is", path),
+            options.maskPath, path);
   return input;
 }
 

@@ -10,7 +10,10 @@
 #include <tuple>
 #include <vector>
 
+#include <sys/stat.h>
 #include <tetgen.h>
+
+#include "stvd/files/regular_file.hpp"
 
 namespace stvd::tetgen {
 namespace {
@@ -58,6 +61,19 @@ SurfaceMesh mergeIdenticalPoints(const SurfaceMesh& s) {
 
 SurfaceMesh readSurface(const std::string& path) {
   const std::string e = lowerExtension(path);
+  // TetGen's loaders read a file by its name until its end: a FIFO named
+  // like a surface would block them, a link to /dev/zero never end. Only a
+  // regular file is handed to them (a .poly's points may be in the .node
+  // file next to it).
+  for (const std::string& file : {path, e == ".poly" ? path.substr(0, path.size() - 5) + ".node" : path}) {
+    struct stat status {};
+    if (file != path && ::stat(file.c_str(), &status) != 0) continue;  // no .node: the points are in the .poly
+    try {
+      const files::RegularFile regular(file);
+    } catch (const files::InputFileError& error) {
+      if (error.problem() != "no such file") throw TetMeshError(error.what());
+    }
+  }
   tetgenio io;
   std::vector<char> name(path.begin(), path.end());
   bool ok = false;
