@@ -1,14 +1,15 @@
 // `stvd report` and the --report option of distance, path and connectivity.
 // The page is drawn by the Python package (stvd.report, with matplotlib),
-// which the tool runs as a child process: `python3 -m stvd.report ...` with
-// the interpreter the package was built for, the package found next to this
-// executable (docs/report.md).
+// which the tool runs as a child process: `python3 -I` running stvd.report
+// with the interpreter the package was built for, the package found next
+// to this executable (child_process.hpp; docs/report.md).
 #pragma once
 
-#include <sys/types.h>
-
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "child_process.hpp"
 
 namespace stvd::tool {
 
@@ -43,7 +44,7 @@ class ReportRequest {
 
  private:
   std::string path_;
-  pid_t child_ = -1;   // python -m stvd.report --prepare, started by start()
+  std::unique_ptr<ChildProcess> child_;  // stvd.report --prepare, started by start()
   int errors_ = -1;     // read end of its stderr
   int arguments_ = -1;  // write end of its stdin: the page's arguments
   bool ready_ = false;

@@ -994,4 +994,7 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    from ._interruption import ending_by_signal
+
+    with ending_by_signal():
+        sys.exit(main())

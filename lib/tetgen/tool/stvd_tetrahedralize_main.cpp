@@ -104,7 +104,14 @@ stvd::tetgen::SurfaceMesh readSurfaceQuietly(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  stvd::files::removeStagedOutputsOnTerminationSignals("stvd tetrahedralize");
+  // `stvd tetrahedralize` runs this program with this first argument: it
+  // reports an interruption itself, once this process has ended.
+  const bool parentReports = argc > 1 && std::string(argv[1]) == "--interruptions-reported-by-parent";
+  stvd::files::removeStagedOutputsOnTerminationSignals(parentReports ? "" : "stvd tetrahedralize");
+  if (parentReports) {
+    --argc;
+    ++argv;
+  }
   std::string input, output;
   stvd::tetgen::TetrahedralizeOptions options;
   bool quiet = false;
