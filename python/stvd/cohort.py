@@ -51,6 +51,7 @@ import os
 import re
 import stat
 import sys
+import tempfile
 import time
 
 from . import _core
@@ -344,11 +345,27 @@ class _Progress:
             self._bar.close()
 
 
+LOOPBACK = "127.0.0.1"
+
+
 @contextlib.contextmanager
-def _dask_client(client, scheduler, workers):
+def _dask_client(client, scheduler, workers, host):
     """The client to run on: the caller's, one connected to ``scheduler``,
     or one of an embedded LocalCluster of ``workers`` processes (one per
-    core by default, one thread each), closed afterwards."""
+    core by default, one thread each), closed afterwards.
+
+    The embedded cluster's scheduler, nannies, workers and their HTTP
+    servers (the dashboard) listen on ``host`` only (this machine's
+    loopback unless the caller names another), with a private scratch
+    folder (not the shared ``dask-worker-space`` of the temporary folder).
+    The processes it starts (workers, multiprocessing's resource tracker)
+    start without the working folder on their module path: PYTHONSAFEPATH
+    is set in this process's environment while the cluster runs (until
+    they take their parent's module path, spawned interpreters would import
+    from their working folder, which is this process's). When the run is
+    interrupted (a termination signal, KeyboardInterrupt, any error) the
+    workers are killed and waited for before the cluster is closed: none
+    goes on with a subject and writes after the run has ended."""
     if client is not None:
         yield client
         return
@@ -362,9 +379,48 @@ def _dask_client(client, scheduler, workers):
         with own:
             yield own
         return
-    with LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
-                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, Client(cluster) as own:
-        yield own
+    address = [(host, 0)]  # a pair, so that an IPv6 address needs no brackets
+    safe_path = os.environ.get("PYTHONSAFEPATH")
+    os.environ["PYTHONSAFEPATH"] = "1"
+    try:
+        with tempfile.TemporaryDirectory(prefix="stvd-cohort-dask-") as scratch, \
+                LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
+                             host=host, dashboard_address=address, worker_dashboard_address=address,
+                             local_directory=scratch, silence_logs=logging.ERROR) as cluster, \
+                Client(cluster) as own:
+            try:
+                yield own
+            except BaseException:
+                _stop_workers_now(cluster)
+                raise
+    finally:
+        if safe_path is None:
+            os.environ.pop("PYTHONSAFEPATH", None)
+        else:
+            os.environ["PYTHONSAFEPATH"] = safe_path
+
+
+def _stop_workers_now(cluster):
+    """Kills the worker processes of an embedded cluster (their nannies told
+    not to start new ones) and waits until every one has ended."""
+    import psutil
+
+    processes = []
+    for nanny in list(cluster.workers.values()):
+        with contextlib.suppress(Exception):
+            nanny.close_gracefully()  # no restart when its worker ends
+        pid = getattr(nanny, "pid", None)
+        if pid:
+            with contextlib.suppress(psutil.Error):
+                processes.append(psutil.Process(pid))
+    for process in processes:
+        with contextlib.suppress(psutil.Error):
+            process.kill()
+    for process in processes:
+        # Ended (a zombie until its nanny reaps it) or gone.
+        with contextlib.suppress(psutil.Error):
+            while process.status() != psutil.STATUS_ZOMBIE:
+                time.sleep(0.01)
 
 
 def _dashboard(client):
@@ -444,17 +500,21 @@ def _check_path_lengths(manifest, plans):
                                     f"{PATH_MAX} the system takes")
 
 
-def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=False, connectivity=True, maps=True,
-        split_seed_sets=False, threads=1, progress=False, report=True, method=None, k=None, chain_measure=None,
-        stencil=None, max_distance=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None,
-        fa_threshold=None, unreachable_value=None):
+def run(manifest, outdir, *, client=None, scheduler=None, workers=None, host=None, serial=False, connectivity=True,
+        maps=True, split_seed_sets=False, threads=1, progress=False, report=True, method=None, k=None,
+        chain_measure=None, stencil=None, max_distance=None, tensor_kind=None, diffusion_metric=None,
+        max_anisotropy=None, fa_threshold=None, unreachable_value=None):
     """Runs every subject of ``manifest`` and writes into ``outdir``
     (created if needed). Returns a ``Cohort``.
 
     Where it runs: ``client=`` an existing ``distributed.Client``;
     ``scheduler=`` the address of a running Dask scheduler
     (``tcp://host:8786``); otherwise an embedded LocalCluster of
-    ``workers`` processes (default: one per core), closed at the end.
+    ``workers`` processes (default: one per core), closed at the end, whose
+    scheduler, workers and dashboard listen on ``host``: by default
+    127.0.0.1, this machine only; name another address (``"0.0.0.0"``: all
+    interfaces) to reach them from elsewhere, where anyone who can reach it
+    sees the tasks (subject ids, paths, logs) and can submit work.
     ``serial=True`` runs the subjects one after the other in this process,
     without Dask (the reference for the cluster's outputs, which are the
     same bytes).
@@ -485,6 +545,9 @@ def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=F
                    fa_threshold=fa_threshold, unreachable_value=unreachable_value)
     if not (connectivity or maps):
         raise ValueError("nothing to compute: neither connectivity nor maps")
+    if host is not None and (serial or client is not None or scheduler is not None):
+        raise ValueError("host= is where the embedded cluster listens: not with serial, client or scheduler")
+    host = LOOPBACK if host is None else str(host)
     manifest = os.fspath(manifest)
     outdir = os.path.abspath(os.fspath(outdir))
     subjects = read_manifest(manifest)
@@ -520,7 +583,7 @@ def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=F
                     rows[plan.subject.id] = dict(_finish_subject(plan, results, inputs), computed=True)
                     bar.subject(rows[plan.subject.id])
             elif pending:
-                with _dask_client(client, scheduler, workers) as dask_client:
+                with _dask_client(client, scheduler, workers, host) as dask_client:
                     dashboard = _dashboard(dask_client)
                     if dashboard and progress:
                         print(f"stvd cohort: Dask dashboard at {dashboard}", file=sys.stderr)
@@ -649,6 +712,10 @@ def _parser():
     where.add_argument("--scheduler", metavar="ADDRESS", help="a running Dask scheduler (tcp://host:8786)")
     where.add_argument("--workers", type=int, metavar="N",
                        help="worker processes of the embedded cluster (default: one per core)")
+    where.add_argument("--host", metavar="ADDRESS",
+                       help="where the embedded cluster's scheduler, workers and dashboard listen (default "
+                       "127.0.0.1, this machine only; 0.0.0.0: every interface, where anyone who can reach "
+                       "the machine sees the tasks and can submit work)")
     where.add_argument("--serial", action="store_true", help="one subject after the other in this process, no Dask")
     where.add_argument("--split-seed-sets", action="store_true",
                        help="a task per seed set and per connectivity table, not per subject (with QC pages "
@@ -684,10 +751,13 @@ def main(argv=None):
         parser.error("--threads must be at least 1")
     if args.workers is not None and args.workers < 1:
         parser.error("--workers must be at least 1")
-    if args.serial and (args.scheduler or args.workers):
-        parser.error("--serial runs in this process: no --scheduler or --workers")
+    if args.serial and (args.scheduler or args.workers or args.host):
+        parser.error("--serial runs in this process: no --scheduler, --workers or --host")
+    if args.scheduler and args.host:
+        parser.error("--host is where the embedded cluster listens: not with --scheduler")
     try:
-        cohort = run(args.manifest, args.output, scheduler=args.scheduler, workers=args.workers, serial=args.serial,
+        cohort = run(args.manifest, args.output, scheduler=args.scheduler, workers=args.workers, host=args.host,
+                     serial=args.serial,
                      connectivity=not args.no_connectivity, maps=not args.no_maps,
                      split_seed_sets=args.split_seed_sets, threads=args.threads, progress=progress,
                      report=args.report, **options)
@@ -712,4 +782,7 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    from ._interruption import ending_by_signal
+
+    with ending_by_signal():
+        sys.exit(main())

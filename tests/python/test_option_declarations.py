@@ -30,8 +30,8 @@ CALLS = {
 # Parameters that are not options of the command line: the inputs and how
 # the call runs.
 NOT_OPTIONS = {"tensors", "affine", "progress", "result", "vertices", "faces", "points", "tetrahedra",
-               "metric_values", "manifest", "outdir", "client", "scheduler", "workers", "serial", "connectivity",
-               "maps", "split_seed_sets", "threads", "report"}
+               "metric_values", "manifest", "outdir", "client", "scheduler", "workers", "host", "serial",
+               "connectivity", "maps", "split_seed_sets", "threads", "report"}
 
 
 def parameters(call):
