@@ -358,6 +358,9 @@ def _dask_client(client, scheduler, workers, host):
     servers (the dashboard) listen on ``host`` only (this machine's
     loopback unless the caller names another), with a private scratch
     folder (not the shared ``dask-worker-space`` of the temporary folder).
+    They talk TLS with keys made for this run only (``_security``): the
+    loopback address is every local user's, and a Dask scheduler runs the
+    work any client that connects submits.
     The processes it starts (workers, multiprocessing's resource tracker)
     start without the working folder on their module path: PYTHONSAFEPATH
     is set in this process's environment while the cluster runs (until
@@ -380,13 +383,15 @@ def _dask_client(client, scheduler, workers, host):
             yield own
         return
     address = [(host, 0)]  # a pair, so that an IPv6 address needs no brackets
+    security, protocol = _security()
     safe_path = os.environ.get("PYTHONSAFEPATH")
     os.environ["PYTHONSAFEPATH"] = "1"
     try:
         with tempfile.TemporaryDirectory(prefix="stvd-cohort-dask-") as scratch, \
                 LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
-                             host=host, dashboard_address=address, worker_dashboard_address=address,
-                             local_directory=scratch, silence_logs=logging.ERROR) as cluster, \
+                             host=host, protocol=protocol, security=security, dashboard_address=address,
+                             worker_dashboard_address=address, local_directory=scratch,
+                             silence_logs=logging.ERROR) as cluster, \
                 Client(cluster) as own:
             try:
                 yield own
@@ -398,6 +403,23 @@ def _dask_client(client, scheduler, workers, host):
             os.environ.pop("PYTHONSAFEPATH", None)
         else:
             os.environ["PYTHONSAFEPATH"] = safe_path
+
+
+def _security():
+    """Dask's security and protocol for the embedded cluster: mutual TLS
+    with a certificate authority, key and certificate made for this run
+    (in memory; the worker processes get them from their parent), so that
+    only this run's client and workers can connect. Without the package
+    cryptography (Debian: python3-cryptography), which makes them, plain TCP
+    and a warning."""
+    from distributed.security import Security
+
+    try:
+        return Security.temporary(), "tls://"
+    except ImportError:
+        print("stvd cohort: the package cryptography (python3-cryptography) is missing: the embedded cluster "
+              "runs without TLS, and other users of this machine can submit work to it", file=sys.stderr)
+        return None, "tcp://"
 
 
 def _stop_workers_now(cluster):

@@ -8,6 +8,7 @@ The runs are stopped at moments the test observes, not after a delay: once
 a subject is complete, every worker is frozen (SIGSTOP), and the signal is
 sent while they hold their tasks mid-way."""
 
+import operator
 import os
 import pathlib
 import signal
@@ -17,6 +18,7 @@ import time
 
 import pytest
 
+import stvd.cohort
 from conftest import TOOL
 from synthetic_cohort import make_cohort
 
@@ -204,6 +206,20 @@ def test_a_killed_cohort_takes_its_workers_with_it_and_host_says_where_it_listen
         assert_listening_on("127.0.0.2", addresses)
     finally:
         cohort.kill()
+
+
+def test_the_embedded_cluster_admits_only_its_own_run():
+    """Loopback is every local user's: the cluster talks TLS with keys made
+    for the run, and a client with keys of its own is turned away."""
+    from distributed import Client
+    from distributed.security import Security
+
+    with stvd.cohort._dask_client(None, None, 1, "127.0.0.1") as client:
+        address = client.scheduler.address
+        assert address.startswith("tls://127.0.0.1:")
+        assert client.submit(operator.add, 1, 2).result() == 3  # the run's own client is served
+        with pytest.raises(Exception, match="TLS certificate does not match"):
+            Client(address, security=Security.temporary(), timeout=f"{DEADLINE}s")
 
 
 def test_host_is_for_the_embedded_cluster_only(manifest, tmp_path):
