@@ -37,8 +37,12 @@ def dask_cluster(tmp_path):
     end. Yields (address, {name: process})."""
     scheduler_file = tmp_path / "scheduler.json"
     log = open(tmp_path / "cluster.log", "w")
-    processes = {"scheduler": start("distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0",
-                                    "--no-dashboard", "--scheduler-file", scheduler_file, log=log)}
+    # Their HTTP servers too on 127.0.0.1 and a free port: without
+    # --dashboard-address, --no-dashboard still serves on every interface
+    # (the scheduler on port 8787, which another test run may hold).
+    http = ("--no-dashboard", "--dashboard-address", "127.0.0.1:0")
+    processes = {"scheduler": start("distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0", *http,
+                                    "--scheduler-file", scheduler_file, log=log)}
     try:
         deadline = time.monotonic() + DEADLINE
         while not scheduler_file.exists():
@@ -46,8 +50,8 @@ def dask_cluster(tmp_path):
             time.sleep(0.1)
         for name in ("victim", "survivor"):
             processes[name] = start("distributed.cli.dask_worker", "--scheduler-file", scheduler_file,
-                                    "--name", name, "--nthreads", "1", "--no-nanny", "--host", "127.0.0.1",
-                                    "--no-dashboard", log=log)
+                                    "--name", name, "--nthreads", "1", "--no-nanny", "--host", "127.0.0.1", *http,
+                                    log=log)
         with Client(scheduler_file=str(scheduler_file), timeout=f"{DEADLINE}s") as client:
             client.wait_for_workers(2, timeout=DEADLINE)
             yield client, processes
