@@ -18,21 +18,24 @@ namespace stvd::tool {
 namespace {
 
 /// `program` itself when it names a path, else the first executable file
-/// of that name on PATH (looked up here: between fork and exec only
-/// async-signal-safe calls are allowed).
+/// of that name in an absolute folder of PATH (looked up here: between fork
+/// and exec only async-signal-safe calls are allowed). Empty and relative
+/// entries of PATH, which execvp takes as the working folder or folders in
+/// it, are skipped: a program planted there never runs.
 std::string executablePath(const std::string& program) {
   if (program.find('/') != std::string::npos) return program;
   const char* path = std::getenv("PATH");
-  std::string folders = path && *path ? path : "/usr/local/bin:/usr/bin:/bin";
+  const std::string folders = path && *path ? path : "/usr/local/bin:/usr/bin:/bin";
   for (std::size_t start = 0; start <= folders.size();) {
     std::size_t end = folders.find(':', start);
     if (end == std::string::npos) end = folders.size();
     const std::string folder = folders.substr(start, end - start);
-    const std::string candidate = (folder.empty() ? "." : folder) + "/" + program;
+    start = end + 1;
+    if (folder.empty() || folder[0] != '/') continue;
+    const std::string candidate = folder + "/" + program;
     struct stat status {};
     if (::stat(candidate.c_str(), &status) == 0 && S_ISREG(status.st_mode) && ::access(candidate.c_str(), X_OK) == 0)
       return candidate;
-    start = end + 1;
   }
   return program;  // exec fails with ENOENT, which is reported
 }

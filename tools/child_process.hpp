@@ -28,7 +28,8 @@ struct ChildStreams {
 /// A running child process, guarded from its start: a termination signal
 /// to the tool is passed on to it and waited for. Throws ToolError
 /// (internal) naming `program` when it cannot be started. `program` is
-/// looked up on PATH when it has no slash.
+/// looked up in the absolute folders of PATH when it has no slash (never
+/// in the working folder).
 class ChildProcess {
  public:
   ChildProcess(const std::string& program, const std::vector<std::string>& arguments,

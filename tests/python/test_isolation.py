@@ -124,6 +124,26 @@ def test_a_report_child_runs_nothing_planted_where_the_data_is(planted):
         assert page.stat().st_size > 1000
 
 
+def test_an_interpreter_named_without_a_folder_is_never_taken_from_the_working_folder(planted):
+    """STVD_PYTHON=python3 is looked up in the absolute folders of PATH
+    only: an empty or relative entry (execvp's working folder) is skipped,
+    and a python3 planted in the working folder does not run."""
+    folders, env, marker = planted
+    work = folders["work"]
+    fake = work / "python3"
+    fake.write_text(f"#!/bin/sh\necho planted python3 ran >> {marker}\nexit 1\n")
+    fake.chmod(0o755)
+    (work / "bin").mkdir()
+    (work / "bin" / "python3").write_bytes(fake.read_bytes())
+    (work / "bin" / "python3").chmod(0o755)
+    python_folder = os.path.dirname(os.path.realpath(sys.executable))
+    env = dict(env, STVD_PYTHON="python3", PATH=f":bin:{python_folder}:/usr/bin:/bin")
+    tool("distance", DIPY_5D, "--seed-voxel", "55,54,15", "-o", "d.nii.gz", "--report", "r.html", "-q",
+         cwd=work, env=env)
+    assert ran(marker) == ""
+    assert (work / "r.html").stat().st_size > 1000
+
+
 @pytest.mark.parametrize("how", ["tool", "python"])
 def test_a_cohort_and_its_dask_workers_run_nothing_planted(planted, tmp_path, how):
     """`stvd cohort` (the working folder being the study's), and
