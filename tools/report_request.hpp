@@ -18,7 +18,7 @@ int runReport(int argc, char** argv);
 
 /// A report asked for with --report FILE.html, an output of the run that the
 /// command declares in its RunFiles like every other (never an input, never
-/// another output). start() starts `python3 -m stvd.report --prepare`,
+/// another output). start() starts stvd.report --prepare (isolated),
 /// which while the run computes checks that it can draw and does the
 /// imports and the first drawing that every page costs, then waits for the
 /// page's arguments on its stdin; requireReady() waits until it says so

@@ -195,8 +195,8 @@ tetmesh::TetMesh tetrahedralizeSurface(const SurfaceMesh& surface, const Tetrahe
   // passed (it stays 0, off): TetGen documents no termination guarantee
   // for it.
   if (!(options.quality >= kMinimumQuality) || !std::isfinite(options.quality))
-    throw std::invalid_argument("the quality bound (radius-edge ratio) must be at least " + numberText(kMinimumQuality) +
-                                " (below it TetGen's refinement need not end)");
+    throw std::invalid_argument("the quality bound (radius-edge ratio) must be at least " +
+                                numberText(kMinimumQuality) + " (below it TetGen's refinement need not end)");
   if (options.maxVolume && !(*options.maxVolume > 0.0 && std::isfinite(*options.maxVolume)))
     throw std::invalid_argument("the maximum volume must be positive");
   if (options.maxAddedPoints == 0 || options.maxAddedPoints > static_cast<std::size_t>(std::numeric_limits<int>::max()))

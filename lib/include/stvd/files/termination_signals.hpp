@@ -16,7 +16,8 @@ namespace stvd::files {
 /// Blocks SIGINT, SIGTERM and SIGHUP in the calling thread and in every
 /// thread it creates afterwards, and starts a thread that waits for them
 /// (sigwait), named "stvd-signals" (/proc/PID/task/*/comm): once it shows,
-/// a termination signal is handled. Call it first in main(), before any other thread exists.
+/// a termination signal is handled. Call it first in main(), before any
+/// other thread exists.
 /// Signals whose disposition is "ignore" when it is called (a program
 /// started in the background by a non-interactive shell ignores SIGINT)
 /// stay ignored. On a signal the thread waits for a commit in progress to
