@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -311,6 +312,10 @@ TEST_F(ToolInterruption, SigtermWhileThePageIsDrawnStopsTheReportChildBeforeTheT
       tool.wait();
       continue;
     }
+    // The child runs with no signal blocked (the tool blocks the three for
+    // its own signal thread; a child that inherited them would never see
+    // one).
+    for (const int s : {SIGINT, SIGTERM, SIGHUP}) EXPECT_FALSE(signalIn(child, "SigBlk", s)) << strsignal(s);
     tool.signal(SIGTERM);
     // Let the child go on once the tool has told it to stop (or has ended
     // without doing so: then the child would draw and write the page).

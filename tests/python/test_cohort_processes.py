@@ -57,6 +57,17 @@ def command_line(pid):
         return ""
 
 
+TERMINATION_BITS = sum(1 << (s - 1) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP))
+
+
+def blocked(pid):
+    """The signal mask of a process's main thread (SigBlk), as a number."""
+    for line in pathlib.Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("SigBlk:"):
+            return int(line.split()[1], 16)
+    return 0
+
+
 def workers_of(pgid):
     """The Dask worker processes of the group (multiprocessing's spawned
     interpreters; not its resource tracker)."""
@@ -135,6 +146,10 @@ class Cohort:
         assert self.process.poll() is None, "the run ended before it could be interrupted"
         workers = workers_of(self.pgid)
         assert len(workers) == 2, [command_line(p) for p in group(self.pgid)]
+        # No termination signal blocked in the run or its workers (the tool
+        # blocks them for its signal thread before it becomes Python).
+        for pid in [self.pgid, *workers]:
+            assert not blocked(pid) & TERMINATION_BITS, (pid, command_line(pid), hex(blocked(pid)))
         for pid in workers:
             os.kill(pid, signal.SIGSTOP)
         wait_for(lambda: all((_stat(pid) or "Z")[0] in "TZX" for pid in workers), "the workers to stop")
