@@ -1,7 +1,6 @@
 // What the geodesic subcommands (distance, path, connectivity) share: the
-// seed options and their resolution to voxels, and the propagation options
-// (read into the library's PropagationChoice, stvd/propagation_choice.hpp,
-// which holds the defaults and the checks).
+// seed options and their resolution to voxels (their declarations:
+// stvd/itk/seed_options.hpp).
 #pragma once
 
 #include <array>
@@ -25,13 +24,8 @@ struct SeedOptions {
   std::string seedLabels;
 };
 
-/// When `option` is a seed option, reads it into `seeds` and returns true.
-bool parseSeedOption(const std::string& option, ArgumentReader& args, SeedOptions& seeds);
-/// When `option` is a propagation option (--method, --steiner, --k,
-/// --chain-measure, --stencil, --domain-connectivity, --no-memory-check),
-/// reads it into `choice` and returns true. Checks of the combination:
-/// stvd::checkPropagationChoice.
-bool parsePropagationOption(const std::string& option, ArgumentReader& args, PropagationChoice& choice);
+/// The seed options given on a command line.
+SeedOptions seedOptionsOf(const OptionValues& values);
 
 // A voxel the user named and how (for messages), and how voxels and points
 // are written in messages (stvd/itk/seed_voxels.hpp).

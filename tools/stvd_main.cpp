@@ -7,6 +7,7 @@
 #include "command_line.hpp"
 #include "stvd/system/files/termination_signals.hpp"
 #include "stvd/errors.hpp"
+#include "option_help.hpp"
 #include "report_request.hpp"
 #include "subcommands.hpp"
 #include "tet_mesh_commands.hpp"
@@ -58,6 +59,8 @@ int dispatch(int argc, char** argv) {
   if (command == "cohort") return runCohort(argc, argv);
   if (command == "report") return runReport(argc, argv);
   if (command == "-h" || command == "--help" || command == "help") {
+    // Hidden: docs/cli.md's option tables (scripts/update_cli_docs.py).
+    if (command == "help" && argc > 2 && std::string(argv[2]) == "--markdown") return printOptionTables(argc, argv, 3);
     if (command == "help" && argc > 2) {
       char* helpArgv[] = {argv[0], argv[2], const_cast<char*>("--help")};
       return dispatch(3, helpArgv);

@@ -13,6 +13,7 @@
 #include "stvd/system/files/output_transaction.hpp"
 #include "stvd/imaging/run_files.hpp"
 #include "stvd/imaging/scalar_image.hpp"
+#include "stvd/itk/image_grid.hpp"
 
 namespace py = pybind11;
 
@@ -26,6 +27,14 @@ void bindFiles(py::module_& m) {
 
   m.def("is_image_path", &imaging::hasImageExtension, py::arg("path"),
         "Whether stvd writes `path` as an image (.nii, .nii.gz, .nrrd, .nhdr, .mif, .mif.gz).");
+  m.def(
+      "require_image_on_grid",
+      [](const std::string& path, const std::string& reference, const std::string& subject) {
+        imaging::requireImageOnGrid(path, imaging::readImageGrid(reference), subject, reference);
+      },
+      py::arg("path"), py::arg("reference"), py::arg("subject"), py::call_guard<py::gil_scoped_release>(),
+      "ValueError '<path>: <subject> on another grid than <reference> (...)' unless the two image files' headers "
+      "declare the same grid; no data are read (stvd/itk/image_grid.hpp).");
 
   py::class_<imaging::RunFiles>(m, "RunFiles", "The files one call reads and writes (stvd/itk/run_files.hpp).")
       .def(py::init<>())
@@ -65,7 +74,8 @@ void bindFiles(py::module_& m) {
           },
           py::arg("path"), py::arg("writer"),
           "Calls writer(staging_path), which must write the file there, and flushes it to disk.")
-      .def("commit", &files::OutputTransaction::commit);
+      // A FIFO output may wait for its reader: other threads run meanwhile.
+      .def("commit", &files::OutputTransaction::commit, py::call_guard<py::gil_scoped_release>());
 }
 
 }  // namespace stvd::python

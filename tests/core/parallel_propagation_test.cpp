@@ -42,7 +42,8 @@ TEST(ParallelTasks, NeverStartsMoreThreadsThanTasks) {
 }
 
 // Two tasks that can only both finish if they run at the same time: each
-// waits (up to 20 s) for the other to have started.
+// waits for the other to have started (up to 120 s: a bound for a hang, not
+// a time the test expects; a loaded machine may start a thread late).
 TEST(ParallelTasks, TwoThreadsRunTwoTasksConcurrently) {
   std::mutex m;
   std::condition_variable cv;
@@ -54,7 +55,7 @@ TEST(ParallelTasks, TwoThreadsRunTwoTasksConcurrently) {
     threadIds.insert(std::this_thread::get_id());
     ++started;
     cv.notify_all();
-    sawBoth[t] = cv.wait_for(lock, std::chrono::seconds(20), [&] { return started == 2; }) ? 1 : 0;
+    sawBoth[t] = cv.wait_for(lock, std::chrono::seconds(120), [&] { return started == 2; }) ? 1 : 0;
   });
   EXPECT_EQ(sawBoth, (std::vector<int>{1, 1}));
   EXPECT_EQ(threadIds.size(), 2u);

@@ -9,6 +9,7 @@
 #include "stvd/errors.hpp"
 #include "stvd/imaging/mrtrix_image.hpp"
 #include "stvd/system/files/file_identity.hpp"
+#include "stvd/system/files/regular_file.hpp"
 
 namespace fs = std::filesystem;
 
@@ -77,11 +78,11 @@ std::vector<std::string> nrrdDataFileNames(const std::string& path) {
   // megabyte, and no more is read (the file is not checked yet).
   constexpr std::size_t kMaxHeaderBytes = 1 << 20;
   constexpr long kMaxGeneratedNames = 100000;
-  std::string head(kMaxHeaderBytes, '\0');
-  {
-    std::ifstream file(path, std::ios::binary);
-    file.read(head.data(), static_cast<std::streamsize>(head.size()));
-    head.resize(static_cast<std::size_t>(file.gcount()));
+  std::string head;
+  try {  // a FIFO or a device named like a header is not read (it would block or never end)
+    head = files::readRegularFile(path, kMaxHeaderBytes, /*truncate=*/true);
+  } catch (const files::InputFileError&) {
+    return {};
   }
   std::istringstream in(head);
   std::string line;

@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "stvd/errors.hpp"
+#include "stvd/system/files/regular_file.hpp"
 #include "stvd/system/memory.hpp"
 
 namespace stvd::imaging::detail {
@@ -61,8 +62,12 @@ using GzFile = std::unique_ptr<gzFile_s, GzCloser>;
 /// Opens `path` at byte `offset` for reading through zlib (gzip data are
 /// decompressed, other data passed through as they are).
 GzFile openAt(const std::string& path, std::uint64_t offset, const std::string& reportedPath) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw ImageIoError(reportedPath, "cannot open " + path + ": " + std::strerror(errno));
+  int fd;
+  try {
+    fd = files::RegularFile(path).release();  // a FIFO swapped in after the checks does not block
+  } catch (const files::InputFileError& e) {
+    throw ImageIoError(reportedPath, "cannot open " + path + ": " + e.problem());
+  }
   if (::lseek(fd, static_cast<off_t>(offset), SEEK_SET) < 0) {
     ::close(fd);
     throw ImageIoError(reportedPath, "cannot seek in " + path);
@@ -77,7 +82,8 @@ GzFile openAt(const std::string& path, std::uint64_t offset, const std::string& 
 }
 
 /// Decompressed bytes of the gzip stream that starts at `offset`, or -1
-/// when it is damaged or cut short. Stops counting at `enough`.
+/// when it is damaged or cut short. Stops counting at `enough` (at most one
+/// buffer beyond it).
 long long gzipContentSize(const std::string& path, std::uint64_t offset, std::uint64_t enough,
                           const std::string& reportedPath) {
   const GzFile f = openAt(path, offset, reportedPath);
@@ -99,7 +105,9 @@ void checkGzipHolds(const std::string& dataPath, std::uint64_t offset, std::uint
     throw ImageIoError(reportedPath, "the header declares " + std::to_string(needed) +
                                          " bytes of data, more than the " + std::to_string(compressedBytes) +
                                          " compressed bytes can hold");
-  const long long size = gzipContentSize(dataPath, offset, std::numeric_limits<std::uint64_t>::max(), reportedPath);
+  // Counted only as far as the header needs: whatever follows (more gzip
+  // members, zeros to the end of a disk) is never decompressed.
+  const long long size = gzipContentSize(dataPath, offset, needed, reportedPath);
   if (size < 0) throw ImageIoError(reportedPath, "the compressed data are damaged or cut short");
   if (static_cast<std::uint64_t>(size) < needed)
     throw ImageIoError(reportedPath, "the file is truncated: its compressed data hold " + std::to_string(size) +
@@ -197,7 +205,7 @@ struct NiftiFields {
 constexpr NiftiFields kNifti1{348, 70, 40, 76, 108, 112, 116, 252, 254, 256, 280, 68, false};
 constexpr NiftiFields kNifti2{540, 12, 16, 104, 168, 176, 184, 344, 348, 352, 400, 504, true};
 
-ScreenedImage screenNifti(const std::string& path, const std::string& lower) {
+ScreenedImage screenNifti(const std::string& path, const std::string& lower, bool withData) {
   ScreenedImage image;
   image.format = ImageFileFormat::Nifti;
   const bool pair = endsWith(lower, ".hdr") || endsWith(lower, ".hdr.gz") || endsWith(lower, ".img") ||
@@ -330,9 +338,12 @@ ScreenedImage screenNifti(const std::string& path, const std::string& lower) {
     }
   }
 
-  checkValuesFitInMemory(image.elementCount, image.elementBytes, path);
-  const std::uint64_t fileBytes = regularFileSize(image.dataPath, path, "the image file");
   image.gzipData = endsWith(lowercase(image.dataPath), ".gz");
+  // The header alone (a side input's grid): the data file must be a
+  // regular file, but what its data need is checked only when they are read.
+  const std::uint64_t fileBytes = regularFileSize(image.dataPath, path, "the image file");
+  if (!withData) return image;
+  checkValuesFitInMemory(image.elementCount, image.elementBytes, path);
   if (image.gzipData) {
     checkGzipHolds(image.dataPath, 0, fileBytes, needed, path);
   } else if (fileBytes < needed) {
@@ -440,7 +451,7 @@ void checkAsciiData(const std::string& dataPath, std::uint64_t offset, std::uint
                                          std::to_string(count));
 }
 
-ScreenedImage screenNrrd(const std::string& path) {
+ScreenedImage screenNrrd(const std::string& path, bool withData) {
   ScreenedImage image;
   image.format = ImageFileFormat::Nrrd;
   const std::uint64_t headerFileBytes = regularFileSize(path, path, "the file");
@@ -536,7 +547,7 @@ ScreenedImage screenNrrd(const std::string& path) {
     throw ImageIoError(path, "bzip2-compressed NRRD data are not supported (use raw or gzip)");
   if (!raw && !ascii && !hex && !gzip) throw ImageIoError(path, "unknown NRRD encoding \"" + encoding + "\"");
   if (byteSkip == -1 && !raw) throw ImageIoError(path, "byte skip -1 needs raw encoding");
-  checkValuesFitInMemory(image.elementCount, image.elementBytes, path);
+  if (withData) checkValuesFitInMemory(image.elementCount, image.elementBytes, path);
 
   // Where the data are: after the header's blank line, or in the data file.
   std::uint64_t offset = consumed;
@@ -555,7 +566,7 @@ ScreenedImage screenNrrd(const std::string& path) {
   }
   const std::uint64_t fileBytes =
       dataFile.empty() ? headerFileBytes : regularFileSize(image.dataPath, path, "the data file");
-  if (lineSkip > 0) {
+  if (lineSkip > 0) {  // NrrdIO skips the lines when it reads the header: checked even for the header alone
     std::ifstream data(image.dataPath, std::ios::binary);
     data.seekg(static_cast<std::streamoff>(offset));
     long long lines = 0;
@@ -572,6 +583,9 @@ ScreenedImage screenNrrd(const std::string& path) {
   const std::uint64_t available = fileBytes - offset;
   image.dataOffset = offset;
   image.gzipData = gzip;
+  // The header alone (a side input's grid): what the data need is checked
+  // only when they are read.
+  if (!withData) return image;
   if (raw && available < dataBytes) {
     throw ImageIoError(path, "the data are truncated: " + std::to_string(available) + " bytes where the header needs " +
                                  std::to_string(dataBytes));
@@ -591,11 +605,11 @@ ScreenedImage screenNrrd(const std::string& path) {
 
 }  // namespace
 
-ScreenedImage screenImageFile(const std::string& path) {
+ScreenedImage screenImageFile(const std::string& path, bool withData) {
   const std::string lower = lowercase(path);
-  if (endsWith(lower, ".nrrd") || endsWith(lower, ".nhdr")) return screenNrrd(path);
+  if (endsWith(lower, ".nrrd") || endsWith(lower, ".nhdr")) return screenNrrd(path, withData);
   for (const char* ext : {".nii", ".nii.gz", ".hdr", ".hdr.gz", ".img", ".img.gz"})
-    if (endsWith(lower, ext)) return screenNifti(path, lower);
+    if (endsWith(lower, ext)) return screenNifti(path, lower, withData);
   throw ImageIoError(path, "not a NIfTI (.nii, .nii.gz, .hdr/.img), NRRD (.nrrd, .nhdr) or MRtrix (.mif, .mif.gz, "
                            ".mih) file name");
 }

@@ -1,6 +1,7 @@
 // MRtrix image files: our own parser and writer (see mrtrix_image.hpp).
 #include "stvd/imaging/mrtrix_image.hpp"
 
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "stvd/errors.hpp"
@@ -21,6 +23,7 @@
 #include "stvd/imaging/label_values.hpp"
 #include "stvd/system/files/file_contents.hpp"
 #include "stvd/system/files/output_transaction.hpp"
+#include "stvd/system/files/regular_file.hpp"
 
 namespace stvd::imaging {
 namespace {
@@ -262,13 +265,23 @@ std::size_t headerEnd(std::string_view bytes) {
 /// `size` bytes of the file at `path` from byte `offset` (fewer when the
 /// file is shorter: never more than it holds, whatever a header says).
 std::string readRange(const std::string& path, std::uint64_t offset, std::size_t size, const std::string& name) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ImageIoError(name, "cannot open " + path + ": " + std::strerror(errno));
-  in.seekg(static_cast<std::streamoff>(offset));
+  std::optional<files::RegularFile> file;
+  try {
+    file.emplace(path);  // never blocks on a FIFO swapped in after the checks
+  } catch (const files::InputFileError& e) {
+    throw ImageIoError(name, path == name ? e.problem() : e.what());
+  }
   std::string content(size, '\0');
-  in.read(content.data(), static_cast<std::streamsize>(content.size()));
-  content.resize(static_cast<std::size_t>(in.gcount()));
-  if (in.bad()) throw ImageIoError(name, "cannot read " + path);
+  std::size_t done = 0;
+  while (done < size) {
+    const ssize_t n = ::pread(file->descriptor(), content.data() + done, size - done,
+                              static_cast<off_t>(offset + done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw ImageIoError(name, "cannot read " + path + ": " + std::strerror(errno));
+    if (n == 0) break;
+    done += static_cast<std::size_t>(n);
+  }
+  content.resize(done);
   return content;
 }
 
@@ -297,6 +310,41 @@ struct StoredImage {
   std::string data;
 };
 
+/// The first bytes of a .mif.gz stream, up to and including its header's
+/// END line (or kMaxHeaderBytes and a little more when there is none).
+std::string compressedHead(gzFile file, const std::string& path) {
+  std::string head;
+  std::vector<char> chunk(4096);
+  while (headerEnd(head) == std::string::npos && head.size() <= kMaxHeaderBytes) {
+    const std::size_t got = gzipRead(file, path, chunk.data(), chunk.size());
+    if (got == 0) break;
+    head.append(chunk.data(), got);
+  }
+  return head;
+}
+
+struct GzCloser {
+  void operator()(gzFile_s* f) const { gzclose(f); }
+};
+
+/// `path` opened through zlib, once it is known to be a regular file (a
+/// device or FIFO could be read from forever), without blocking on a FIFO
+/// swapped in meanwhile.
+std::unique_ptr<gzFile_s, GzCloser> openCompressed(const std::string& path) {
+  int fd;
+  try {
+    fd = files::RegularFile(path).release();
+  } catch (const files::InputFileError& e) {
+    throw ImageIoError(path, e.problem());
+  }
+  std::unique_ptr<gzFile_s, GzCloser> file(gzdopen(fd, "rb"));
+  if (!file) {
+    ::close(fd);
+    throw ImageIoError(path, "cannot open the compressed file");
+  }
+  return file;
+}
+
 /// A .mif.gz file decompressed as far as its header says, never further.
 /// A header that declares more than deflate can expand the file to (1032
 /// to 1), or more than the memory available, fails at once. Otherwise the
@@ -305,27 +353,12 @@ struct StoredImage {
 /// that declares more data than the stream holds fails before the data are
 /// allocated.
 StoredImage readCompressedMif(const std::string& path) {
-  struct Closer {
-    void operator()(gzFile_s* f) const { gzclose(f); }
-  };
-  const auto open = [&path] {
-    std::unique_ptr<gzFile_s, Closer> file(gzopen(path.c_str(), "rb"));
-    if (!file) throw ImageIoError(path, std::string("cannot open: ") + std::strerror(errno));
-    return file;
-  };
+  const auto open = [&path] { return openCompressed(path); };
   // A device or FIFO could be read from forever; deflate's ratio bounds
   // what a regular file of this size can hold.
   const std::uint64_t compressedBytes = detail::regularFileSize(path, path, "the file");
   auto first = open();
-  std::string head;
-  std::size_t end = std::string::npos;
-  std::vector<char> chunk(4096);
-  while (end == std::string::npos && head.size() <= kMaxHeaderBytes) {
-    const std::size_t got = gzipRead(first.get(), path, chunk.data(), chunk.size());
-    if (got == 0) break;
-    head.append(chunk.data(), got);
-    end = headerEnd(head);
-  }
+  const std::string head = compressedHead(first.get(), path);
   StoredImage stored;
   stored.header = parseMrtrixHeader(head, path);  // names what is missing when there is no END
   const MrtrixHeader& header = stored.header;
@@ -622,6 +655,16 @@ MrtrixLabelImage readMrtrixLabelImage(const std::string& path) {
   image.labels = decodeLabels(stored.header, stored.data, image.geometry, path);
   image.header = std::move(stored.header);
   return image;
+}
+
+GridGeometry readMrtrixImageGrid(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw ImageIoError(path, "no such file");
+  if (endsWith(lower(path), ".mif.gz")) {
+    const auto file = openCompressed(path);
+    return geometryOf(parseMrtrixHeader(compressedHead(file.get(), path), path), path);
+  }
+  return geometryOf(readUncompressedHeader(path, detail::regularFileSize(path, path, "the file")), path);
 }
 
 std::string mrtrixDataFile(const std::string& path) {

@@ -35,7 +35,11 @@ std::string whyOutsideDomain(std::size_t v, const TensorInput& input, const Metr
   if (zero) return "its tensor is zero (no data there)";
   const SymmetricEigen e = eigenDecompose(t);
   if (!(e.values[0] > 0.0)) return "its tensor has no positive eigenvalue";
-  if (metric.faThreshold) return "its FA " + fixed(fractionalAnisotropy(e.values), 3) + " is below --fa-threshold";
+  // In words both front ends share (the tool's flag and the package's
+  // keyword name the same threshold).
+  if (metric.faThreshold)
+    return "its FA " + fixed(fractionalAnisotropy(e.values), 3) + " is below the FA threshold " +
+           fixed(*metric.faThreshold, 3);
   return "it is outside the domain";
 }
 

@@ -3,45 +3,42 @@
 #include <cmath>
 
 #include "stvd/errors.hpp"
+#include "stvd/imaging/tensor_input_options.hpp"
 #include "stvd/imaging/tensor_plausibility.hpp"
 
 namespace stvd::imaging {
 
-void setTensorOrder(TensorInputOptions& o, const std::string& v) {
-  o.order = parseTensorOrder(v);
-  if (!o.order) throw OptionError("--tensor-order: '" + v + "' is not one of lower, fsl, mrtrix");
+namespace {
+
+/// Checks `value` as the option's declaration says and sets it.
+void setOption(TensorInputOptions& o, const std::string& flag, OptionValue value) {
+  const OptionDeclaration& option = tensorInputOption(flag);
+  OptionValues values(o.naming);
+  values.set(option, std::move(value));
+  const TensorInputOptions given = tensorInputOptionsOf(values);
+  if (flag == "--tensor-order") o.order = given.order;
+  if (flag == "--tensor-frame") o.frame = given.frame;
+  if (flag == "--tensor-kind") o.metric.kind = given.metric.kind;
+  if (flag == "--diffusion-metric") o.metric.diffusionMetric = given.metric.diffusionMetric;
+  if (flag == "--max-anisotropy") o.metric.maxAnisotropy = given.metric.maxAnisotropy;
+  if (flag == "--fa-threshold") o.metric.faThreshold = given.metric.faThreshold;
 }
 
-void setTensorFrame(TensorInputOptions& o, const std::string& v) {
-  o.frame = parseTensorFrame(v);
-  if (!o.frame) throw OptionError("--tensor-frame: '" + v + "' is not one of voxel, world");
-}
+}  // namespace
 
-void setTensorKind(TensorInputOptions& o, const std::string& v) {
-  const auto kind = parseTensorKind(v);
-  if (!kind) throw OptionError("--tensor-kind: '" + v + "' is not one of diffusion, metric");
-  o.metric.kind = *kind;
-}
-
-void setDiffusionMetric(TensorInputOptions& o, const std::string& v) {
-  const auto metric = parseDiffusionMetric(v);
-  if (!metric) throw OptionError("--diffusion-metric: '" + v + "' is not one of inverse, adjugate");
-  o.metric.diffusionMetric = *metric;
-}
-
-void setMaxAnisotropy(TensorInputOptions& o, double a) {
-  if (!(a >= 1.0)) throw OptionError("--max-anisotropy must be at least 1");
-  o.metric.maxAnisotropy = a;
-}
-
-void setFaThreshold(TensorInputOptions& o, double t) {
-  if (!(t >= 0.0 && t < 1.0)) throw OptionError("--fa-threshold must be in [0, 1)");
-  o.metric.faThreshold = t;
-}
+void setTensorOrder(TensorInputOptions& o, const std::string& v) { setOption(o, "--tensor-order", v); }
+void setTensorFrame(TensorInputOptions& o, const std::string& v) { setOption(o, "--tensor-frame", v); }
+void setTensorKind(TensorInputOptions& o, const std::string& v) { setOption(o, "--tensor-kind", v); }
+void setDiffusionMetric(TensorInputOptions& o, const std::string& v) { setOption(o, "--diffusion-metric", v); }
+void setMaxAnisotropy(TensorInputOptions& o, double a) { setOption(o, "--max-anisotropy", a); }
+void setFaThreshold(TensorInputOptions& o, double t) { setOption(o, "--fa-threshold", t); }
 
 void checkTensorInputOptions(const TensorInputOptions& o) {
   if (o.metric.faThreshold && o.metric.kind != TensorKind::Diffusion)
-    throw OptionError("--fa-threshold applies to --tensor-kind diffusion only");
+    throw OptionError(optionName(tensorInputOption("--fa-threshold"), o.naming) + " applies to " +
+                      optionWithValue(tensorInputOption("--tensor-kind"), tensorKindName(TensorKind::Diffusion),
+                                      o.naming) +
+                      " only");
 }
 
 TensorInput tensorInputOf(TensorReadResult read, const std::string& name) {
@@ -68,12 +65,15 @@ MetricFromTensors buildCheckedMetric(const std::string& inputName, const TensorI
   MetricFromTensors built = buildMetric(input.read.volume.tensors, input.mask, options.metric);
   const std::string reason = implausibleTensorsReason(built.counts);
   if (!reason.empty() && !options.acceptImplausible) {
+    const auto name = [&](const std::string& flag) { return optionName(tensorInputOption(flag), options.naming); };
     const TensorFileInfo& info = input.read.info;
     throw InputError(inputName + ": " + reason + " as read (" + tensorFileLayoutName(info.layout) + ", order " +
                      tensorOrderName(info.order) + " = " + tensorOrderComponents(info.order) + ", " +
                      tensorFrameName(info.frame) +
-                     " frame): most likely a wrong --tensor-order; check it, --tensor-frame and --tensor-kind (stvd "
-                     "info " + inputName + " tries each order), or go on with --accept-implausible-tensors");
+                     " frame): most likely a wrong " + name("--tensor-order") + "; check it, " +
+                     name("--tensor-frame") + " and " + name("--tensor-kind") + " (stvd info " + inputName +
+                     " tries each order), or go on with " +
+                     optionSwitchedOn(tensorInputOption("--accept-implausible-tensors"), options.naming));
   }
   return built;
 }

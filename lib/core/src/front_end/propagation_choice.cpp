@@ -3,68 +3,37 @@
 #include <cmath>
 #include <limits>
 
+#include "stvd/front_end/propagation_choice_options.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
 
 namespace stvd {
 
-void setMethod(PropagationChoice& o, const std::string& m) {
-  o.lanthier = m == "lanthier";
-  if (m == "stvd")
-    o.method = Method::ShortTermVectorDijkstra;
-  else if (m == "dijkstra")
-    o.method = Method::Dijkstra;
-  else if (!o.lanthier)
-    throw OptionError("--method: '" + m + "' is not one of stvd, dijkstra, lanthier");
+namespace {
+
+/// Checks `value` as the option's declaration says and sets it.
+void setOption(PropagationChoice& choice, const std::string& flag, OptionValue value) {
+  applyPropagationOption(choice, flag, checkOptionValue(propagationOption(flag), std::move(value), choice.naming));
 }
 
-void setSteinerPoints(PropagationChoice& o, int points) {
-  o.steinerPoints = points;
-  if (o.steinerPoints < 1 || o.steinerPoints > kMaxSteinerPoints)
-    throw OptionError("--steiner must be between 1 and " + std::to_string(kMaxSteinerPoints));
-}
+}  // namespace
 
-void setMemoryDepth(PropagationChoice& o, int k) {
-  o.k = k;
-  if (k < 1 || k > kMaxMemoryDepth)
-    throw OptionError("--k must be between 1 and " + std::to_string(kMaxMemoryDepth));
-}
-
-void setChainMeasure(PropagationChoice& o, const std::string& m) {
-  if (m == "segment")
-    o.chainMeasure = ChainMeasure::Segment;
-  else if (m == "projection")
-    o.chainMeasure = ChainMeasure::ProjectionWeighted;
-  else if (m == "largest")
-    o.chainMeasure = ChainMeasure::LargestEdgeNorm;
-  else
-    throw OptionError("--chain-measure: '" + m + "' is not one of segment, projection, largest");
-  o.chainMeasureGiven = true;
-}
-
-void setStencil(PropagationChoice& o, const std::string& name) {
-  o.stencil = name;
-  o.stencilGiven = true;
-  try {
-    Stencil::byName(o.stencil);
-  } catch (const std::invalid_argument&) {
-    throw OptionError("--stencil: '" + o.stencil + "' is not one of 6, 18, 26, 98, 290");
-  }
-}
-
-void setDomainConnectivity(PropagationChoice& o, const std::string& c) {
-  if (c == "6")
-    o.connectivity = VoxelConnectivity::Faces;
-  else if (c == "18")
-    o.connectivity = VoxelConnectivity::Edges;
-  else if (c == "26")
-    o.connectivity = VoxelConnectivity::Corners;
-  else
-    throw OptionError("--domain-connectivity: '" + c + "' is not one of 6, 18, 26");
-  o.connectivityGiven = true;
-}
+void setMethod(PropagationChoice& o, const std::string& m) { setOption(o, "--method", m); }
+void setSteinerPoints(PropagationChoice& o, int points) { setOption(o, "--steiner", static_cast<long long>(points)); }
+void setMemoryDepth(PropagationChoice& o, int k) { setOption(o, "--k", static_cast<long long>(k)); }
+void setChainMeasure(PropagationChoice& o, const std::string& m) { setOption(o, "--chain-measure", m); }
+void setStencil(PropagationChoice& o, const std::string& name) { setOption(o, "--stencil", name); }
+void setDomainConnectivity(PropagationChoice& o, const std::string& c) { setOption(o, "--domain-connectivity", c); }
 
 namespace {
+
+/// How the choice's messages name an option, and an option with a value.
+std::string name(const PropagationChoice& o, const std::string& flag) {
+  return optionName(propagationOption(flag), o.naming);
+}
+std::string named(const PropagationChoice& o, const std::string& flag, const std::string& value) {
+  return optionWithValue(propagationOption(flag), value, o.naming);
+}
 
 /// The rules every domain shares: STVD's options are refused where no
 /// STVD runs (`stvdOnly`: every method but stvd; otherwise lanthier only),
@@ -72,39 +41,47 @@ namespace {
 void checkCommonChoice(const PropagationChoice& o, bool stvdOnly, const std::string& cellEdge,
                        int suggestedSteinerPoints) {
   const bool refuseStvdOptions = stvdOnly ? (o.lanthier || o.method != Method::ShortTermVectorDijkstra) : o.lanthier;
-  if (o.k && refuseStvdOptions) throw OptionError("--k applies to --method stvd only");
-  if (o.chainMeasureGiven && refuseStvdOptions) throw OptionError("--chain-measure applies to --method stvd only");
+  const std::string onlyWithStvd = " applies to " + named(o, "--method", "stvd") + " only";
+  if (o.k && refuseStvdOptions) throw OptionError(name(o, "--k") + onlyWithStvd);
+  if (o.chainMeasureGiven && refuseStvdOptions) throw OptionError(name(o, "--chain-measure") + onlyWithStvd);
   if (o.lanthier && o.steinerPoints == 0)
-    throw OptionError("--method lanthier needs --steiner M, the Steiner points per " + cellEdge + " (1.." +
-                      std::to_string(kMaxSteinerPoints) + "; try " + std::to_string(suggestedSteinerPoints) + ")");
-  if (!o.lanthier && o.steinerPoints != 0) throw OptionError("--steiner applies to --method lanthier only");
+    throw OptionError(named(o, "--method", "lanthier") + " needs " + named(o, "--steiner", "M") +
+                      ", the Steiner points per " + cellEdge + " (" + optionRangeText(propagationOption("--steiner")) +
+                      "; try " + std::to_string(suggestedSteinerPoints) + ")");
+  if (!o.lanthier && o.steinerPoints != 0)
+    throw OptionError(name(o, "--steiner") + " applies to " + named(o, "--method", "lanthier") + " only");
 }
 
 }  // namespace
 
 void checkPropagationChoice(const PropagationChoice& o, bool lanthierAllowed) {
   if (o.lanthier && !lanthierAllowed)
-    throw OptionError(
-        "--method lanthier gives distances but no predecessors, which paths need; use stvd or dijkstra");
+    throw OptionError(named(o, "--method", "lanthier") +
+                      " gives distances but no predecessors, which paths need; use stvd or dijkstra");
   checkCommonChoice(o, /*stvdOnly=*/true, "cube edge", 2);
-  if (o.lanthier && o.stencilGiven) throw OptionError("--stencil does not apply to --method lanthier (it uses cubes)");
+  if (o.lanthier && o.stencilGiven)
+    throw OptionError(name(o, "--stencil") + " does not apply to " + named(o, "--method", "lanthier") +
+                      " (it uses cubes)");
   // Every method must reach the same voxels: a stencil has to contain the
   // steps across the contacts that the connectivity joins (the 98 and 290
   // stencils contain all 26 unit steps).
   if (!o.lanthier) {
     const bool edgeSteps = o.stencil != "6", cornerSteps = edgeSteps && o.stencil != "18";
     if (o.connectivity == VoxelConnectivity::Edges && !edgeSteps)
-      throw OptionError("--domain-connectivity 18 joins voxels that touch along an edge, which the 6-neighbour "
-                        "stencil cannot step between; use --stencil 18 or larger");
+      throw OptionError(named(o, "--domain-connectivity", "18") +
+                        " joins voxels that touch along an edge, which the 6-neighbour stencil cannot step between; "
+                        "use " + named(o, "--stencil", "18") + " or larger");
     if (o.connectivity == VoxelConnectivity::Corners && !cornerSteps)
-      throw OptionError("--domain-connectivity 26 joins voxels that touch at a corner, which the " + o.stencil +
-                        "-neighbour stencil cannot step between; use --stencil 26 or larger");
+      throw OptionError(named(o, "--domain-connectivity", "26") + " joins voxels that touch at a corner, which the " +
+                        o.stencil + "-neighbour stencil cannot step between; use " + named(o, "--stencil", "26") +
+                        " or larger");
   }
 }
 
 void checkMeshPropagationChoice(const PropagationChoice& o, const std::string& cellEdge, int suggestedSteinerPoints) {
   checkCommonChoice(o, /*stvdOnly=*/false, cellEdge, suggestedSteinerPoints);
-  if (o.connectivityGiven) throw OptionError("--domain-connectivity applies to voxel grids only");
+  if (o.connectivityGiven)
+    throw OptionError(name(o, "--domain-connectivity") + " " + propagationOption("--domain-connectivity").refusal);
 }
 
 PropagationOptions propagationOptions(const PropagationChoice& o) {
@@ -139,9 +116,9 @@ std::string connectivityText(VoxelConnectivity c) {
   return "?";
 }
 
-void checkUnreachableValue(double value, const std::string& given) {
-  if (!std::isnan(value) && !(std::abs(value) <= std::numeric_limits<float>::max()))
-    throw OptionError("--unreachable-value: '" + given + "' does not fit in a float32 map (magnitude at most 3.4e38)");
+void checkUnreachableValue(double value, const std::string& given, OptionNaming naming) {
+  const OptionDeclaration& option = propagationOption("--unreachable-value");
+  option.extraCheck(value, optionName(option, naming), given);
 }
 
 }  // namespace stvd

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "stvd/errors.hpp"
+#include "stvd/front_end/option_declarations.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
 
@@ -45,10 +46,15 @@ struct PropagationChoice {
   /// Whether the memory the run needs is compared with the memory available
   /// before it starts (stvd/system/memory.hpp; --no-memory-check: false).
   bool memoryCheck = true;
+  /// How the checks below name options in their messages: the tool's
+  /// flags, or the Python package's keywords.
+  OptionNaming naming = OptionNaming::Flags;
 };
 
 // The setters take a value as the user gave it and throw OptionError with
-// the tool's message when it is not one of the accepted ones.
+// the tool's message when it is not one of the accepted ones (the checks of
+// the options' declarations, stvd/propagation_choice_options.hpp, which
+// the front ends use themselves through propagationChoiceOf).
 
 /// "stvd", "dijkstra" or "lanthier".
 void setMethod(PropagationChoice& choice, const std::string& name);
@@ -98,6 +104,6 @@ std::string connectivityText(VoxelConnectivity connectivity);
 /// OptionError ("--unreachable-value: '1e+300' does not fit in a float32
 /// map ...") unless `value` is NaN or a number a float32 map can hold (1e300
 /// would become infinity there); `given` is the value as the user wrote it.
-void checkUnreachableValue(double value, const std::string& given);
+void checkUnreachableValue(double value, const std::string& given, OptionNaming naming = OptionNaming::Flags);
 
 }  // namespace stvd

@@ -45,12 +45,23 @@ sigset_t& handledSignals() {
 
 /// With the registry locked: the children are told to stop and waited for
 /// (without reaping them: the thread that started a child still owns it),
-/// and the staging folders are removed.
+/// and the staging folders are removed. A child that takes its time (it
+/// removes what it staged, or finishes a commit) is waited for; a second
+/// termination signal meanwhile kills it at once.
 void cleanUp(detail::ProcessRegistry& registry, int signal) {
+  for (const pid_t child : registry.children) ::kill(child, signal);
+  const sigset_t handled = handledSignals();
   for (const pid_t child : registry.children) {
-    ::kill(child, signal);
-    siginfo_t info{};
-    while (::waitid(P_PID, static_cast<id_t>(child), &info, WEXITED | WNOWAIT) != 0 && errno == EINTR) {
+    for (;;) {
+      siginfo_t info{};
+      if (::waitid(P_PID, static_cast<id_t>(child), &info, WEXITED | WNOWAIT | WNOHANG) != 0) {
+        if (errno == EINTR) continue;
+        break;  // reaped by its owner meanwhile
+      }
+      if (info.si_pid == child) break;  // ended
+      const timespec tick{0, 20'000'000};
+      if (::sigtimedwait(&handled, nullptr, &tick) > 0)
+        for (const pid_t c : registry.children) ::kill(c, SIGKILL);
     }
   }
   for (const std::string& folder : registry.stagingFolders) {
@@ -103,30 +114,45 @@ void removeStagedOutputsOnTerminationSignals(const std::string& programName) {
     handledSignals() = handled;
     ::pthread_sigmask(SIG_BLOCK, &handled, nullptr);
     std::thread([handled] {
+      // Named, so that ps -L, a debugger and /proc/PID/task/*/comm show
+      // that the process has taken charge of the signals (the tests wait
+      // for it before they send one).
+      ::pthread_setname_np(::pthread_self(), "stvd-signals");
       int signal = 0;
       while (::sigwait(&handled, &signal) != 0) {
       }
       detail::ProcessRegistry& registry = detail::processRegistry();
       registry.mutex.lock();  // held to the end: nothing is staged or committed meanwhile
-      // A child process reports the interruption itself.
-      const bool report = registry.children.empty();
       cleanUp(registry, signal);
-      endWithLockHeld(signal, report);
+      endWithLockHeld(signal, /*report=*/true);
     }).detach();
   });
+}
+
+void reportInterruptionsAs(const std::string& programName) {
+  detail::ProcessRegistry& registry = detail::processRegistry();
+  const std::lock_guard<std::mutex> lock(registry.mutex);  // the signal thread reads it with the lock held
+  programNameForMessages() = programName;
 }
 
 void endBySignal(int signal) {
   detail::ProcessRegistry& registry = detail::processRegistry();
   registry.mutex.lock();  // held to the end: nothing is staged or committed meanwhile
   cleanUp(registry, signal);
-  endWithLockHeld(signal, /*report=*/false);
+  endWithLockHeld(signal, /*report=*/true);
 }
 
 ChildProcessGuard::ChildProcessGuard(pid_t child) : child_(child) {
   detail::ProcessRegistry& registry = detail::processRegistry();
   const std::lock_guard<std::mutex> lock(registry.mutex);
-  registry.children.push_back(child_);
+  if (child_ > 0) registry.children.push_back(child_);  // kill(-1) would reach every process
+}
+
+ChildProcessGuard::ChildProcessGuard(const std::function<pid_t()>& start) {
+  detail::ProcessRegistry& registry = detail::processRegistry();
+  const std::lock_guard<std::mutex> lock(registry.mutex);
+  child_ = start();
+  if (child_ > 0) registry.children.push_back(child_);
 }
 
 ChildProcessGuard::~ChildProcessGuard() {

@@ -99,6 +99,11 @@ MrtrixImage parseMrtrixImage(std::string_view bytes, const std::string& name);
 /// ImageIoError with one line naming the file.
 MrtrixImage readMrtrixImage(const std::string& path);
 
+/// The grid of a .mif, .mif.gz or .mih file from its header alone: no data
+/// read, a .mif.gz decompressed only as far as its header. Throws
+/// ImageIoError naming the file.
+GridGeometry readMrtrixImageGrid(const std::string& path);
+
 /// Reads a .mif, .mif.gz or .mih file of labels without a detour through
 /// float. Throws ImageIoError with one line naming the file (and the voxel,
 /// for a value that is no label).

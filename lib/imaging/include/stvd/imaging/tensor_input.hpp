@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "stvd/front_end/option_declarations.hpp"
 #include "stvd/imaging/scalar_image.hpp"
 #include "stvd/imaging/tensor_layout.hpp"
 #include "stvd/imaging/tensor_metric.hpp"
@@ -28,10 +29,15 @@ struct TensorInputOptions {
   /// Go on when the tensors look read in a wrong layout
   /// (implausibleTensorsReason, tensor_plausibility.hpp).
   bool acceptImplausible = false;
+  /// How messages about these options name them: the tool's flags, or the
+  /// Python package's keywords.
+  OptionNaming naming = OptionNaming::Flags;
 };
 
 // The setters take a value as the user gave it and throw OptionError with
-// the tool's message when it is not one of the accepted ones.
+// the tool's message when it is not one of the accepted ones (the checks of
+// the options' declarations, stvd/itk/tensor_input_options.hpp, which the
+// front ends use themselves through tensorInputOptionsOf).
 
 /// "lower" (alias "nifti"), "fsl" (alias "upper") or "mrtrix".
 void setTensorOrder(TensorInputOptions& options, const std::string& name);

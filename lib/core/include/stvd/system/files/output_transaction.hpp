@@ -9,7 +9,21 @@
 // succeeded and restored when one fails. Whatever goes wrong before the
 // commit - a writer's error, a full disk, a file-size limit, an exception
 // anywhere in the run - the staging folders are removed and every file
-// that was at an output path before stays as it was.
+// that was at an output path before stays as it was. A file an output
+// replaces passes its mode bits and group (and, for root, its owner) on to
+// the new file.
+//
+// An output path that names a stream - a character device (/dev/null, a
+// terminal), a FIFO, or one of the process's open descriptors
+// (/dev/stdout, /dev/fd/N: output_destination.hpp) - is never replaced: it
+// is staged in the temporary folder like the others, and at the commit
+// written to the stream, before any file is moved into place (a stream
+// that cannot be written leaves the files as they were; what a stream has
+// taken cannot be taken back). Sockets and block devices are refused.
+//
+// Each staging folder holds a record of the process that made it
+// (staging_record.hpp); a folder of a process that is gone (killed with
+// SIGKILL, say) is removed the next time an output is staged in its folder.
 #pragma once
 
 #include <cstddef>
@@ -25,7 +39,8 @@ namespace stvd::files {
 
 /// Throws OutputError naming `path` when it cannot become an output file:
 /// its folder does not exist, is not a folder, or is not writable, or
-/// `path` names an existing folder. Lets a run fail before long work, not
+/// `path` names an existing folder, a socket or a block device, or a
+/// stream that cannot be written to. Lets a run fail before long work, not
 /// after it.
 void checkOutputPath(const std::string& path);
 
@@ -72,14 +87,18 @@ class OutputTransaction {
 /// process id, '-' and a counter.
 inline constexpr const char* kStagingFolderPrefix = ".stvd-staging-";
 
-/// Removes the staging folders, and what is in them, that runs stopped
-/// without cleaning up (killed with SIGKILL, or on a machine that went down)
-/// left in `folder`; returns how many. Only for a folder that no other
-/// running process writes into: the caller must know (a lock, all writers
-/// gone), since a live run's staging folder would be removed under it. The
-/// staging folders of this process's transactions are kept. Throws
-/// OutputError naming `folder` when it cannot be listed or a staging folder
-/// cannot be removed.
+/// Removes the staging folders, and what is in them, that runs killed
+/// before they could clean up (SIGKILL, the OOM killer) left in `folder`;
+/// returns how many. Only folders that are demonstrably such leftovers are
+/// removed: named as ours, owned by this user, holding the record a run of
+/// ours writes into each, which names a process of this machine, boot and
+/// pid namespace that no longer exists (its id unused, reused by a process
+/// started at another time, or a zombie). Anything else stays: a folder
+/// without that record, another machine's (an NFS folder), a live run's.
+/// Safe while other runs write into the folder. OutputTransaction calls it
+/// once per folder and process before it stages there. Throws OutputError
+/// naming `folder` when it cannot be listed or a leftover cannot be
+/// removed.
 std::size_t removeLeftoverStagingFolders(const std::string& folder);
 
 /// Writes one output on its own: an OutputTransaction with this output

@@ -56,8 +56,12 @@ struct ScreenedImage {
 /// header, sizes out of range or beyond what the file (or its gzip stream)
 /// holds or the machine's memory, non-finite or absurd geometry (beyond
 /// kMaxCoordinateMm), ascii tokens beyond kMaxAsciiTokenLength, a data file
-/// that is not a regular file, skips beyond the data file.
-ScreenedImage screenImageFile(const std::string& path);
+/// that is not a regular file, skips beyond the data file. With `withData`
+/// false, the header alone: its fields are checked (sizes, geometry), but
+/// not what the data need (memory, the file's or the gzip stream's
+/// length, ascii tokens): enough for ITK to read the header, as a side
+/// input's grid is compared with the tensors' before its data are touched.
+ScreenedImage screenImageFile(const std::string& path, bool withData = true);
 
 /// The checks every image reader applies to what a header declares, also
 /// used by the MRtrix reader (mrtrix_image.cpp), which reads its headers
