@@ -41,6 +41,8 @@ TEST(Errors, EveryErrorIsAStvdErrorOfItsKindWithItsStandardBaseAndOneMessage) {
                                                         ErrorKind::Output, "d.nii: No space left on device");
   expectErrorOf<files::FileConflict, std::runtime_error>(files::FileConflict("d.nii: the map is the input"),
                                                          ErrorKind::Option, "d.nii: the map is the input");
+  expectErrorOf<files::InputFileError, std::runtime_error>(files::InputFileError("t.nii", "is a FIFO, not a regular file"),
+                                                           ErrorKind::Input, "t.nii: is a FIFO, not a regular file");
   expectErrorOf<imaging::ImageIoError, std::runtime_error>(imaging::ImageIoError("t.nii", "truncated"),
                                                            ErrorKind::Input, "t.nii: truncated");
   expectErrorOf<surface_io::MeshFileError, std::runtime_error>(surface_io::MeshFileError("m.off: line 3"),
@@ -52,6 +54,7 @@ TEST(Errors, EveryErrorIsAStvdErrorOfItsKindWithItsStandardBaseAndOneMessage) {
 TEST(Errors, FileErrorsNameTheirFile) {
   EXPECT_EQ(files::OutputError("out/d.nii", "x").path(), "out/d.nii");
   EXPECT_EQ(imaging::ImageIoError("in/t.nrrd", "x").path(), "in/t.nrrd");
+  EXPECT_EQ(files::InputFileError("in/t.nii", "no such file").problem(), "no such file");
 }
 
 }  // namespace

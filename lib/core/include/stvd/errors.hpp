@@ -96,6 +96,21 @@ class FileConflict : public ::stvd::detail::ErrorOf<std::runtime_error, ErrorKin
   using ErrorOf::ErrorOf;
 };
 
+/// An input that cannot be read as a regular file: missing, a FIFO, a
+/// device, a folder, or larger than its reader takes (system/files/
+/// regular_file.hpp). what() is one line: "<path>: <problem>"; problem() is
+/// the part after the path. The readers of the adapters report it as their
+/// own error naming the file (ImageIoError, MeshFileError, TetMeshError).
+class InputFileError : public ::stvd::detail::ErrorOf<std::runtime_error, ErrorKind::Input> {
+ public:
+  InputFileError(const std::string& path, const std::string& problem)
+      : ErrorOf(path + ": " + problem), problem_(problem) {}
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string problem_;
+};
+
 }  // namespace files
 
 namespace imaging {

@@ -10,22 +10,11 @@
 
 #include <cstdint>
 #include <limits>
-#include <stdexcept>
 #include <string>
 
+#include "stvd/errors.hpp"
+
 namespace stvd::files {
-
-/// An input that cannot be read as a regular file. what() is one line:
-/// "<path>: <problem>"; problem() is the part after the path.
-class InputFileError : public std::runtime_error {
- public:
-  InputFileError(const std::string& path, const std::string& problem)
-      : std::runtime_error(path + ": " + problem), problem_(problem) {}
-  const std::string& problem() const { return problem_; }
-
- private:
-  std::string problem_;
-};
 
 /// "a FIFO", "a character device", "a socket", "a folder", ... for messages.
 std::string fileKindName(mode_t mode);
@@ -36,8 +25,9 @@ class RegularFile {
  public:
   /// Opens `path` with O_NONBLOCK (a FIFO without a writer does not block
   /// the open), checks with fstat that it is a regular file, and makes the
-  /// descriptor blocking again. Throws InputFileError: "no such file",
-  /// "is a FIFO, not a regular file", "cannot open: Permission denied", ...
+  /// descriptor blocking again. Throws InputFileError (stvd/errors.hpp):
+  /// "no such file", "is a FIFO, not a regular file", "cannot open:
+  /// Permission denied", ...
   explicit RegularFile(const std::string& path);
   ~RegularFile();
   RegularFile(const RegularFile&) = delete;
