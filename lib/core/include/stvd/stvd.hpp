@@ -50,16 +50,25 @@
 #include "stvd/surface/surface_metrics.hpp"
 #include "stvd/surface/surface_propagation.hpp"
 
-// System: the files of a run, the memory available, threads.
+// System: the files of a run (inputs read as regular files only, outputs
+// that are streams written to), the memory available, threads.
 #include "stvd/system/files/file_contents.hpp"
 #include "stvd/system/files/file_identity.hpp"
+#include "stvd/system/files/output_destination.hpp"
 #include "stvd/system/files/output_transaction.hpp"
+#include "stvd/system/files/regular_file.hpp"
 #include "stvd/system/files/termination_signals.hpp"
 #include "stvd/system/memory.hpp"
 #include "stvd/system/parallel_tasks.hpp"
 
-// What the front ends share: a propagation as a user chooses it, what a run
-// will allocate, numbers in messages.
+// What the front ends share: every option declared once with its default,
+// range and help; a propagation as a user chooses it; what a run will
+// allocate; numbers in messages.
 #include "stvd/front_end/memory_estimates.hpp"
+#include "stvd/front_end/mesh_options.hpp"
 #include "stvd/front_end/number_text.hpp"
+#include "stvd/front_end/option_declarations.hpp"
+#include "stvd/front_end/path_tracing_options.hpp"
 #include "stvd/front_end/propagation_choice.hpp"
+#include "stvd/front_end/propagation_choice_options.hpp"
+#include "stvd/front_end/region_connectivity_options.hpp"
