@@ -65,7 +65,7 @@ class ArgumentReader {
 };
 
 // How to read a tensor file and turn it into a metric, and the tensors with
-// their mask (stvd/itk/tensor_input.hpp). The library's readers throw
+// their mask (stvd/imaging/tensor_input.hpp). The library's readers throw
 // ImageIoError and InputError, which main() reports with kExitInput.
 using imaging::TensorInput;
 using imaging::TensorInputOptions;

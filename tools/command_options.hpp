@@ -1,6 +1,6 @@
 // The options of every subcommand, from their declarations: the library's
 // (propagation, paths, regions, meshes, tensor files, seeds: see
-// stvd/option_declarations.hpp) and the tool's own (outputs, --help). One
+// stvd/front_end/option_declarations.hpp) and the tool's own (outputs, --help). One
 // reader parses every command line with them, and the help and
 // docs/cli.md's option tables are printed from them (option_help.hpp).
 #pragma once

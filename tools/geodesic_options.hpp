@@ -1,6 +1,6 @@
 // What the geodesic subcommands (distance, path, connectivity) share: the
 // seed options and their resolution to voxels (their declarations:
-// stvd/itk/seed_options.hpp).
+// stvd/imaging/seed_options.hpp).
 #pragma once
 
 #include <array>
@@ -28,7 +28,7 @@ struct SeedOptions {
 SeedOptions seedOptionsOf(const OptionValues& values);
 
 // A voxel the user named and how (for messages), and how voxels and points
-// are written in messages (stvd/itk/seed_voxels.hpp).
+// are written in messages (stvd/imaging/seed_voxels.hpp).
 using Seed = imaging::SeedVoxel;
 using imaging::lpsToRas;
 using imaging::pointText;

@@ -36,7 +36,7 @@ void bindFiles(py::module_& m) {
       "ValueError '<path>: <subject> on another grid than <reference> (...)' unless the two image files' headers "
       "declare the same grid; no data are read (stvd/itk/image_grid.hpp).");
 
-  py::class_<imaging::RunFiles>(m, "RunFiles", "The files one call reads and writes (stvd/itk/run_files.hpp).")
+  py::class_<imaging::RunFiles>(m, "RunFiles", "The files one call reads and writes (stvd/imaging/run_files.hpp).")
       .def(py::init<>())
       .def("input_image", &imaging::RunFiles::inputImage, py::arg("role"), py::arg("path"))
       .def("input_file", &imaging::RunFiles::inputFile, py::arg("role"), py::arg("path"))

@@ -38,7 +38,7 @@ py::list commandNames(stvd::OptionCommands commands) {
   return names;
 }
 
-/// The library's option declarations (stvd/option_declarations.hpp) as
+/// The library's option declarations (stvd/front_end/option_declarations.hpp) as
 /// dicts: what the package's keywords and the cohort command line are
 /// checked and documented with.
 py::list optionDeclarations() {

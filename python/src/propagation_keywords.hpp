@@ -1,7 +1,7 @@
 // The propagation keywords every Python call shares (method, k,
 // chain_measure, stencil, domain_connectivity, steiner, max_distance,
 // memory_check), checked by the options' declarations
-// (stvd/propagation_choice_options.hpp), so that values, defaults and
+// (stvd/front_end/propagation_choice_options.hpp), so that values, defaults and
 // messages are the tool's, with the keywords' names.
 #pragma once
 

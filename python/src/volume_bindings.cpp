@@ -470,7 +470,7 @@ void bindVolumes(py::module_& m) {
           [](const VolumePropagation& p, files::OutputTransaction& outputs, const std::string& path,
              const py::list& lines, const std::vector<double>& geodesic, const std::vector<double>& euclidean,
              const std::optional<std::vector<double>>& meanFa, const py::object& fa) {
-            // The streamline set of `stvd path` (stvd/itk/streamline_io.hpp).
+            // The streamline set of `stvd path` (stvd/imaging/streamline_io.hpp).
             imaging::StreamlineSet set;
             set.geometry = p.field->geometry();
             for (const py::handle& line : lines) {

@@ -7,7 +7,7 @@ ever, and a link to ``/dev/zero`` would be read until memory runs out.
 The file is opened without blocking (``O_NONBLOCK``) and checked on the
 open descriptor (``fstat``), so that nothing can be swapped in between the
 check and the reading; the C++ library does the same for the images and
-meshes it reads (``stvd/files/regular_file.hpp``)."""
+meshes it reads (``stvd/system/files/regular_file.hpp``)."""
 
 import errno
 import os

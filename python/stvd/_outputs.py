@@ -4,8 +4,8 @@ output is compared with every input and with the other outputs by identity
 written; so ``./x``, ``../dir/x`` and symbolic links are caught) before
 anything is written, and the outputs appear together, complete, or not at
 all (staged next to their final paths, flushed, then renamed). The checks
-and the staging are the library's (``stvd/itk/run_files.hpp``,
-``stvd/files/output_transaction.hpp``)."""
+and the staging are the library's (``stvd/imaging/run_files.hpp``,
+``stvd/system/files/output_transaction.hpp``)."""
 
 import os
 
@@ -78,7 +78,7 @@ def remove_leftover_staging_folders(folder):
     many. Only folders demonstrably such leftovers are removed: named and
     owned as ours, holding the record our writers put in each, naming a
     process of this machine that no longer exists
-    (``stvd/files/output_transaction.hpp``); a live writer's are kept."""
+    (``stvd/system/files/output_transaction.hpp``); a live writer's are kept."""
     return _core.remove_leftover_staging_folders(os.fspath(folder))
 
 

@@ -1,4 +1,4 @@
-// stvd/files/file_identity.hpp: an output is compared with the inputs by
+// stvd/system/files/file_identity.hpp: an output is compared with the inputs by
 // what file it is, not by how it is spelled.
 #include <gtest/gtest.h>
 #include <unistd.h>

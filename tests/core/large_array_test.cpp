@@ -1,4 +1,4 @@
-// stvd/large_array.hpp: the huge-page advice changes where an array lives,
+// stvd/system/large_array.hpp: the huge-page advice changes where an array lives,
 // never what it holds.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Options declared once (stvd/option_declarations.hpp): the declarations of
+// Options declared once (stvd/front_end/option_declarations.hpp): the declarations of
 // the core's options hold the library's own defaults, ranges and names, and
 // the one checker gives one message form per problem, in the tool's flags
 // or the Python package's keywords.

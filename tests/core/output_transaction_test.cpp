@@ -1,4 +1,4 @@
-// stvd/files/output_transaction.hpp: the outputs of a run appear together,
+// stvd/system/files/output_transaction.hpp: the outputs of a run appear together,
 // complete, or not at all, and what was at their paths before stays until
 // then.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
-// Many source sets propagated on several threads (stvd/parallel_tasks.hpp,
-// stvd/source_set_propagation.hpp): every task runs exactly once, the work
+// Many source sets propagated on several threads (stvd/system/parallel_tasks.hpp,
+// stvd/propagation/source_set_propagation.hpp): every task runs exactly once, the work
 // really runs concurrently, a failure surfaces on the calling thread, and
 // the results do not depend on the number of threads.
 #include <gtest/gtest.h>

@@ -155,7 +155,7 @@ def test_paths_and_connectivity_refuse_what_the_tool_refuses(tmp_path, dipy_imag
         "no target: add targets=, target_points= or target_labels=")
     labels = np.zeros(dipy_image.shape[:3], np.float32)
     labels[55, 54, 15] = 1.5
-    # The rule and words of the tool's label reader (stvd/itk/label_values.hpp).
+    # The rule and words of the tool's label reader (stvd/imaging/label_values.hpp).
     assert message_of(ValueError, lambda: stvd.connectivity(result, labels)) == (
         "labels: voxel (55, 54, 15) holds 1.5, which is not an integer (a label image holds integer labels)")
     labels[55, 54, 15] = 1

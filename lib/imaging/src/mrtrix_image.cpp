@@ -211,7 +211,7 @@ std::vector<float> decodeValues(const MrtrixHeader& header, std::string_view dat
 }
 
 /// Labels: integer datatypes without scaling exactly (64-bit), every other
-/// value through the rules for floating-point labels (stvd/itk/label_values.hpp).
+/// value through the rules for floating-point labels (stvd/imaging/label_values.hpp).
 std::vector<std::int64_t> decodeLabels(const MrtrixHeader& header, std::string_view data, const GridGeometry& g,
                                        const std::string& name) {
   DataType type;

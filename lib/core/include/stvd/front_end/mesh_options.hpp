@@ -1,7 +1,7 @@
 // The options of distances over meshes as the front ends take them: seed
 // vertices and points on surfaces and tetrahedral meshes (--seed-vertex,
 // --seed-at) and the surface metric (--metric, --anisotropy,
-// stvd/surface_metrics.hpp), declared once (stvd/option_declarations.hpp).
+// stvd/surface/surface_metrics.hpp), declared once (stvd/front_end/option_declarations.hpp).
 #pragma once
 
 #include <string>

@@ -1,7 +1,7 @@
 // Options declared once. Every option of stvd's front ends (the command-line
 // tool and the Python package) is one OptionDeclaration, written beside the
 // algorithm it configures (propagation_choice_options.hpp,
-// geodesic_path_options.hpp, itk/tensor_input_options.hpp, ...): its flag
+// path_tracing_options.hpp, imaging/tensor_input_options.hpp, ...): its flag
 // and its Python keyword, its group, its help, its default as a typed value
 // read from the library's constant, its valid values, and the commands that
 // take it. The tool parses its command lines, prints its help and writes

@@ -1,6 +1,6 @@
 // The options of path tracing as the front ends take them (--step,
 // --smooth, --no-refine, --discrete), declared once
-// (stvd/option_declarations.hpp) with the defaults of PathTracingOptions.
+// (stvd/front_end/option_declarations.hpp) with the defaults of PathTracingOptions.
 #pragma once
 
 #include <vector>

@@ -53,7 +53,7 @@ struct PropagationChoice {
 
 // The setters take a value as the user gave it and throw OptionError with
 // the tool's message when it is not one of the accepted ones (the checks of
-// the options' declarations, stvd/propagation_choice_options.hpp, which
+// the options' declarations, stvd/front_end/propagation_choice_options.hpp, which
 // the front ends use themselves through propagationChoiceOf).
 
 /// "stvd", "dijkstra" or "lanthier".

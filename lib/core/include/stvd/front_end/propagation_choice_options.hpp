@@ -1,7 +1,7 @@
 // The propagation's options as the front ends take them (--method,
 // --steiner, --k, --chain-measure, --stencil, --domain-connectivity,
 // --max-distance, --no-memory-check, --unreachable-value), declared once
-// (stvd/option_declarations.hpp) with the library's defaults: the method of
+// (stvd/front_end/option_declarations.hpp) with the library's defaults: the method of
 // a default PropagationChoice, per kind of domain defaultMemoryDepth,
 // kDefaultChainMeasure, kMaxMemoryDepth, kMaxSteinerPoints,
 // kDefaultUnreachableValue.

@@ -1,5 +1,5 @@
 // The options of region connectivity as the front ends take them
-// (--labels, --threads), declared once (stvd/option_declarations.hpp).
+// (--labels, --threads), declared once (stvd/front_end/option_declarations.hpp).
 #pragma once
 
 #include <vector>

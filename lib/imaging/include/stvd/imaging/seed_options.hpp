@@ -1,6 +1,6 @@
 // Seeds and path targets as the front ends take them (--seed-voxel,
 // --seed-point, --lps, --seeds, --target-voxel, --target-point, --targets),
-// declared once (stvd/option_declarations.hpp); seed_voxels.hpp turns
+// declared once (stvd/front_end/option_declarations.hpp); seed_voxels.hpp turns
 // them into voxels.
 #pragma once
 

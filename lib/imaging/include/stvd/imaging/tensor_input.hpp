@@ -36,7 +36,7 @@ struct TensorInputOptions {
 
 // The setters take a value as the user gave it and throw OptionError with
 // the tool's message when it is not one of the accepted ones (the checks of
-// the options' declarations, stvd/itk/tensor_input_options.hpp, which the
+// the options' declarations, stvd/imaging/tensor_input_options.hpp, which the
 // front ends use themselves through tensorInputOptionsOf).
 
 /// "lower" (alias "nifti"), "fsl" (alias "upper") or "mrtrix".

@@ -1,7 +1,7 @@
 // How to read a tensor file and make the metric, as the front ends take it
 // (--tensor-order, --tensor-frame, --mask, --tensor-kind,
 // --diffusion-metric, --max-anisotropy, --fa-threshold,
-// --accept-implausible-tensors), declared once (stvd/option_declarations.hpp)
+// --accept-implausible-tensors), declared once (stvd/front_end/option_declarations.hpp)
 // with the defaults of TensorInputOptions and kDefaultMaxAnisotropy.
 #pragma once
 

@@ -1,6 +1,6 @@
 // Where the metric of a tetrahedral mesh comes from, as the front ends take
 // it (--tensors, --tensor-attribute, --outside-image, --reference),
-// declared once (stvd/option_declarations.hpp).
+// declared once (stvd/front_end/option_declarations.hpp).
 #pragma once
 
 #include <vector>
