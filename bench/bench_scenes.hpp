@@ -11,8 +11,9 @@
 
 #include "exact_metrics.hpp"
 #include "relative_error.hpp"
-#include "stvd/large_array.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/system/large_array.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd::bench {
 

@@ -25,10 +25,12 @@
 #include <string>
 #include <vector>
 
-#include "stvd/itk/tensor_metric.hpp"
-#include "stvd/itk/tensor_volume.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/imaging/tensor_metric.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 
 namespace {
 
@@ -98,16 +100,16 @@ int main(int argc, char** argv) {
     auto [d, s] = timed([&] { return propagate(domain, metric, {source}, o); });
     rows.push_back({name, method == Method::Dijkstra ? 1 : memoryDepth<VoxelGridDomain>(o), std::move(d), s});
   };
-  SteinerOptions steiner;
+  LanthierOptions steiner;
   steiner.steinerPoints = steinerPoints;
-  auto [reference, referenceSeconds] = timed([&] { return steinerPropagate(domain, metric, {source}, steiner); });
+  auto [reference, referenceSeconds] = timed([&] { return lanthierPropagate(domain, metric, {source}, steiner); });
   rows.push_back({"Lanthier", steinerPoints, reference, referenceSeconds});
   // The reference's own convergence: coarser Steiner counts against it.
   for (const int coarser : {4, 6}) {
     if (coarser >= steinerPoints) continue;
-    SteinerOptions coarse;
+    LanthierOptions coarse;
     coarse.steinerPoints = coarser;
-    auto [d, s] = timed([&] { return steinerPropagate(domain, metric, {source}, coarse); });
+    auto [d, s] = timed([&] { return lanthierPropagate(domain, metric, {source}, coarse); });
     rows.push_back({"Lanthier", coarser, std::move(d), s});
   }
   stvd("STVD-segment (default)", std::nullopt, kDefaultChainMeasure, Method::ShortTermVectorDijkstra);

@@ -93,9 +93,13 @@ def main():
     two, _, _ = timed("LocalCluster, 2 workers (start-up in)", manifest, root / "dask2", workers=2)
     from distributed import Client, LocalCluster
 
-    with LocalCluster(n_workers=1, threads_per_worker=1, dashboard_address=":0") as cluster, Client(cluster) as c:
+    # This machine's loopback only, HTTP servers included (":0" would be
+    # every interface), as the embedded cluster of stvd.cohort.run.
+    local = dict(threads_per_worker=1, host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                 worker_dashboard_address="127.0.0.1:0")
+    with LocalCluster(n_workers=1, **local) as cluster, Client(cluster) as c:
         running, running_compute, _ = timed("running cluster, 1 worker", manifest, root / "running", client=c)
-    with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=":0") as cluster, Client(cluster) as c:
+    with LocalCluster(n_workers=2, **local) as cluster, Client(cluster) as c:
         running2, _, _ = timed("running cluster, 2 workers", manifest, root / "running2", client=c)
     complete = len(result.subjects) - len(result.failed)
     print(f"throughput, 2 workers / serial: embedded {serial / two:.2f}x, running cluster {serial / running2:.2f}x")

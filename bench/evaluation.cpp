@@ -63,10 +63,13 @@
 
 #include "bench_scenes.hpp"
 #include "scenes.hpp"
-#include "stvd/source_set_propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
-#include "stvd/surface_domain.hpp"
-#include "stvd/surface_metrics.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/propagation/source_set_propagation.hpp"
+#include "stvd/surface/surface_domain.hpp"
+#include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 #include "surface_meshes.hpp"
 
 namespace {
@@ -178,11 +181,11 @@ bench::Scene makeScene(const std::string& kind, int n, double gamma, const Stenc
 }
 
 Measured measureSteiner(const bench::Scene& s, int steinerPoints) {
-  SteinerOptions o;
+  LanthierOptions o;
   o.steinerPoints = steinerPoints;
   Measured m;
   const auto start = std::chrono::steady_clock::now();
-  m.result = steinerPropagate(s.domain, s.metric, {s.source}, o);
+  m.result = lanthierPropagate(s.domain, s.metric, {s.source}, o);
   m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return m;
 }

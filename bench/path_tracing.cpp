@@ -1,4 +1,4 @@
-// Time to trace geodesic paths (stvd/geodesic_path.hpp) once the distance is
+// Time to trace geodesic paths (stvd/voxel_grid/path_tracing.hpp) once the distance is
 // propagated, against the propagation itself, on the n^3 pull-back scene
 // (gamma 20, 26-neighbourhood) with the propagation defaults of the library
 // and the tool (STVD, k = 8, segment measure). Paths run from the source to the 8
@@ -11,7 +11,7 @@
 #include <memory>
 
 #include "bench_scenes.hpp"
-#include "stvd/geodesic_path.hpp"
+#include "stvd/voxel_grid/path_tracing.hpp"
 
 namespace {
 

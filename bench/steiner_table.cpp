@@ -14,7 +14,8 @@
 
 #include "bench_scenes.hpp"
 #include "steiner_table_format.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 
 namespace {
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "relative_error.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
 
 namespace stvd::bench {
 
@@ -45,10 +45,10 @@ template <class Domain, class Metric, class Row>
 void printLanthierRows(const Domain& domain, const Metric& metric, const std::vector<VertexId>& sources,
                        int maxSteiner, Row&& row) {
   for (int m = 1; m <= maxSteiner; m *= 2) {
-    SteinerOptions o;
+    LanthierOptions o;
     o.steinerPoints = m;
-    SteinerPropagationResult sr;
-    const double s = timedSeconds([&] { sr = steinerPropagate(domain, metric, sources, o); });
+    LanthierResult sr;
+    const double s = timedSeconds([&] { sr = lanthierPropagate(domain, metric, sources, o); });
     row("Lanthier M = " + std::to_string(m), sr, sr.graphPoints, s);
   }
 }

@@ -28,10 +28,12 @@
 #include <string>
 #include <vector>
 
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/surface_io/surface_mesh_io.hpp"
-#include "stvd/surface_metrics.hpp"
+#include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
+#include "stvd/surface/surface_lanthier.hpp"
 
 namespace {
 
@@ -111,9 +113,9 @@ int main(int argc, char** argv) {
       return 2;
     }
   } else {
-    SteinerOptions o;
+    LanthierOptions o;
     o.steinerPoints = 16;
-    reference = steinerPropagate(surface, metric, sources, o).distance;
+    reference = lanthierPropagate(surface, metric, sources, o).distance;
   }
 
   std::vector<Run> methods;
@@ -140,9 +142,9 @@ int main(int argc, char** argv) {
   }
   for (const int m : {4, 8}) {
     methods.push_back({"Lanthier M = " + std::to_string(m), [&surface = surface, &metric = metric, &sources, m] {
-                         SteinerOptions o;
+                         LanthierOptions o;
                          o.steinerPoints = m;
-                         return static_cast<PropagationResult>(steinerPropagate(surface, metric, sources, o));
+                         return static_cast<PropagationResult>(lanthierPropagate(surface, metric, sources, o));
                        }, {}, {}});
   }
   for (int r = 0; r < repeats; ++r)

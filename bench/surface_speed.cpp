@@ -8,9 +8,10 @@
 #include <memory>
 
 #include "../tests/surface/surface_meshes.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/surface_domain.hpp"
-#include "stvd/surface_metrics.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/surface/surface_domain.hpp"
+#include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
 
 namespace {
 

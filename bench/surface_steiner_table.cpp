@@ -20,9 +20,11 @@
 #include <vector>
 
 #include "relative_error.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
-#include "stvd/surface_metrics.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
+#include "stvd/surface/surface_lanthier.hpp"
 #include "steiner_table_format.hpp"
 #include "surface_meshes.hpp"
 

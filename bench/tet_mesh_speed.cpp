@@ -38,7 +38,8 @@
 #include "../tests/tetmesh/l_shaped_prism_surface.hpp"
 #include "bench_scenes.hpp"
 #include "scenes.hpp"
-#include "stvd/propagation_impl.hpp"
+#include "stvd/cell_mesh/cell_mesh_propagation.hpp"
+#include "stvd/propagation/propagation_definition.hpp"
 #include "stvd/tetgen/tetrahedralize.hpp"
 #include "stvd/tetmesh/vertex_order.hpp"
 
@@ -47,19 +48,23 @@ namespace {
 using namespace stvd;
 
 /// The same mesh as a domain type of its own, whose candidates are measured
-/// with another MeshSegmentRule than CellMeshDomain's.
-template <MeshSegmentRule Rule>
-struct MeshWithRule : CellMeshDomain {
-  explicit MeshWithRule(const CellMeshDomain& mesh) : CellMeshDomain(mesh) {}
+/// with another MeshSegmentSampling than CellMeshDomain's.
+template <MeshSegmentSampling Sampling>
+struct MeshWithSampling : CellMeshDomain {
+  explicit MeshWithSampling(const CellMeshDomain& mesh) : CellMeshDomain(mesh) {}
 };
 
 }  // namespace
 
 namespace stvd {
-template <class Norm, MeshSegmentRule Rule>
-class CandidatePath<MeshWithRule<Rule>, Norm> : public TetrahedralCandidatePath<Norm, Rule> {
- public:
-  using TetrahedralCandidatePath<Norm, Rule>::TetrahedralCandidatePath;
+template <MeshSegmentSampling Sampling>
+struct DomainHooks<MeshWithSampling<Sampling>> {
+  template <class Norm>
+  using CandidatePath = CellMeshCandidatePath<Norm, Sampling>;
+  using ChainUnfolding = VolumeChainUnfolding<MeshWithSampling<Sampling>>;
+  static constexpr int kDefaultMemoryDepth = stvd::kDefaultMemoryDepth;
+  static constexpr bool kPrefetchesNeighborhood = false;
+  static constexpr bool kChainContinuesAlongStep = false;
 };
 }  // namespace stvd
 
@@ -246,8 +251,8 @@ void tetMeshRule(benchmark::State& state) {
   const PropagationOptions options = optionsFor(k, measure);
   PropagationResult r;
   for (auto _ : state) {
-    if (rule == 1) r = propagateAs<MeshWithRule<MeshSegmentRule::Midpoint>>(s, options);
-    else if (rule == 2) r = propagateAs<MeshWithRule<MeshSegmentRule::EqualPieces>>(s, options);
+    if (rule == 1) r = propagateAs<MeshWithSampling<MeshSegmentSampling::Midpoint>>(s, options);
+    else if (rule == 2) r = propagateAs<MeshWithSampling<MeshSegmentSampling::EqualPieces>>(s, options);
     else r = propagate(s.domain, s.metric, {s.source}, options);
     benchmark::DoNotOptimize(r.distance.data());
   }

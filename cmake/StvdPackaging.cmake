@@ -18,8 +18,8 @@
 # generated, so components may be added in any directory, before or after the
 # core's install rules.
 #
-# Adding the ITK adapter (target stvd_itk, alias stvd::itk) as component `itk`,
-# in lib/itk/CMakeLists.txt:
+# Adding the ITK file I/O (target stvd_itk, alias stvd::itk), which links the
+# component `imaging`, as component `itk`, in lib/itk/CMakeLists.txt:
 #
 #   set_target_properties(stvd_itk PROPERTIES EXPORT_NAME itk)  # -> stvd::itk
 #   target_include_directories(stvd_itk PUBLIC
@@ -29,6 +29,7 @@
 #   stvd_install_component(itk
 #     TARGETS stvd_itk
 #     HEADER_DIRECTORIES ${CMAKE_CURRENT_SOURCE_DIR}/include/stvd
+#     COMPONENTS imaging
 #     DEPENDENCIES "ITK 5.2 COMPONENTS ITKCommon ITKIOImageBase ITKIONRRD ITKIONIFTI")
 #
 # Each DEPENDENCIES entry is the argument list of one find_package() call,
@@ -55,10 +56,12 @@ set(STVD_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/stvd")
 #                                       install(DIRECTORY <dir> ...): a
 #                                       directory .../include/stvd lands in
 #                                       <prefix>/include/stvd; only *.hpp/*.h
+#   [COMPONENTS <component>...]         other components its targets link,
+#                                       loaded with it (itk: imaging)
 #   [DEPENDENCIES "<package> <args>"...]  one find_package() per entry
 # )
 function(stvd_install_component name)
-  cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "TARGETS;HEADER_DIRECTORIES;DEPENDENCIES")
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "TARGETS;HEADER_DIRECTORIES;COMPONENTS;DEPENDENCIES")
   if(NOT arg_TARGETS)
     message(FATAL_ERROR "stvd_install_component(${name}): TARGETS is required")
   endif()
@@ -84,6 +87,18 @@ function(stvd_install_component name)
   # of an OPTIONAL_COMPONENTS request into a fatal error. stvdConfig.cmake
   # reads _stvd_missing_dependencies and marks the component not found.
   set(content "# Packages that the stvd component '${name}' links against.\n")
+  # A component it builds on is loaded first, with its own dependencies, so
+  # that its imported targets exist when this component's are defined.
+  foreach(component IN LISTS arg_COMPONENTS)
+    string(APPEND content "if(EXISTS \"\${CMAKE_CURRENT_LIST_DIR}/stvd_${component}Targets.cmake\")\n")
+    string(APPEND content "  include(\"\${CMAKE_CURRENT_LIST_DIR}/stvd_${component}Dependencies.cmake\")\n")
+    string(APPEND content "  if(NOT _stvd_missing_dependencies)\n")
+    string(APPEND content "    include(\"\${CMAKE_CURRENT_LIST_DIR}/stvd_${component}Targets.cmake\")\n")
+    string(APPEND content "  endif()\n")
+    string(APPEND content "else()\n")
+    string(APPEND content "  list(APPEND _stvd_missing_dependencies \"the stvd component ${component}\")\n")
+    string(APPEND content "endif()\n")
+  endforeach()
   foreach(dependency IN LISTS arg_DEPENDENCIES)
     string(REGEX MATCH "^[^ ]+" package "${dependency}")
     string(APPEND content "find_package(${dependency} \${_stvd_quiet})\n")

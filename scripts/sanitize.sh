@@ -41,8 +41,8 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:log_path=$reports/repor
 # either: any file in the reports folder is a finding.
 export LSAN_OPTIONS="suppressions=$PWD/fuzz/itk_leaks.supp:print_suppressions=0"
 # The instrumented tool runs 3 to 5 times slower than the Release one: the
-# tests give each of its runs 10 minutes instead of 2 (test_support.cpp).
-export STVD_TEST_TOOL_TIMEOUT=${STVD_TEST_TOOL_TIMEOUT:-600}
+# tests give each of its runs 30 minutes instead of 10 (test_support.cpp).
+export STVD_TEST_TOOL_TIMEOUT=${STVD_TEST_TOOL_TIMEOUT:-1800}
 
 status=0
 for target in $(sed -n 's/^stvd_add_fuzz_target(\([a-z_0-9]*\).*/\1/p' fuzz/CMakeLists.txt); do

@@ -1,6 +1,8 @@
 # Installs the freshly built stvd into a scratch prefix, then configures,
 # builds and runs examples/consumer against that prefix only: the test that
-# `find_package(stvd)` + `stvd::stvd` work for a project outside this tree.
+# `find_package(stvd COMPONENTS imaging)` with `stvd::stvd` and
+# `stvd::imaging` (no ITK), and `find_package(stvd COMPONENTS itk)` with
+# `stvd::itk` where it was built, work for a project outside this tree.
 #
 # cmake -DSTVD_BINARY_DIR=<build tree> -DCONSUMER_SOURCE_DIR=<examples/consumer>
 #       -DWORK_DIR=<scratch dir> -DCONFIG=<build type> -DGENERATOR=<generator>
@@ -33,11 +35,18 @@ if(MAKE_PROGRAM)
 endif()
 # The package registries are switched off so that only the prefix (or a
 # system-wide install, rejected below) can provide stvd.
+# The ITK file I/O too, when this build installed it.
+file(GLOB_RECURSE itk_targets "${prefix}/*/stvd_itkTargets.cmake")
+set(with_itk OFF)
+if(itk_targets)
+  set(with_itk ON)
+endif()
 run("configuring the consumer" "${CMAKE_COMMAND}" -S "${CONSUMER_SOURCE_DIR}"
     -B "${consumer_build}" -G "${GENERATOR}" ${make_program}
     "-DCMAKE_BUILD_TYPE=${CONFIG}" "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}"
     "-DCMAKE_PREFIX_PATH=${prefix}"
-    -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -DCMAKE_FIND_USE_SYSTEM_PACKAGE_REGISTRY=OFF)
+    -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -DCMAKE_FIND_USE_SYSTEM_PACKAGE_REGISTRY=OFF
+    "-DSTVD_CONSUMER_WITH_ITK=${with_itk}")
 
 # The package must have come from the scratch prefix, not from an older stvd
 # installed elsewhere on the machine.
@@ -55,3 +64,11 @@ run("building the consumer" "${CMAKE_COMMAND}" --build "${consumer_build}" --con
 find_program(consumer stvd_consumer PATHS "${consumer_build}" "${consumer_build}/${CONFIG}"
              NO_DEFAULT_PATH REQUIRED)
 run("running the consumer" "${consumer}")
+find_program(imaging_consumer stvd_imaging_consumer PATHS "${consumer_build}" "${consumer_build}/${CONFIG}"
+             NO_DEFAULT_PATH REQUIRED)
+run("running the imaging consumer" "${imaging_consumer}" "${consumer_build}")
+if(with_itk)
+  find_program(itk_consumer stvd_itk_consumer PATHS "${consumer_build}" "${consumer_build}/${CONFIG}"
+               NO_DEFAULT_PATH REQUIRED)
+  run("running the ITK consumer" "${itk_consumer}" "${consumer_build}")
+endif()

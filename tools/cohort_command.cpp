@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "child_process.hpp"
 #include "command_line.hpp"
 #include "subcommands.hpp"
 
@@ -23,18 +24,21 @@ int runCohort(int argc, char** argv) {
                   "cohort: this stvd was built without its Python package (STVD_WITH_PYTHON), which runs cohorts");
 #else
   // Without the package next to the tool, the interpreter's own (pip).
-  const std::string folder = pythonPackageFolder("cohort.py");
-  if (!folder.empty()) {
-    const char* path = std::getenv("PYTHONPATH");
-    const std::string value = folder + (path && *path ? ":" + std::string(path) : std::string());
-    ::setenv("PYTHONPATH", value.c_str(), 1);
-  }
-  std::vector<char*> pythonArgv{const_cast<char*>(STVD_PYTHON_EXECUTABLE), const_cast<char*>("-m"),
-                                const_cast<char*>("stvd.cohort")};
-  for (int i = 2; i < argc; ++i) pythonArgv.push_back(argv[i]);
+  // Isolated (child_process.hpp): nothing planted in the working folder,
+  // the manifest's folder or OUTDIR, the user's site packages or PYTHON*
+  // variables runs, here or in the Dask workers (which inherit -I).
+  std::vector<std::string> command = isolatedPythonCommand(
+      STVD_PYTHON_EXECUTABLE, pythonPackageFolder("cohort.py"), "stvd.cohort",
+      std::vector<std::string>(argv + 2, argv + argc));
+  std::vector<char*> pythonArgv;
+  for (std::string& word : command) pythonArgv.push_back(word.data());
   pythonArgv.push_back(nullptr);
   // The interpreter takes this process over: its exit code, signals and
-  // terminal are the command's.
+  // terminal are the command's. The signals this process blocked for its
+  // signal thread are unblocked first (a blocked mask survives exec, and
+  // the interpreter and its Dask workers would never see Ctrl-C or
+  // SIGTERM); one that arrives meanwhile ends it by its default action.
+  prepareSignalsForExec(/*parentDeath=*/false);
   ::execv(STVD_PYTHON_EXECUTABLE, pythonArgv.data());
   throw ToolError(kExitInternal, std::string("cohort: cannot run ") + STVD_PYTHON_EXECUTABLE + ": " +
                                      std::strerror(errno));

@@ -1,6 +1,6 @@
 // What the subcommands of `stvd` share: exit codes, the error that carries
-// one, a small argument reader, value parsers and the options that say how
-// to read a tensor file.
+// one, a small argument reader (command_options.hpp reads command lines with
+// it) and the help on tensor files.
 #pragma once
 
 #include <array>
@@ -10,11 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "stvd/itk/tensor_input.hpp"
-#include "stvd/itk/tensor_layout.hpp"
-#include "stvd/itk/tensor_metric.hpp"
-#include "stvd/itk/tensor_volume.hpp"
-#include "stvd/number_text.hpp"
+#include "stvd/imaging/tensor_input.hpp"
+#include "stvd/imaging/tensor_layout.hpp"
+#include "stvd/imaging/tensor_metric.hpp"
+#include "stvd/imaging/tensor_volume.hpp"
+#include "stvd/front_end/number_text.hpp"
+#include "stvd/front_end/option_declarations.hpp"
 
 namespace stvd::tool {
 
@@ -63,29 +64,14 @@ class ArgumentReader {
   std::optional<std::string> inlineValue_;
 };
 
-double parseNumber(const std::string& option, const std::string& text);
-int parseInteger(const std::string& option, const std::string& text);
-/// "A,B,C" (no spaces needed; spaces allowed after commas).
-std::array<double, 3> parseTriple(const std::string& option, const std::string& text);
-std::array<int, 3> parseIntegerTriple(const std::string& option, const std::string& text);
-
 // How to read a tensor file and turn it into a metric, and the tensors with
-// their mask (stvd/itk/tensor_input.hpp). The library's readers throw
+// their mask (stvd/imaging/tensor_input.hpp). The library's readers throw
 // ImageIoError and InputError, which main() reports with kExitInput.
 using imaging::TensorInput;
 using imaging::TensorInputOptions;
 
-/// When `option` is one of the tensor input options, reads its value from
-/// `args` into `options` and returns true.
-bool parseTensorInputOption(const std::string& option, ArgumentReader& args, TensorInputOptions& options);
-
 /// imaging::readTensorInput, noting the warnings about the files it read.
 TensorInput readTensorInputNotingWarnings(const std::string& path, const TensorInputOptions& options);
-
-/// --unreachable-value: "nan" or a number that a float32 map can hold
-/// (1e300 would become infinity, which is refused as such). Usage error
-/// otherwise.
-double parseUnreachableValue(const std::string& option, const std::string& text);
 
 /// An image output path whose extension ITK's writers will recognise: they
 /// take .nii, .nii.gz, .nrrd and .nhdr in lower case only, so "D.NII.GZ"
@@ -106,15 +92,9 @@ const std::vector<std::string>& inputWarnings();
 /// to most (L/R, P/A, I/S), as NIfTI tools print it.
 std::string orientationCode(const GridGeometry& geometry);
 
-/// Help text of the tensor input options (shared by the subcommands' --help).
-std::string tensorInputHelp(bool withMetricOptions);
-
-/// Handles the arguments every subcommand shares: the one positional INPUT
-/// (a second one is a usage error) and -h/--help, which prints `helpText`
-/// with its %TENSOR% placeholder replaced by tensorInputHelp(withMetricOptions)
-/// and ends the tool with kExitOk. Returns false for any other argument.
-bool takeInputOrHelp(const std::string& argument, const ArgumentReader& args, std::string& input,
-                     const char* helpText, bool withMetricOptions);
+/// The help's section on tensor files: the formats, then the options of
+/// the tensor file and the metric that `command` takes (option_help.hpp).
+std::string tensorInputHelp(OptionCommand command);
 
 /// The folder of the running executable (from /proc/self/exe): where the
 /// programs and packages that `stvd` runs are found relative to it.

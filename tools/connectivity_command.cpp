@@ -11,68 +11,64 @@
 #include <vector>
 
 #include "command_line.hpp"
+#include "command_options.hpp"
 #include "geodesic_options.hpp"
 #include "memory_check.hpp"
+#include "option_help.hpp"
 #include "report_request.hpp"
-#include "run_files.hpp"
+#include "tool_run_files.hpp"
 #include "run_statistics.hpp"
-#include "stvd/files/file_contents.hpp"
-#include "stvd/files/output_transaction.hpp"
-#include "stvd/itk/scalar_image.hpp"
-#include "stvd/label_regions.hpp"
-#include "stvd/parallel_tasks.hpp"
-#include "stvd/region_connectivity.hpp"
-#include "stvd/stencil.hpp"
+#include "stvd/system/files/file_contents.hpp"
+#include "stvd/system/files/output_transaction.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
+#include "stvd/voxel_grid/label_regions.hpp"
+#include "stvd/system/parallel_tasks.hpp"
+#include "stvd/voxel_grid/region_connectivity.hpp"
+#include "stvd/voxel_grid/stencil.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/front_end/memory_estimates.hpp"
+#include "stvd/system/files/output_destination.hpp"
+#include "stvd/itk/image_grid.hpp"
+#include "stvd/imaging/tensor_input_options.hpp"
+#include "stvd/front_end/propagation_choice_options.hpp"
+#include "stvd/front_end/region_connectivity_options.hpp"
 #include "subcommands.hpp"
 
 namespace stvd::tool {
 namespace {
 
-const char* kConnectivityHelp =
-    "Usage: stvd connectivity INPUT --labels LABELS -o TABLE.tsv [options]\n"
-    "\n"
-    "Geodesic distance and connectivity between every pair of labelled regions of LABELS (an\n"
-    "image on the grid of INPUT; each distinct non-zero integer value is a region). For each\n"
-    "region A the distance is propagated from all of A's voxels in the domain at once (as\n"
-    "`stvd distance --seeds` does); for every other region B, d(A, B) is the smallest distance\n"
-    "at a voxel of B, and the geodesic path from that voxel back to A is traced as `stvd path`\n"
-    "does. The connectivity index of the pair is the geodesic connectivity measure of Astola,\n"
-    "Florack and ter Haar Romeny (IPMI 2007): the Euclidean length of that path divided by its\n"
-    "geodesic length, L_E / L_G. Under G = (D/MD)^-1 it is about 1 through isotropic tissue and\n"
-    "grows when the path follows directions of high diffusivity. See docs/paths.md.\n"
-    "\n"
-    "Output: one row per ordered pair (A, B), A != B, with region_a, region_b, geodesic_mm,\n"
-    "path_mm (Euclidean length of the path), straight_mm (between the path's end points),\n"
-    "connectivity (path_mm / geodesic_mm), voxels_a, voxels_b; n/a where B is not reachable from\n"
-    "A. d(A, B) and d(B, A) are computed separately and agree up to discretisation.\n"
-    "\n"
-    "  --labels LABELS         the region image (required).\n"
-    "  -o, --output FILE       the table (required). The table and matrices appear together,\n"
-    "                          complete, or not at all; none may be an input.\n"
-    "  --matrix FILE.csv       also the square N x N matrix of geodesic distances (mm): row A,\n"
-    "                          column B holds d(A, B); rows and columns in label order, the labels\n"
-    "                          in a '# labels:' header line; 0 on the diagonal, inf where B is not\n"
-    "                          reachable from A (numpy.loadtxt(FILE, delimiter=',') and MRtrix's\n"
-    "                          matrix readers skip the '#' lines, as for tck2connectome output).\n"
-    "  --matrix-index FILE.csv the same matrix of the connectivity index; 0 on the diagonal and\n"
-    "                          where B is not reachable.\n"
-    "  --threads N             regions propagated in parallel (default: the number of cores);\n"
-    "                          the table does not depend on N.\n"
-    "  --method, --k, --chain-measure, --stencil, --domain-connectivity   as in stvd distance\n"
-    "                          (defaults stvd, 6, segment, 26, 6).\n"
-    "  --no-memory-check       run even when the memory the propagations need (one per thread)\n"
-    "                          exceeds the memory available.\n"
-    "  --stats FILE.json       parameters, counts and seconds as JSON (as stvd distance writes).\n"
-    "  --report FILE.html      a self-contained QC page: the regions over FA, the matrices as heat\n"
-    "                          maps, the statistics and the warnings (Python 3 and matplotlib;\n"
-    "                          docs/report.md).\n"
-    "  -q, --quiet             no summary on stdout.\n"
-    "\n"
-    "%TENSOR%"
-    "\n"
-    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
-    "input (also labels on another grid or not integers); 4 fewer than two regions with voxels\n"
-    "in the domain; 5 output cannot be written; 6 not enough memory for the run.\n";
+std::string connectivityHelp() {
+  return "Usage: stvd connectivity INPUT --labels LABELS -o TABLE.tsv [options]\n"
+         "\n"
+         "Geodesic distance and connectivity between every pair of labelled regions of LABELS (an\n"
+         "image on the grid of INPUT; each distinct non-zero integer value is a region). For each\n"
+         "region A the distance is propagated from all of A's voxels in the domain at once (as\n"
+         "`stvd distance --seeds` does); for every other region B, d(A, B) is the smallest distance\n"
+         "at a voxel of B, and the geodesic path from that voxel back to A is traced as `stvd path`\n"
+         "does. The connectivity index of the pair is the geodesic connectivity measure of Astola,\n"
+         "Florack and ter Haar Romeny (IPMI 2007): the Euclidean length of that path divided by its\n"
+         "geodesic length, L_E / L_G. Under G = (D/MD)^-1 it is about 1 through isotropic tissue and\n"
+         "grows when the path follows directions of high diffusivity. See docs/paths.md.\n"
+         "\n"
+         "Output: one row per ordered pair (A, B), A != B, with region_a, region_b, geodesic_mm,\n"
+         "path_mm (Euclidean length of the path), straight_mm (between the path's end points),\n"
+         "connectivity (path_mm / geodesic_mm), voxels_a, voxels_b; n/a where B is not reachable from\n"
+         "A. d(A, B) and d(B, A) are computed separately and agree up to discretisation.\n"
+         "\n"
+         "Regions:\n" +
+         optionHelp(kConnectivityCommand, {OptionGroup::Regions}) +
+         "\n"
+         "Propagation (as in stvd distance; lanthier gives no paths):\n" +
+         optionHelp(kConnectivityCommand, {OptionGroup::Propagation}) + "\n" +
+         tensorInputHelp(kConnectivityCommand) +
+         "\n"
+         "Output:\n" +
+         optionHelp(kConnectivityCommand, {OptionGroup::Output}) +
+         "\n"
+         "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
+         "input (also labels on another grid or not integers); 4 fewer than two regions with voxels\n"
+         "in the domain; 5 output cannot be written; 6 not enough memory for the run.\n";
+}
 
 struct ConnectivityOptions : PropagationChoice {
   std::string input;
@@ -88,35 +84,20 @@ struct ConnectivityOptions : PropagationChoice {
 };
 
 ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
+  const CommandLine line = readCommandLine(kConnectivityCommand, argc, argv, 2, connectivityHelp);
+  const OptionValues& v = line.values;
   ConnectivityOptions o;
-  ArgumentReader args(argc, argv, 2);
-  while (!args.done()) {
-    const std::string a = args.take();
-    if (takeInputOrHelp(a, args, o.input, kConnectivityHelp, true)) continue;
-    if (a == "-o" || a == "--output") {
-      o.output = args.value(a);
-    } else if (a == "--labels") {
-      o.labels = args.value(a);
-    } else if (a == "--matrix") {
-      o.matrix = args.value(a);
-    } else if (a == "--matrix-index") {
-      o.matrixIndex = args.value(a);
-    } else if (a == "--stats") {
-      o.statsPath = args.value(a);
-    } else if (a == "--report") {
-      o.reportPath = args.value(a);
-    } else if (a == "--threads") {
-      const int n = parseInteger(a, args.value(a));
-      if (n < 1 || n > 1024) usageError("--threads must be between 1 and 1024");
-      o.threads = static_cast<unsigned>(n);
-    } else if (a == "-q" || a == "--quiet") {
-      args.noValue(a);
-      o.quiet = true;
-    } else if (parsePropagationOption(a, args, o)) {
-    } else if (!parseTensorInputOption(a, args, o.tensor)) {
-      usageError("unknown option '" + a + "' (see stvd connectivity --help)");
-    }
-  }
+  static_cast<PropagationChoice&>(o) = propagationChoiceOf(v);
+  o.input = line.input;
+  o.labels = v.text("--labels").value_or("");
+  o.output = v.text("--output").value_or("");
+  o.matrix = v.text("--matrix").value_or("");
+  o.matrixIndex = v.text("--matrix-index").value_or("");
+  o.statsPath = v.text("--stats").value_or("");
+  o.reportPath = v.text("--report").value_or("");
+  o.tensor = imaging::tensorInputOptionsOf(v);
+  o.threads = regionThreadsOf(v);
+  o.quiet = v.has("--quiet");
   if (o.input.empty()) usageError("no input file (see stvd connectivity --help)");
   if (o.labels.empty()) usageError("no regions: add --labels LABELS");
   if (o.output.empty()) usageError("no output file: add -o TABLE.tsv");
@@ -169,7 +150,7 @@ int runConnectivity(int argc, char** argv) {
   const GridGeometry& g = input.read.volume.geometry;
   imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.input, input, o.tensor);
 
-  const imaging::LabelImage labels = imaging::readLabelImage(o.labels);
+  const imaging::LabelImage labels = imaging::readLabelImageOnGrid(o.labels, g, "the labels are", o.input);
   noteInputWarnings(o.labels, labels.warnings);
   imaging::requireSameGrid(labels.geometry, g, o.labels, "the labels are", o.input);
   std::size_t empty = 0;
@@ -238,7 +219,16 @@ int runConnectivity(int argc, char** argv) {
               << "." << std::endl;
   if (report.requested()) {
     const ScratchFolder scratch;
-    report.write({"--stats", scratch.statisticsFile(o.statsPath, statisticsJson(run))}, o.quiet);
+    std::vector<std::string> arguments{"--stats", scratch.statisticsFile(o.statsPath, statisticsJson(run))};
+    if (files::isStreamOutput(o.output)) {  // a table sent to a stream cannot be read back: a copy
+      try {
+        files::writeFileContents(scratch.file("connectivity.tsv"), tsv.str());
+      } catch (const std::runtime_error& e) {
+        throw ToolError(kExitOutput, e.what());
+      }
+      arguments.insert(arguments.end(), {"--table", scratch.file("connectivity.tsv")});
+    }
+    report.write(arguments, o.quiet);
   }
   return kExitOk;
 }

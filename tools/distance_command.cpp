@@ -11,26 +11,35 @@
 #include <sstream>
 
 #include "command_line.hpp"
+#include "command_options.hpp"
 #include "geodesic_options.hpp"
 #include "memory_check.hpp"
+#include "option_help.hpp"
 #include "report_request.hpp"
-#include "run_files.hpp"
+#include "tool_run_files.hpp"
 #include "run_statistics.hpp"
-#include "stvd/files/file_contents.hpp"
-#include "stvd/files/output_transaction.hpp"
-#include "stvd/itk/scalar_image.hpp"
-#include "stvd/itk/symmetric_eigen.hpp"
-#include "stvd/itk/tensor_frames.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/stencil.hpp"
-#include "stvd/steiner_propagation.hpp"
-#include "stvd/voxel_grid_domain.hpp"
+#include "stvd/system/files/file_contents.hpp"
+#include "stvd/system/files/output_transaction.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
+#include "stvd/imaging/symmetric_eigen.hpp"
+#include "stvd/imaging/tensor_frames.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/stencil.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_domain.hpp"
+#include "stvd/system/files/output_destination.hpp"
+#include "stvd/imaging/seed_options.hpp"
+#include "stvd/imaging/tensor_input_options.hpp"
+#include "stvd/front_end/propagation_choice_options.hpp"
 #include "subcommands.hpp"
 #include "surface_distance_command.hpp"
 #include "tet_mesh_commands.hpp"
 
 #ifdef STVD_WITH_VDB_OUTPUT
 #include "stvd/vdb/distance_grid.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
+#include "stvd/front_end/memory_estimates.hpp"
 #endif
 
 namespace stvd::tool {
@@ -42,89 +51,52 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-const char* kDistanceHelp =
-    "Usage: stvd distance INPUT -o OUTPUT [options]\n"
-    "       stvd distance MESH.obj|off|ply|stl -o OUT.ply|vtk|csv --seed-vertex N|--seed-point X,Y,Z\n"
-    "       stvd distance MESH.node -o OUT.vtk|vtu|csv|nii.gz --seed-vertex N|--seed-point X,Y,Z\n"
-    "\n"
-    "Anisotropic geodesic distance (millimetres) from seed voxels over a diffusion or metric\n"
-    "tensor volume. The output format follows the extension: .nii, .nii.gz, .nrrd, .nhdr, .mif or\n"
-    ".mif.gz give a float32 image on exactly the input's grid (same size, spacing, origin and\n"
-    "direction cosines), in which voxels not reached (outside the domain, disconnected from the seeds, or\n"
-    "beyond --max-distance) hold the unreachable value, -1 unless --unreachable-value says\n"
-    "otherwise; .vdb gives an OpenVDB FloatGrid named \"distance\" whose transform places the\n"
-    "voxels in RAS millimetres and in which voxels not reached are inactive. All coordinates\n"
-    "are millimetres; distances are measured in physical space (spacing and direction cosines\n"
-    "applied). Polygon surfaces (.obj, .off, .ply, .stl) and TetGen tetrahedral meshes (.node,\n"
-    ".ele) take the options of their own sections below.\n"
-    "\n"
-    "Seeds (at least one; all given seeds are sources at distance 0):\n"
-    "  --seed-voxel I,J,K      0-based voxel index (repeatable).\n"
-    "  --seed-point X,Y,Z      physical point in RAS millimetres, the NIfTI/scanner convention\n"
-    "                          (repeatable); the nearest voxel is the seed.\n"
-    "  --lps                   read --seed-point coordinates as LPS (ITK, DICOM, Slicer) instead.\n"
-    "  --seeds LABELS          every non-zero voxel of the image LABELS (same grid) inside the\n"
-    "                          domain is a seed; the others are left out (counted in the report).\n"
-    "\n"
-    "Propagation:\n"
-    "  --method M              stvd (default): Short-Term Vector Dijkstra (Campen et al. 2013);\n"
-    "                          dijkstra: shortest paths along stencil edges;\n"
-    "                          lanthier: Steiner points on the cells between voxel centres, the\n"
-    "                          slow accurate reference (needs --steiner; docs/steiner.md).\n"
-    "  --steiner M             lanthier: Steiner points per cube edge, 1..16; time and memory grow\n"
-    "                          like M^4 and M^2 (shipped brain: M = 2 3 s, M = 8 4 min, 1.1 GB).\n"
-    "  --k N                   STVD memory depth, 1..16 (default 6; see docs/cli.md).\n"
-    "  --chain-measure R       how STVD measures a candidate: segment (default: its straight\n"
-    "                          segment, measured along itself, used only inside the domain),\n"
-    "                          projection (the paper's rule, which underestimates on DTI data\n"
-    "                          for k > 3) or largest (the most expensive edge norm on the chain;\n"
-    "                          see docs/cli.md).\n"
-    "  --stencil S             neighbourhood: 6, 18, 26 (default), 98 (5x5x5) or 290 (7x7x7).\n"
-    "  --domain-connectivity C which domain voxels touch, with a mask or --fa-threshold: 6\n"
-    "                          (default): only through the cells between voxel centres whose\n"
-    "                          corners are all in the domain, so no path passes a gap of zero\n"
-    "                          width; 18: also two voxels that share only an edge; 26: also two\n"
-    "                          that share only a corner. Every method keeps to it (docs/cli.md).\n"
-    "  --max-distance D        stop at D mm; farther voxels are unreachable.\n"
-    "  --no-memory-check       run even when the estimate of the memory the propagation needs\n"
-    "                          exceeds the memory available (exit code 6 otherwise).\n"
-    "\n"
-    "%TENSOR%"
-    "\n"
-    "Output:\n"
-    "  -o, --output FILE       the distance map (required): .nii, .nii.gz, .nrrd, .nhdr, .mif,\n"
-    "                          .mif.gz or .vdb.\n"
-    "                          Its folder must exist; it must not be an input. Written with the\n"
-    "                          statistics into a staging folder next to it and moved into place\n"
-    "                          when both are complete.\n"
-    "  --unreachable-value V   value of voxels not reached: a number or nan (default -1; nan keeps\n"
-    "                          them out of mrstats and most viewers' statistics).\n"
-    "  --stats FILE.json       parameters, counts, seconds per phase and peak memory as JSON.\n"
-    "  --report FILE.html      a self-contained QC page: slices of the map over FA through the\n"
-    "                          seed, the statistics and the warnings (Python 3 and matplotlib;\n"
-    "                          docs/report.md).\n"
-    "  -q, --quiet             no summary on stdout, no progress bar.\n"
-    "  -h, --help              this text.\n"
-    "\n"
-    "Unless --quiet, a one-paragraph summary goes to stdout, and a progress bar to stderr when\n"
-    "stderr is a terminal and the propagation takes longer than a second.\n"
-    "\n"
-    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
-    "input (format, layout, geometry of mask or labels); 4 nothing to compute (empty domain, a\n"
-    "seed outside the image or the domain); 5 output cannot be written; 6 not enough memory for\n"
-    "the run. On failure one line on stderr names the file and the problem, and no output file\n"
-    "is left behind.\n";
+/// The help of the command on tensor volumes.
+std::string volumeHelp() {
+  return "Usage: stvd distance INPUT -o OUTPUT [options]\n"
+         "       stvd distance MESH.obj|off|ply|stl -o OUT.ply|vtk|csv --seed-vertex N|--seed-point X,Y,Z\n"
+         "       stvd distance MESH.node -o OUT.vtk|vtu|csv|nii.gz --seed-vertex N|--seed-point X,Y,Z\n"
+         "\n"
+         "Anisotropic geodesic distance (millimetres) from seed voxels over a diffusion or metric\n"
+         "tensor volume. The output format follows the extension: .nii, .nii.gz, .nrrd, .nhdr, .mif or\n"
+         ".mif.gz give a float32 image on exactly the input's grid (same size, spacing, origin and\n"
+         "direction cosines), in which voxels not reached (outside the domain, disconnected from the seeds, or\n"
+         "beyond --max-distance) hold the unreachable value, " +
+         optionDefaultText(toolOption("--unreachable-value"), kDistanceCommand) +
+         " unless --unreachable-value says\n"
+         "otherwise; .vdb gives an OpenVDB FloatGrid named \"distance\" whose transform places the\n"
+         "voxels in RAS millimetres and in which voxels not reached are inactive. All coordinates\n"
+         "are millimetres; distances are measured in physical space (spacing and direction cosines\n"
+         "applied). Polygon surfaces (.obj, .off, .ply, .stl) and TetGen tetrahedral meshes (.node,\n"
+         ".ele) take the options of their own sections below.\n"
+         "\n"
+         "Seeds (at least one; all given seeds are sources at distance 0):\n" +
+         optionHelp(kDistanceCommand, {OptionGroup::Seeds}) +
+         "\n"
+         "Propagation:\n" +
+         optionHelp(kDistanceCommand, {OptionGroup::Propagation}) + "\n" + tensorInputHelp(kDistanceCommand) +
+         "\n"
+         "Output:\n" +
+         optionHelp(kDistanceCommand, {OptionGroup::Output}) +
+         "\n"
+         "Unless --quiet, a one-paragraph summary goes to stdout, and a progress bar to stderr when\n"
+         "stderr is a terminal and the propagation takes longer than a second.\n"
+         "\n"
+         "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
+         "input (format, layout, geometry of mask or labels); 4 nothing to compute (empty domain, a\n"
+         "seed outside the image or the domain); 5 output cannot be written; 6 not enough memory for\n"
+         "the run. On failure one line on stderr names the file and the problem, and no output file\n"
+         "is left behind.\n";
+}
 
 /// The whole help: volumes, then surfaces and tetrahedral meshes in
 /// sections of their own.
-const std::string& distanceHelp() {
-  static const std::string help =
-      std::string(kDistanceHelp) +
-      "\n=== Polygon surfaces: stvd distance MESH.obj|off|ply|stl -o OUT.ply|vtk|csv (docs/surfaces.md) ===\n\n" +
-      surfaceOptionsHelp() +
-      "\n=== Tetrahedral meshes: stvd distance MESH.node -o OUT.vtk|vtu|csv|nii.gz (docs/tet_meshes.md) ===\n\n" +
-      tetMeshOptionsHelp();
-  return help;
+std::string distanceHelp() {
+  return volumeHelp() +
+         "\n=== Polygon surfaces: stvd distance MESH.obj|off|ply|stl -o OUT.ply|vtk|csv (docs/surfaces.md) ===\n\n" +
+         surfaceOptionsHelp() +
+         "\n=== Tetrahedral meshes: stvd distance MESH.node -o OUT.vtk|vtu|csv|nii.gz (docs/tet_meshes.md) ===\n\n" +
+         tetMeshOptionsHelp();
 }
 
 struct DistanceOptions : SeedOptions, PropagationChoice {
@@ -143,31 +115,19 @@ bool isVdbPath(const std::string& path) {
 }
 
 DistanceOptions parseDistanceOptions(int argc, char** argv) {
+  const CommandLine line = readCommandLine(kDistanceCommand, argc, argv, 2, distanceHelp);
+  const OptionValues& v = line.values;
   DistanceOptions o;
-  ArgumentReader args(argc, argv, 2);
-  while (!args.done()) {
-    const std::string a = args.take();
-    if (takeInputOrHelp(a, args, o.input, distanceHelp().c_str(), true)) continue;
-    if (a == "-o" || a == "--output") {
-      o.output = args.value(a);
-    } else if (parseSeedOption(a, args, o) || parsePropagationOption(a, args, o)) {
-    } else if (a == "--max-distance") {
-      o.maxDistance = parseNumber(a, args.value(a));
-      if (!(o.maxDistance > 0.0)) usageError("--max-distance must be positive");
-    } else if (a == "--unreachable-value") {
-      const std::string v = args.value(a);
-      o.unreachableValue = static_cast<float>(parseUnreachableValue(a, v));
-    } else if (a == "--stats") {
-      o.statsPath = args.value(a);
-    } else if (a == "--report") {
-      o.reportPath = args.value(a);
-    } else if (a == "-q" || a == "--quiet") {
-      args.noValue(a);
-      o.quiet = true;
-    } else if (!parseTensorInputOption(a, args, o.tensor)) {
-      usageError("unknown option '" + a + "' (see stvd distance --help)");
-    }
-  }
+  static_cast<SeedOptions&>(o) = seedOptionsOf(v);
+  static_cast<PropagationChoice&>(o) = propagationChoiceOf(v);
+  o.input = line.input;
+  o.output = v.text("--output").value_or("");
+  o.maxDistance = v.number("--max-distance").value_or(o.maxDistance);
+  o.tensor = imaging::tensorInputOptionsOf(v);
+  o.unreachableValue = static_cast<float>(v.number("--unreachable-value").value_or(o.unreachableValue));
+  o.statsPath = v.text("--stats").value_or("");
+  o.reportPath = v.text("--report").value_or("");
+  o.quiet = v.has("--quiet");
   if (o.input.empty()) usageError("no input file (see stvd distance --help)");
   if (o.output.empty()) usageError("no output file: add -o OUTPUT");
   if (isVdbPath(o.output)) {
@@ -179,7 +139,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   }
   checkImageOutputSpelling(o.output);
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
-    usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
+    usageError(imaging::noSeedMessage(OptionNaming::Flags));
   checkPropagationChoice(o, /*lanthierAllowed=*/true);
   imaging::checkTensorInputOptions(o.tensor);
   return o;
@@ -303,7 +263,8 @@ std::string summaryParagraph(const DistanceOptions& o, const TensorInput& input,
 }
 
 /// The report reads the statistics and a NIfTI distance map: the run's own
-/// files when it wrote them, copies in a scratch folder otherwise.
+/// files when it wrote them to files, copies in a scratch folder otherwise
+/// (another format, or a stream such as a FIFO, which cannot be read back).
 void writeDistanceReport(ReportRequest& report, const DistanceOptions& o, const RunStatistics& run,
                          const GridGeometry& g, const std::vector<float>& values) {
   const ScratchFolder scratch;
@@ -313,7 +274,8 @@ void writeDistanceReport(ReportRequest& report, const DistanceOptions& o, const 
     const std::string name = std::filesystem::path(o.output).filename().string();
     const bool nifti = name.size() > 4 && (name.substr(name.size() - 4) == ".nii" ||
                                            (name.size() > 7 && name.substr(name.size() - 7) == ".nii.gz"));
-    if (!nifti) imaging::writeScalarImage(mapPath = scratch.file("distance.nii"), g, values);
+    if (!nifti || files::isStreamOutput(o.output))
+      imaging::writeScalarImage(mapPath = scratch.file("distance.nii"), g, values);
   } catch (const std::runtime_error& e) {
     throw ToolError(kExitOutput, e.what());
   }
@@ -387,12 +349,12 @@ int runDistance(int argc, char** argv) {
   };
   PropagationResult result;
   if (o.lanthier) {
-    SteinerOptions steiner;
+    LanthierOptions steiner;
     steiner.steinerPoints = o.steinerPoints;
     steiner.maxDistance = o.maxDistance;
     steiner.progress = options.progress;
     try {
-      result = steinerPropagate(domain, metric, sources, steiner);
+      result = lanthierPropagate(domain, metric, sources, steiner);
     } catch (const std::invalid_argument& e) {  // too large a graph
       throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
     }

@@ -1,45 +1,18 @@
 #include "geodesic_options.hpp"
 
-#include "stvd/itk/scalar_image.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
+#include "stvd/itk/image_grid.hpp"
+#include "stvd/imaging/seed_options.hpp"
 
 namespace stvd::tool {
 
-bool parseSeedOption(const std::string& a, ArgumentReader& args, SeedOptions& o) {
-  if (a == "--seed-voxel") {
-    o.seedVoxels.push_back(parseIntegerTriple(a, args.value(a)));
-  } else if (a == "--seed-point") {
-    o.seedPoints.push_back(parseTriple(a, args.value(a)));
-  } else if (a == "--lps") {
-    args.noValue(a);
-    o.seedPointsInLps = true;
-  } else if (a == "--seeds") {
-    o.seedLabels = args.value(a);
-  } else {
-    return false;
-  }
-  return true;
-}
-
-bool parsePropagationOption(const std::string& a, ArgumentReader& args, PropagationChoice& o) {
-  if (a == "--method") {
-    setMethod(o, args.value(a));
-  } else if (a == "--steiner") {
-    setSteinerPoints(o, parseInteger(a, args.value(a)));
-  } else if (a == "--k") {
-    setMemoryDepth(o, parseInteger(a, args.value(a)));
-  } else if (a == "--chain-measure") {
-    setChainMeasure(o, args.value(a));
-  } else if (a == "--no-memory-check") {
-    args.noValue(a);
-    o.memoryCheck = false;
-  } else if (a == "--domain-connectivity") {
-    setDomainConnectivity(o, args.value(a));
-  } else if (a == "--stencil") {
-    setStencil(o, args.value(a));
-  } else {
-    return false;
-  }
-  return true;
+SeedOptions seedOptionsOf(const OptionValues& values) {
+  SeedOptions o;
+  o.seedVoxels = imaging::voxelsOf(values, "--seed-voxel");
+  o.seedPoints = imaging::pointsOf(values, "--seed-point");
+  o.seedPointsInLps = values.has("--lps");
+  o.seedLabels = values.text("--seeds").value_or("");
+  return o;
 }
 
 std::vector<Seed> resolveSeeds(const std::string& inputPath, const SeedOptions& o, const TensorInput& input,
@@ -48,7 +21,8 @@ std::vector<Seed> resolveSeeds(const std::string& inputPath, const SeedOptions& 
   std::vector<Seed> seeds = imaging::seedVoxelsAt(inputPath, o.seedVoxels, o.seedPoints, o.seedPointsInLps, input,
                                                   metric, inDomain, role);
   if (!o.seedLabels.empty()) {
-    const imaging::ScalarImage labels = imaging::readScalarImage(o.seedLabels);
+    const imaging::ScalarImage labels = imaging::readScalarImageOnGrid(o.seedLabels, input.read.volume.geometry,
+                                                                       "the seed labels are", inputPath);
     noteInputWarnings(o.seedLabels, labels.warnings);
     const std::vector<Seed> labelled = imaging::labelSeedVoxels(o.seedLabels, labels, inputPath,
                                                                 input.read.volume.geometry, inDomain, labelSeedsLeftOut);

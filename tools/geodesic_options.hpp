@@ -1,7 +1,6 @@
 // What the geodesic subcommands (distance, path, connectivity) share: the
-// seed options and their resolution to voxels, and the propagation options
-// (read into the library's PropagationChoice, stvd/propagation_choice.hpp,
-// which holds the defaults and the checks).
+// seed options and their resolution to voxels (their declarations:
+// stvd/imaging/seed_options.hpp).
 #pragma once
 
 #include <array>
@@ -10,10 +9,10 @@
 #include <vector>
 
 #include "command_line.hpp"
-#include "stvd/itk/seed_voxels.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/propagation_choice.hpp"
-#include "stvd/voxel_grid_domain.hpp"
+#include "stvd/imaging/seed_voxels.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/front_end/propagation_choice.hpp"
+#include "stvd/voxel_grid/voxel_grid_domain.hpp"
 
 namespace stvd::tool {
 
@@ -25,16 +24,11 @@ struct SeedOptions {
   std::string seedLabels;
 };
 
-/// When `option` is a seed option, reads it into `seeds` and returns true.
-bool parseSeedOption(const std::string& option, ArgumentReader& args, SeedOptions& seeds);
-/// When `option` is a propagation option (--method, --steiner, --k,
-/// --chain-measure, --stencil, --domain-connectivity, --no-memory-check),
-/// reads it into `choice` and returns true. Checks of the combination:
-/// stvd::checkPropagationChoice.
-bool parsePropagationOption(const std::string& option, ArgumentReader& args, PropagationChoice& choice);
+/// The seed options given on a command line.
+SeedOptions seedOptionsOf(const OptionValues& values);
 
 // A voxel the user named and how (for messages), and how voxels and points
-// are written in messages (stvd/itk/seed_voxels.hpp).
+// are written in messages (stvd/imaging/seed_voxels.hpp).
 using Seed = imaging::SeedVoxel;
 using imaging::lpsToRas;
 using imaging::pointText;

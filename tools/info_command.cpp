@@ -8,38 +8,40 @@
 #include <sstream>
 
 #include "command_line.hpp"
+#include "command_options.hpp"
 #include "geodesic_options.hpp"
-#include "stvd/itk/symmetric_eigen.hpp"
-#include "stvd/itk/mrtrix_image.hpp"
-#include "stvd/itk/tensor_frames.hpp"
-#include "stvd/itk/tensor_plausibility.hpp"
+#include "stvd/imaging/symmetric_eigen.hpp"
+#include "stvd/imaging/mrtrix_image.hpp"
+#include "stvd/imaging/tensor_frames.hpp"
+#include "stvd/imaging/tensor_plausibility.hpp"
+#include "option_help.hpp"
+#include "stvd/imaging/seed_options.hpp"
+#include "stvd/imaging/tensor_input_options.hpp"
 #include "subcommands.hpp"
 
 namespace stvd::tool {
 namespace {
 
-const char* kInfoHelp =
-    "Usage: stvd info INPUT [options]\n"
-    "\n"
-    "Describes a tensor volume as stvd reads it: file layout, component order and frame\n"
-    "(stated or the per-format default), grid geometry (LPS as ITK reports it, and RAS),\n"
-    "eigenvalue, mean diffusivity and FA statistics over the voxels with a non-zero finite\n"
-    "tensor inside the mask, and how many tensors are ill-conditioned. Tensors are reported in\n"
-    "the physical LPS frame after the frame conversion; eigenvalues do not depend on the frame.\n"
-    "\n"
-    "%TENSOR%"
-    "  --voxel I,J,K           also describe this voxel (stvd's 0-based index, as the file stores\n"
-    "                          it): the index MRtrix shows for it and its RAS position.\n"
-    "  -h, --help              this text.\n"
-    "\n"
-    "Voxel indices: stvd's --seed-voxel and --target-voxel count the axes as the file stores\n"
-    "them (NIfTI, ITK, nibabel). MRtrix (mrview, mrconvert -coord) reorders the axes of every\n"
-    "image to point right, anterior, superior, so its indices can differ (the shipped brain's\n"
-    "voxel 55,54,15 is 56,54,15 in MRtrix); `Voxel indices:` says how. --seed-point X,Y,Z in\n"
-    "scanner millimetres is the same point in every tool.\n"
-    "\n"
-    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable input;\n"
-    "4 a --voxel outside the image.\n";
+std::string infoHelp() {
+  return "Usage: stvd info INPUT [options]\n"
+         "\n"
+         "Describes a tensor volume as stvd reads it: file layout, component order and frame\n"
+         "(stated or the per-format default), grid geometry (LPS as ITK reports it, and RAS),\n"
+         "eigenvalue, mean diffusivity and FA statistics over the voxels with a non-zero finite\n"
+         "tensor inside the mask, and how many tensors are ill-conditioned. Tensors are reported in\n"
+         "the physical LPS frame after the frame conversion; eigenvalues do not depend on the frame.\n"
+         "\n" +
+         tensorInputHelp(kInfoCommand) + optionHelp(kInfoCommand, {OptionGroup::Output}) +
+         "\n"
+         "Voxel indices: stvd's --seed-voxel and --target-voxel count the axes as the file stores\n"
+         "them (NIfTI, ITK, nibabel). MRtrix (mrview, mrconvert -coord) reorders the axes of every\n"
+         "image to point right, anterior, superior, so its indices can differ (the shipped brain's\n"
+         "voxel 55,54,15 is 56,54,15 in MRtrix); `Voxel indices:` says how. --seed-point X,Y,Z in\n"
+         "scanner millimetres is the same point in every tool.\n"
+         "\n"
+         "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable input;\n"
+         "4 a --voxel outside the image.\n";
+}
 
 struct InfoOptions {
   std::string input;
@@ -48,19 +50,11 @@ struct InfoOptions {
 };
 
 InfoOptions parseInfoOptions(int argc, char** argv) {
+  const CommandLine line = readCommandLine(kInfoCommand, argc, argv, 2, infoHelp);
   InfoOptions o;
-  ArgumentReader args(argc, argv, 2);
-  while (!args.done()) {
-    const std::string a = args.take();
-    if (takeInputOrHelp(a, args, o.input, kInfoHelp, false)) continue;
-    if (a == "--tensor-order" || a == "--tensor-frame" || a == "--mask" || a == "--max-anisotropy") {
-      parseTensorInputOption(a, args, o.tensor);
-    } else if (a == "--voxel") {
-      o.voxels.push_back(parseIntegerTriple(a, args.value(a)));
-    } else {
-      usageError("unknown option '" + a + "' (see stvd info --help)");
-    }
-  }
+  o.input = line.input;
+  o.tensor = imaging::tensorInputOptionsOf(line.values);
+  o.voxels = imaging::voxelsOf(line.values, "--voxel");
   if (o.input.empty()) usageError("no input file (see stvd info --help)");
   return o;
 }

@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "stvd/system_memory.hpp"
+#include "stvd/system/memory.hpp"
 
 namespace stvd::tool {
 

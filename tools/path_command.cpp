@@ -3,24 +3,35 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <sstream>
 
 #include "command_line.hpp"
+#include "command_options.hpp"
 #include "geodesic_options.hpp"
 #include "memory_check.hpp"
+#include "option_help.hpp"
 #include "report_request.hpp"
-#include "run_files.hpp"
+#include "tool_run_files.hpp"
 #include "run_statistics.hpp"
-#include "stvd/files/file_contents.hpp"
-#include "stvd/files/output_transaction.hpp"
-#include "stvd/geodesic_path.hpp"
-#include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/scalar_image.hpp"
-#include "stvd/itk/streamline_io.hpp"
-#include "stvd/itk/tensor_metric.hpp"
-#include "stvd/stencil.hpp"
+#include "stvd/system/files/file_contents.hpp"
+#include "stvd/system/files/output_transaction.hpp"
+#include "stvd/voxel_grid/path_tracing.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
+#include "stvd/imaging/streamline_io.hpp"
+#include "stvd/imaging/tensor_metric.hpp"
+#include "stvd/voxel_grid/stencil.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/front_end/memory_estimates.hpp"
+#include "stvd/system/files/output_destination.hpp"
+#include "stvd/front_end/path_tracing_options.hpp"
+#include "stvd/itk/image_grid.hpp"
+#include "stvd/imaging/seed_options.hpp"
+#include "stvd/imaging/tensor_input_options.hpp"
+#include "stvd/front_end/propagation_choice_options.hpp"
 #include "subcommands.hpp"
 
 namespace stvd::tool {
@@ -28,73 +39,39 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-const char* kPathHelp =
-    "Usage: stvd path INPUT --seed-... --target-... -o PATHS [options]\n"
-    "\n"
-    "Geodesic paths (tractography-like curves) from each target back to the nearest seed under\n"
-    "the metric of a diffusion or metric tensor volume: the distance from the seeds is propagated\n"
-    "as `stvd distance` does (same seeds, tensor and method options and defaults), and each path\n"
-    "descends that distance field from its target along the characteristic direction -G^-1 grad u\n"
-    "(Heun's method, fixed step), falling back to the propagation's predecessor chain where the\n"
-    "gradient vanishes, points out of the image or reaches a voxel outside the domain. The traced\n"
-    "curve is then refined into a discrete geodesic of the metric itself (its end points fixed,\n"
-    "never through voxels outside the domain), which removes the distance field's errors from\n"
-    "its position. Each path runs from its seed end (first point) to its target (last point).\n"
-    "See docs/paths.md.\n"
-    "\n"
-    "Seeds (at least one; all seeds are sources at distance 0):\n"
-    "  --seed-voxel I,J,K      0-based voxel index (repeatable).\n"
-    "  --seed-point X,Y,Z      physical point in RAS millimetres (repeatable); nearest voxel.\n"
-    "  --seeds LABELS          every non-zero voxel of LABELS (same grid) inside the domain.\n"
-    "Targets (at least one; one path per target):\n"
-    "  --target-voxel I,J,K    0-based voxel index (repeatable).\n"
-    "  --target-point X,Y,Z    physical point in RAS millimetres (repeatable); nearest voxel.\n"
-    "  --targets LABELS        one path per distinct non-zero label value of LABELS (same grid),\n"
-    "                          ending at that region's voxel nearest to the seeds (geodesically).\n"
-    "  --lps                   read --seed-point and --target-point as LPS instead of RAS.\n"
-    "\n"
-    "Propagation (as in stvd distance):\n"
-    "  --method M              stvd (default) or dijkstra.\n"
-    "  --k N                   STVD memory depth, 1..16 (default 6).\n"
-    "  --chain-measure R       segment (default), projection or largest.\n"
-    "  --stencil S             6, 18, 26 (default), 98 or 290.\n"
-    "  --domain-connectivity C 6 (default), 18 or 26: which domain voxels touch; paths keep to\n"
-    "                          the same region as the distances.\n"
-    "  --no-memory-check       run even when the estimate of the memory needed exceeds the\n"
-    "                          memory available.\n"
-    "\n"
-    "%TENSOR%"
-    "\n"
-    "Paths:\n"
-    "  --step F                integration step as a fraction of the smallest voxel spacing, in\n"
-    "                          (0, 1] (default 0.25).\n"
-    "  --smooth N              N passes of a [1/4 1/2 1/4] moving average over the interior\n"
-    "                          points (default 0: none).\n"
-    "  --no-refine             write the traced curves without the refinement.\n"
-    "  --discrete              write the discrete paths (the predecessor chain: the voxel centres\n"
-    "                          where the measured straight segments of each path start) instead\n"
-    "                          of the continuous ones.\n"
-    "\n"
-    "Output:\n"
-    "  -o, --output FILE       the paths (required), by extension: .tck (MRtrix), .trk (TrackVis)\n"
-    "                          or .vtk (legacy VTK polydata); coordinates are RAS millimetres.\n"
-    "                          Per path: geodesic_mm (the distance value at the target), euclidean_mm\n"
-    "                          (length of the polyline) and mean_fa (diffusion tensors only) as\n"
-    "                          per-streamline values (.trk properties, .vtk cell data, .tck header\n"
-    "                          entries), and FA per point (.trk scalars, .vtk point data).\n"
-    "  --tsv FILE              the per-path summary table (default: FILE with the extension\n"
-    "                          replaced by .tsv).\n"
-    "  --stats FILE.json       parameters, counts and seconds as JSON (as stvd distance writes).\n"
-    "  --report FILE.html      a self-contained QC page: the paths over the distance map and FA,\n"
-    "                          their figures, the statistics and the warnings (Python 3 and\n"
-    "                          matplotlib; docs/report.md).\n"
-    "  -q, --quiet             no summary on stdout.\n"
-    "  -h, --help              this text.\n"
-    "\n"
-    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
-    "input; 4 nothing to compute (empty domain, a seed or target outside the image or domain, a\n"
-    "target not reachable from the seeds); 5 output cannot be written; 6 not enough memory for\n"
-    "the run. No output file is left behind on failure.\n";
+std::string pathHelp() {
+  return "Usage: stvd path INPUT --seed-... --target-... -o PATHS [options]\n"
+         "\n"
+         "Geodesic paths (tractography-like curves) from each target back to the nearest seed under\n"
+         "the metric of a diffusion or metric tensor volume: the distance from the seeds is propagated\n"
+         "as `stvd distance` does (same seeds, tensor and method options and defaults), and each path\n"
+         "descends that distance field from its target along the characteristic direction -G^-1 grad u\n"
+         "(Heun's method, fixed step), falling back to the propagation's predecessor chain where the\n"
+         "gradient vanishes, points out of the image or reaches a voxel outside the domain. The traced\n"
+         "curve is then refined into a discrete geodesic of the metric itself (its end points fixed,\n"
+         "never through voxels outside the domain), which removes the distance field's errors from\n"
+         "its position. Each path runs from its seed end (first point) to its target (last point).\n"
+         "See docs/paths.md.\n"
+         "\n"
+         "Seeds (at least one; all seeds are sources at distance 0):\n" +
+         optionHelp(kPathCommand, {OptionGroup::Seeds}) +
+         "Targets (at least one; one path per target):\n" +
+         optionHelp(kPathCommand, {OptionGroup::Targets}) +
+         "\n"
+         "Propagation (as in stvd distance; lanthier gives no paths):\n" +
+         optionHelp(kPathCommand, {OptionGroup::Propagation}) + "\n" + tensorInputHelp(kPathCommand) +
+         "\n"
+         "Paths:\n" +
+         optionHelp(kPathCommand, {OptionGroup::Paths}) +
+         "\n"
+         "Output:\n" +
+         optionHelp(kPathCommand, {OptionGroup::Output}) +
+         "\n"
+         "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
+         "input; 4 nothing to compute (empty domain, a seed or target outside the image or domain, a\n"
+         "target not reachable from the seeds); 5 output cannot be written; 6 not enough memory for\n"
+         "the run. No output file is left behind on failure.\n";
+}
 
 struct PathOptions : SeedOptions, PropagationChoice {
   std::string input;
@@ -119,55 +96,32 @@ std::string replaceExtension(const std::string& path, const std::string& extensi
 }
 
 PathOptions parsePathOptions(int argc, char** argv) {
+  const CommandLine line = readCommandLine(kPathCommand, argc, argv, 2, pathHelp);
+  const OptionValues& v = line.values;
   PathOptions o;
-  ArgumentReader args(argc, argv, 2);
-  while (!args.done()) {
-    const std::string a = args.take();
-    if (takeInputOrHelp(a, args, o.input, kPathHelp, true)) continue;
-    if (a == "-o" || a == "--output") {
-      o.output = args.value(a);
-    } else if (a == "--tsv") {
-      o.tsvPath = args.value(a);
-    } else if (a == "--stats") {
-      o.statsPath = args.value(a);
-    } else if (a == "--report") {
-      o.reportPath = args.value(a);
-    } else if (a == "--target-voxel") {
-      o.targetVoxels.push_back(parseIntegerTriple(a, args.value(a)));
-    } else if (a == "--target-point") {
-      o.targetPoints.push_back(parseTriple(a, args.value(a)));
-    } else if (a == "--targets") {
-      o.targetLabels = args.value(a);
-    } else if (a == "--step") {
-      o.tracing.stepFraction = parseNumber(a, args.value(a));
-      if (!(o.tracing.stepFraction > 0.0 && o.tracing.stepFraction <= 1.0)) usageError("--step must be in (0, 1]");
-    } else if (a == "--smooth") {
-      o.tracing.smoothingPasses = parseInteger(a, args.value(a));
-      if (o.tracing.smoothingPasses < 0 || o.tracing.smoothingPasses > 1000)
-        usageError("--smooth must be between 0 and 1000");
-    } else if (a == "--no-refine") {
-      args.noValue(a);
-      o.tracing.refine = false;
-    } else if (a == "--discrete") {
-      args.noValue(a);
-      o.discrete = true;
-    } else if (a == "-q" || a == "--quiet") {
-      args.noValue(a);
-      o.quiet = true;
-    } else if (parseSeedOption(a, args, o) || parsePropagationOption(a, args, o)) {
-    } else if (!parseTensorInputOption(a, args, o.tensor)) {
-      usageError("unknown option '" + a + "' (see stvd path --help)");
-    }
-  }
+  static_cast<SeedOptions&>(o) = seedOptionsOf(v);
+  static_cast<PropagationChoice&>(o) = propagationChoiceOf(v);
+  o.input = line.input;
+  o.output = v.text("--output").value_or("");
+  o.tsvPath = v.text("--tsv").value_or("");
+  o.statsPath = v.text("--stats").value_or("");
+  o.reportPath = v.text("--report").value_or("");
+  o.targetVoxels = imaging::voxelsOf(v, "--target-voxel");
+  o.targetPoints = imaging::pointsOf(v, "--target-point");
+  o.targetLabels = v.text("--targets").value_or("");
+  o.tensor = imaging::tensorInputOptionsOf(v);
+  o.tracing = pathTracingOptionsOf(v);
+  o.discrete = v.has("--discrete");
+  o.quiet = v.has("--quiet");
   if (o.input.empty()) usageError("no input file (see stvd path --help)");
   if (o.output.empty()) usageError("no output file: add -o PATHS.tck, .trk or .vtk");
   if (!imaging::streamlineFormatOf(o.output))
     usageError(o.output + ": unsupported output format; use .tck, .trk or .vtk");
   if (o.tsvPath.empty()) o.tsvPath = replaceExtension(o.output, ".tsv");
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
-    usageError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
+    usageError(imaging::noSeedMessage(OptionNaming::Flags));
   if (o.targetVoxels.empty() && o.targetPoints.empty() && o.targetLabels.empty())
-    usageError("no target: add --target-voxel I,J,K, --target-point X,Y,Z or --targets LABELS");
+    usageError(imaging::noTargetMessage(OptionNaming::Flags));
   checkPropagationChoice(o, /*lanthierAllowed=*/false);
   imaging::checkTensorInputOptions(o.tensor);
   return o;
@@ -226,7 +180,8 @@ int runPath(int argc, char** argv) {
   std::vector<Target> targets;
   for (const Seed& t : targetSeeds) targets.push_back({domain.vertexAt(t.index.i, t.index.j, t.index.k), t.givenAs});
   if (!o.targetLabels.empty()) {
-    const imaging::LabelImage labels = imaging::readLabelImage(o.targetLabels);
+    const imaging::LabelImage labels =
+        imaging::readLabelImageOnGrid(o.targetLabels, g, "the target labels are", o.input);
     noteInputWarnings(o.targetLabels, labels.warnings);
     const std::vector<Target> fromLabels =
         imaging::labelTargets(o.targetLabels, labels, o.input, g, built.inDomain, result.distance);
@@ -308,9 +263,9 @@ int runPath(int argc, char** argv) {
                  {"total", std::chrono::duration<double>(Clock::now() - start).count()}};
   // The paths, their table and the statistics appear together or not at all.
   files::OutputTransaction outputs;
+  const std::string table = tsv.str();
   try {
     imaging::writeStreamlines(outputs, o.output, set);
-    const std::string table = tsv.str();
     outputs.write(o.tsvPath, [&](const std::string& staging) { files::writeFileContents(staging, table); });
     if (!o.statsPath.empty()) {
       const std::string json = statisticsJson(run);
@@ -339,12 +294,21 @@ int runPath(int argc, char** argv) {
     for (std::size_t v = 0; v < values.size(); ++v)
       values[v] = std::isfinite(result.distance[v]) ? static_cast<float>(result.distance[v])
                                                     : std::numeric_limits<float>::quiet_NaN();
+    std::vector<std::string> arguments{"--stats", statsPath, "--distance", scratch.file("distance.nii")};
     try {
       imaging::writeScalarImage(scratch.file("distance.nii"), g, values);
+      // Paths or a table sent to a stream (a FIFO, /dev/stdout) cannot be
+      // read back: the report gets copies.
+      if (files::isStreamOutput(o.output) || files::isStreamOutput(o.tsvPath)) {
+        const std::string paths = scratch.file("paths" + std::filesystem::path(o.output).extension().string());
+        imaging::writeStreamlines(paths, set);
+        files::writeFileContents(scratch.file("paths.tsv"), table);
+        arguments.insert(arguments.end(), {"--paths", paths, "--paths-table", scratch.file("paths.tsv")});
+      }
     } catch (const std::runtime_error& e) {
       throw ToolError(kExitOutput, e.what());
     }
-    report.write({"--stats", statsPath, "--distance", scratch.file("distance.nii")}, o.quiet);
+    report.write(arguments, o.quiet);
   }
   return kExitOk;
 }

@@ -3,7 +3,6 @@
 
 #include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -14,8 +13,10 @@
 #include <filesystem>
 #include <iostream>
 
+#include "child_process.hpp"
 #include "command_line.hpp"
-#include "stvd/files/file_contents.hpp"
+#include "stvd/system/files/file_contents.hpp"
+#include "stvd/system/files/output_destination.hpp"
 
 extern char** environ;
 
@@ -45,47 +46,36 @@ std::string interpreter() {
 #endif
 }
 
-/// Starts python -m stvd.report ARGS with the package on PYTHONPATH; the
-/// child's stderr goes to a pipe whose read end is returned in `errors`.
-/// With `input`, its stdin is a pipe too, whose write end is returned there.
-pid_t spawnReport(const std::vector<std::string>& arguments, int& errors, int* input = nullptr) {
+/// Starts stvd.report with ARGS (child_process.hpp: isolated, default
+/// signal mask, stopped with the tool); the child's stderr goes to a pipe
+/// whose read end is returned in `errors`. With `input`, its stdin is a
+/// pipe too, whose write end is returned there.
+std::unique_ptr<ChildProcess> spawnReport(const std::vector<std::string>& arguments, int& errors,
+                                          int* input = nullptr) {
   const std::string python = interpreter();
 #ifdef STVD_PYTHON_EXECUTABLE
-  std::string pythonPath = packageFolder();
+  const std::string folder = packageFolder();
 #else
-  std::string pythonPath;
+  const std::string folder;
 #endif
-  if (const char* old = std::getenv("PYTHONPATH"); old && *old) pythonPath += ":" + std::string(old);
-  std::vector<std::string> environment{"PYTHONPATH=" + pythonPath, "MPLBACKEND=Agg"};
+  std::vector<std::string> environment{"MPLBACKEND=Agg"};
   for (char** e = environ; *e; ++e)
-    if (std::strncmp(*e, "PYTHONPATH=", 11) != 0 && std::strncmp(*e, "MPLBACKEND=", 11) != 0)
-      environment.emplace_back(*e);
-  std::vector<std::string> args{python, "-m", "stvd.report"};
-  args.insert(args.end(), arguments.begin(), arguments.end());
-  std::vector<char*> argv, envp;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  for (std::string& e : environment) envp.push_back(e.data());
-  envp.push_back(nullptr);
+    if (std::strncmp(*e, "MPLBACKEND=", 11) != 0) environment.emplace_back(*e);
 
   int pipeEnds[2], inputEnds[2] = {-1, -1};
   if (::pipe2(pipeEnds, O_CLOEXEC) != 0 || (input && ::pipe2(inputEnds, O_CLOEXEC) != 0))
     throw ToolError(kExitInternal, "report: cannot make a pipe: " + std::string(std::strerror(errno)));
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, pipeEnds[1], STDERR_FILENO);
-  if (input) posix_spawn_file_actions_adddup2(&actions, inputEnds[0], STDIN_FILENO);
-  pid_t child = -1;
-  const int spawned = ::posix_spawnp(&child, python.c_str(), &actions, nullptr, argv.data(), envp.data());
-  posix_spawn_file_actions_destroy(&actions);
+  std::unique_ptr<ChildProcess> child;
+  try {
+    child = std::make_unique<ChildProcess>(python, isolatedPythonCommand(python, folder, "stvd.report", arguments),
+                                           environment, ChildStreams{inputEnds[0], pipeEnds[1]});
+  } catch (const ToolError& e) {
+    for (const int fd : {pipeEnds[0], pipeEnds[1], inputEnds[0], inputEnds[1]})
+      if (fd >= 0) ::close(fd);
+    throw ToolError(kExitInternal, std::string("report: ") + e.what() + " (Python 3 with matplotlib draws reports)");
+  }
   ::close(pipeEnds[1]);
   if (input) ::close(inputEnds[0]);
-  if (spawned != 0) {
-    ::close(pipeEnds[0]);
-    if (input) ::close(inputEnds[1]);
-    throw ToolError(kExitInternal, "report: cannot run " + python + " (Python 3 with matplotlib draws reports): " +
-                                       std::strerror(spawned));
-  }
   errors = pipeEnds[0];
   if (input) *input = inputEnds[1];
   return child;
@@ -108,7 +98,7 @@ void readLine(int errors, std::string& text) {
 
 /// Waits for the child; ToolError with its last stderr line (`text` holds
 /// what was read of it already) and exit code when it failed.
-void finish(pid_t child, int errors, std::string text = "") {
+void finish(ChildProcess& child, int errors, std::string text = "") {
   char buffer[4096];
   for (;;) {
     const ssize_t n = ::read(errors, buffer, sizeof buffer);
@@ -119,9 +109,7 @@ void finish(pid_t child, int errors, std::string text = "") {
     }
   }
   ::close(errors);
-  int status = 0;
-  while (::waitpid(child, &status, 0) < 0)
-    if (errno != EINTR) throw ToolError(kExitInternal, "report: lost the child process");
+  const int status = child.wait();
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
   while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
   std::string line = text.substr(text.find_last_of('\n') == std::string::npos ? 0 : text.find_last_of('\n') + 1);
@@ -136,18 +124,20 @@ void finish(pid_t child, int errors, std::string text = "") {
 int runReport(int argc, char** argv) {
   std::vector<std::string> arguments(argv + 2, argv + argc);
   int errors = -1;
-  const pid_t child = spawnReport(arguments, errors);
-  finish(child, errors);
+  const std::unique_ptr<ChildProcess> child = spawnReport(arguments, errors);
+  finish(*child, errors);
   return kExitOk;
 }
 
 ReportRequest::~ReportRequest() {
-  if (child_ > 0) {  // the run stopped: the child is told so (no arguments) and ended
+  if (child_) {  // the run stopped: the child is told so (no arguments) and ended
     ::close(arguments_);
-    ::kill(child_, SIGTERM);
+    ::kill(child_->pid(), SIGTERM);
     ::close(errors_);
-    int status = 0;
-    ::waitpid(child_, &status, 0);
+    try {
+      child_->wait();
+    } catch (const ToolError&) {  // nothing to wait for
+    }
   }
 }
 
@@ -160,7 +150,7 @@ void ReportRequest::start(const std::string& path) {
 }
 
 void ReportRequest::requireReady() {
-  if (child_ <= 0 || ready_) return;
+  if (!child_ || ready_) return;
   // Lines before "ready" are what the imports said (matplotlib's first run
   // builds its font cache and says so): shown only when the child fails.
   std::string text;
@@ -175,10 +165,9 @@ void ReportRequest::requireReady() {
     text += line;
   }
   // It could not draw: its message, and its exit code.
-  const pid_t child = child_;
-  child_ = -1;
+  const std::unique_ptr<ChildProcess> child = std::move(child_);
   ::close(arguments_);
-  finish(child, errors_, text);
+  finish(*child, errors_, text);
   throw ToolError(kExitInternal, "report: the Python report stopped before it was ready");
 }
 
@@ -202,9 +191,8 @@ void ReportRequest::write(std::vector<std::string> arguments, bool quiet) {
   }
   ::sigaction(SIGPIPE, &previous, nullptr);
   ::close(arguments_);
-  const pid_t child = child_;
-  child_ = -1;
-  finish(child, errors_);
+  const std::unique_ptr<ChildProcess> child = std::move(child_);
+  finish(*child, errors_);
 }
 
 ScratchFolder::ScratchFolder() {
@@ -215,7 +203,9 @@ ScratchFolder::ScratchFolder() {
 }
 
 std::string ScratchFolder::statisticsFile(const std::string& statsPath, const std::string& json) const {
-  if (!statsPath.empty()) return statsPath;
+  // A statistics "file" that is a stream (/dev/stdout, a FIFO) cannot be
+  // read back: the report gets a copy.
+  if (!statsPath.empty() && !files::isStreamOutput(statsPath)) return statsPath;
   try {
     files::writeFileContents(file("run.json"), json);
   } catch (const std::runtime_error& e) {

@@ -1,14 +1,15 @@
 // `stvd report` and the --report option of distance, path and connectivity.
 // The page is drawn by the Python package (stvd.report, with matplotlib),
-// which the tool runs as a child process: `python3 -m stvd.report ...` with
-// the interpreter the package was built for, the package found next to this
-// executable (docs/report.md).
+// which the tool runs as a child process: `python3 -I` running stvd.report
+// with the interpreter the package was built for, the package found next
+// to this executable (child_process.hpp; docs/report.md).
 #pragma once
 
-#include <sys/types.h>
-
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "child_process.hpp"
 
 namespace stvd::tool {
 
@@ -17,7 +18,7 @@ int runReport(int argc, char** argv);
 
 /// A report asked for with --report FILE.html, an output of the run that the
 /// command declares in its RunFiles like every other (never an input, never
-/// another output). start() starts `python3 -m stvd.report --prepare`,
+/// another output). start() starts stvd.report --prepare (isolated),
 /// which while the run computes checks that it can draw and does the
 /// imports and the first drawing that every page costs, then waits for the
 /// page's arguments on its stdin; requireReady() waits until it says so
@@ -43,7 +44,7 @@ class ReportRequest {
 
  private:
   std::string path_;
-  pid_t child_ = -1;   // python -m stvd.report --prepare, started by start()
+  std::unique_ptr<ChildProcess> child_;  // stvd.report --prepare, started by start()
   int errors_ = -1;     // read end of its stderr
   int arguments_ = -1;  // write end of its stdin: the page's arguments
   bool ready_ = false;
@@ -60,7 +61,8 @@ class ScratchFolder {
   ~ScratchFolder();
   std::string file(const std::string& name) const { return path_ + "/" + name; }
   /// The statistics file a report reads: `statsPath` when the run wrote
-  /// one, otherwise `json` written here as run.json.
+  /// one to a file, otherwise (none, or a stream such as /dev/stdout) `json`
+  /// written here as run.json.
   std::string statisticsFile(const std::string& statsPath, const std::string& json) const;
 
  private:

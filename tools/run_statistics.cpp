@@ -5,7 +5,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "stvd/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd::tool {
 namespace {

@@ -13,8 +13,8 @@
 #include "command_line.hpp"
 #include "geodesic_options.hpp"
 #include "memory_check.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/propagation_choice.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/front_end/propagation_choice.hpp"
 
 namespace stvd::tool {
 

@@ -5,9 +5,9 @@
 #include <string>
 
 #include "command_line.hpp"
-#include "stvd/files/termination_signals.hpp"
-#include "stvd/front_end_errors.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/system/files/termination_signals.hpp"
+#include "stvd/errors.hpp"
+#include "option_help.hpp"
 #include "report_request.hpp"
 #include "subcommands.hpp"
 #include "tet_mesh_commands.hpp"
@@ -59,6 +59,8 @@ int dispatch(int argc, char** argv) {
   if (command == "cohort") return runCohort(argc, argv);
   if (command == "report") return runReport(argc, argv);
   if (command == "-h" || command == "--help" || command == "help") {
+    // Hidden: docs/cli.md's option tables (scripts/update_cli_docs.py).
+    if (command == "help" && argc > 2 && std::string(argv[2]) == "--markdown") return printOptionTables(argc, argv, 3);
     if (command == "help" && argc > 2) {
       char* helpArgv[] = {argv[0], argv[2], const_cast<char*>("--help")};
       return dispatch(3, helpArgv);
@@ -74,10 +76,20 @@ int dispatch(int argc, char** argv) {
              "' (commands: distance, path, connectivity, cohort, report, info, tetrahedralize; see stvd --help)");
 }
 
-/// One line on stderr, and the exit code.
-int reportFailure(int exitCode, const std::exception& e) {
-  std::cerr << "stvd: " << e.what() << std::endl;
-  return exitCode;
+/// The exit code of each kind of the library's errors (stvd/errors.hpp): the
+/// one place where they meet the codes of --help and docs/cli.md. Reading
+/// an image that fails is kExitInput; a failed output never gets here as an
+/// imaging::ImageIoError, since every output is written where its failure
+/// becomes kExitOutput.
+int exitCodeOf(stvd::ErrorKind kind) {
+  using namespace stvd::tool;
+  switch (kind) {
+    case stvd::ErrorKind::Option: return kExitUsage;
+    case stvd::ErrorKind::Input: return kExitInput;
+    case stvd::ErrorKind::NothingToCompute: return kExitDomain;
+    case stvd::ErrorKind::Output: return kExitOutput;
+  }
+  return kExitInternal;
 }
 
 }  // namespace
@@ -92,16 +104,9 @@ int main(int argc, char** argv) {
   } catch (const ToolError& e) {
     if (e.exitCode() != kExitOk) std::cerr << "stvd: " << e.what() << std::endl;
     return e.exitCode();
-  } catch (const stvd::OptionError& e) {  // the library's checks of the front ends' options
-    return reportFailure(kExitUsage, e);
-  } catch (const stvd::InputError& e) {
-    return reportFailure(kExitInput, e);
-  } catch (const stvd::NothingToCompute& e) {
-    return reportFailure(kExitDomain, e);
-  } catch (const stvd::imaging::ImageIoError& e) {
-    // Reading an input; every output is written where its failure is turned
-    // into kExitOutput.
-    return reportFailure(kExitInput, e);
+  } catch (const stvd::Error& e) {  // options, inputs, files: one line and the kind's exit code
+    std::cerr << "stvd: " << e.what() << std::endl;
+    return exitCodeOf(e.kind());
   } catch (const std::bad_alloc&) {
     std::cerr << "stvd: out of memory (the machine, its control group or ulimit -v allows less than the run "
                  "needs)"

@@ -12,16 +12,24 @@
 #include <vector>
 
 #include "command_line.hpp"
+#include "command_options.hpp"
 #include "geodesic_options.hpp"
 #include "memory_check.hpp"
-#include "run_files.hpp"
-#include "stvd/files/file_contents.hpp"
-#include "stvd/files/output_transaction.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
-#include "stvd/surface_domain.hpp"
+#include "tool_run_files.hpp"
+#include "stvd/system/files/file_contents.hpp"
+#include "stvd/system/files/output_transaction.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/surface/surface_domain.hpp"
+#include "option_help.hpp"
+#include "stvd/imaging/seed_options.hpp"
+#include "stvd/front_end/mesh_options.hpp"
+#include "stvd/front_end/propagation_choice_options.hpp"
 #include "stvd/surface_io/surface_mesh_io.hpp"
-#include "stvd/surface_metrics.hpp"
+#include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
+#include "stvd/surface/surface_lanthier.hpp"
+#include "stvd/front_end/memory_estimates.hpp"
 #include "surface_distance_command.hpp"
 #include "surface_seed_point.hpp"
 
@@ -35,65 +43,12 @@ const char* kSurfaceDistanceHelp =
     "components allowed). MESH is .obj, .off, .ply (ASCII or binary; triangles or general\n"
     "polygons, used without triangulation) or .stl (ASCII or binary; corners with the same\n"
     "coordinates are welded into one vertex, and the summary says how many). Distances are in the\n"
-    "units of the mesh coordinates.\n"
-    "%SURFACE%";
+    "units of the mesh coordinates.\n";
 
-/// The surface options, without the usage lines: shared by this command's
-/// help and `stvd distance --help`.
-const char* kSurfaceOptionsHelp =
-    "Seeds (at least one):\n"
-    "  --seed-vertex N         vertex index, counted from 0 in file order (repeatable).\n"
-    "  --seed-point X,Y,Z      a point in mesh coordinates (repeatable): the nearest vertex, or\n"
-    "                          with --seed-at point the closest point of the surface itself.\n"
-    "  --seed-at W             vertex (default) or point: the closest point of the surface is\n"
-    "                          inserted as a vertex (into its face, or into the edge it lies on;\n"
-    "                          its metric the barycentric mean of the corners'); outputs still\n"
-    "                          list the file's vertices only.\n"
-    "\n"
-    "Metric:\n"
-    "  --metric M              isotropic (default): surface distance;\n"
-    "                          curvature: principal-curvature tensors, a unit step across the\n"
-    "                          direction of larger curvature costs up to G (--anisotropy);\n"
-    "                          field:FILE: one direction \"dx dy dz\" per vertex (world frame);\n"
-    "                          a unit step along it costs 1, across it G (--anisotropy);\n"
-    "                          tensors:FILE: one 3D tensor \"xx xy xz yy yz zz\" per vertex\n"
-    "                          (world frame), projected to the tangent plane;\n"
-    "                          face-tensors:FILE: the same per face (file order), averaged\n"
-    "                          to the vertices by corner angle.\n"
-    "  --anisotropy G          G >= 1 for curvature and field metrics (required for them).\n"
-    "\n"
-    "Propagation:\n"
-    "  --method M              stvd (default), dijkstra, or lanthier: Steiner points on the face\n"
-    "                          edges joined through each face, the slow accurate reference\n"
-    "                          (needs --steiner; docs/steiner.md).\n"
-    "  --steiner M             lanthier: Steiner points per face edge, 1..16; time grows like M^2,\n"
-    "                          memory like M.\n"
-    "  --k N                   STVD memory depth, 1..16 (default 8).\n"
-    "  --chain-measure R       segment (default: real lines across the faces), projection\n"
-    "                          (the paper's rule) or largest.\n"
-    "  --max-distance D        stop at D (mesh units); farther vertices are unreachable.\n"
-    "  --no-memory-check       run even when the estimate of the memory needed exceeds the\n"
-    "                          memory available (exit code 6 otherwise).\n"
-    "\n"
-    "Output:\n"
-    "  -o, --output FILE       .ply (binary: the mesh, its coordinates in the input's type, with\n"
-    "                          a float vertex property distance; unreached inf),\n"
-    "                          .vtk (legacy POLYDATA, POINT_DATA distance; unreached -1) or\n"
-    "                          .csv (rows vertex,distance; unreached inf). It must not be an\n"
-    "                          input; written with the statistics into a staging folder next to\n"
-    "                          it and moved into place when both are complete.\n"
-    "  --stats FILE.json       parameters, mesh counts, seeds, distances, seconds and peak memory.\n"
-    "  -q, --quiet             no summary on stdout.\n"
-    "  -h, --help              this text.\n"
-    "\n"
-    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable mesh or\n"
-    "metric file; 4 a seed vertex that does not exist; 5 output cannot be written; 6 not enough\n"
-    "memory for the run.\n";
-
-/// --method, --steiner, --k and --chain-measure as in geodesic_options (no
-/// --stencil), with the library's defaults.
+/// The propagation's options with the library's defaults, and the
+/// surface's own.
 struct SurfaceOptions : PropagationChoice {
-  std::string input, output, metric = "isotropic", statsPath;
+  std::string input, output, metric, statsPath;
   std::vector<long long> seeds;
   std::vector<std::array<double, 3>> seedPoints;
   bool seedAtPoint = false;
@@ -104,63 +59,25 @@ struct SurfaceOptions : PropagationChoice {
 };
 
 SurfaceOptions parse(int argc, char** argv) {
+  const CommandLine line = readCommandLine(kSurfaceDistanceCommand, argc, argv, 2, surfaceDistanceHelp);
+  const OptionValues& v = line.values;
   SurfaceOptions o;
-  ArgumentReader args(argc, argv, 2);
-  while (!args.done()) {
-    const std::string a = args.take();
-    if (a == "-h" || a == "--help") {
-      std::cout << surfaceDistanceHelp();
-      throw ToolError(kExitOk, "");
-    }
-    if (!args.isOption(a)) {
-      if (!o.input.empty()) usageError("more than one input: '" + o.input + "' and '" + a + "'");
-      o.input = a;
-    } else if (a == "-o" || a == "--output") {
-      o.output = args.value(a);
-    } else if (a == "--seed-vertex") {
-      const std::string v = args.value(a);
-      long long n = -1;
-      try {
-        std::size_t used = 0;
-        n = std::stoll(v, &used);
-        if (used != v.size()) n = -1;
-      } catch (const std::exception&) {
-        n = -1;
-      }
-      if (n < 0) usageError("--seed-vertex: '" + v + "' is not a vertex index (0, 1, 2, ...)");
-      o.seeds.push_back(n);
-    } else if (a == "--seed-point") {
-      o.seedPoints.push_back(parseTriple(a, args.value(a)));
-    } else if (a == "--seed-at") {
-      const std::string v = args.value(a);
-      if (v != "vertex" && v != "point") usageError("--seed-at: '" + v + "' is not one of vertex, point");
-      o.seedAtPoint = v == "point";
-    } else if (a == "--max-distance") {
-      o.maxDistance = parseNumber(a, args.value(a));
-      if (!(o.maxDistance > 0.0)) usageError("--max-distance must be positive");
-    } else if (a == "--stats") {
-      o.statsPath = args.value(a);
-    } else if (a == "--metric") {
-      o.metric = args.value(a);
-      if (o.metric != "isotropic" && o.metric != "curvature" && o.metric.rfind("field:", 0) != 0 &&
-          o.metric.rfind("tensors:", 0) != 0 && o.metric.rfind("face-tensors:", 0) != 0)
-        usageError("--metric: '" + o.metric +
-                   "' is not one of isotropic, curvature, field:FILE, tensors:FILE, "
-                   "face-tensors:FILE");
-    } else if (a == "--anisotropy") {
-      o.anisotropy = parseNumber(a, args.value(a));
-      o.anisotropyGiven = true;
-      if (!(o.anisotropy >= 1.0) || !std::isfinite(o.anisotropy))
-        usageError("--anisotropy must be a number >= 1");
-    } else if (a != "--stencil" && parsePropagationOption(a, args, o)) {
-      // read into o's PropagationChoice
-    } else if (a == "-q" || a == "--quiet") {
-      args.noValue(a);
-      o.quiet = true;
-    } else {
-      usageError("unknown option '" + a + "' for a surface (see stvd distance MESH --help)");
-    }
+  static_cast<PropagationChoice&>(o) = propagationChoiceOf(v);
+  o.input = line.input;
+  o.output = v.text("--output").value_or("");
+  for (const OptionValue& given : v.all("--seed-vertex")) {
+    const long long n = std::get<long long>(given);
+    if (n < 0) usageError("--seed-vertex: '" + std::to_string(n) + "' is not a vertex index (0, 1, 2, ...)");
+    o.seeds.push_back(n);
   }
+  o.seedPoints = imaging::pointsOf(v, "--seed-point");
+  o.seedAtPoint = v.text("--seed-at") == "point";
+  o.maxDistance = v.number("--max-distance").value_or(o.maxDistance);
+  o.statsPath = v.text("--stats").value_or("");
+  o.metric = v.text("--metric").value_or(optionDefaultText(toolOption("--metric"), kSurfaceDistanceCommand));
+  o.anisotropyGiven = v.has("--anisotropy");
+  o.anisotropy = v.number("--anisotropy").value_or(0.0);
+  o.quiet = v.has("--quiet");
   if (o.input.empty()) usageError("no input mesh given");
   if (!surface_io::isSurfaceMeshPath(o.input))
     usageError(o.input + ": --seed-vertex needs a surface mesh input (.obj, .off, .ply or .stl)");
@@ -169,10 +86,7 @@ SurfaceOptions parse(int argc, char** argv) {
     usageError(o.output + ": a surface distance is written as .ply, .vtk or .csv");
   if (o.seeds.empty() && o.seedPoints.empty()) usageError("no seed given (--seed-vertex N or --seed-point X,Y,Z)");
   if (o.seedAtPoint && o.seedPoints.empty()) usageError("--seed-at applies to --seed-point");
-  const bool needsGamma = o.metric == "curvature" || o.metric.rfind("field:", 0) == 0;
-  if (needsGamma && !o.anisotropyGiven) usageError("--metric " + o.metric + " needs --anisotropy G");
-  if (!needsGamma && o.anisotropyGiven)
-    usageError("--anisotropy applies to the curvature and field metrics only");
+  checkSurfaceMetricChoice(o.metric, o.anisotropyGiven, OptionNaming::Flags);
   checkMeshPropagationChoice(o, "face edge", 4);
   return o;
 }
@@ -336,13 +250,25 @@ std::string surfaceStatsJson(const SurfaceOptions& o, const surface_io::SurfaceM
 
 }  // namespace
 
-std::string surfaceDistanceHelp() {
-  std::string help = kSurfaceDistanceHelp;
-  help.replace(help.find("%SURFACE%"), 9, "\n" + std::string(kSurfaceOptionsHelp));
-  return help;
-}
+std::string surfaceDistanceHelp() { return kSurfaceDistanceHelp + ("\n" + surfaceOptionsHelp()); }
 
-std::string surfaceOptionsHelp() { return kSurfaceOptionsHelp; }
+std::string surfaceOptionsHelp() {
+  const OptionCommand surface = kSurfaceDistanceCommand;
+  return "Seeds (at least one):\n" + optionHelp(surface, {OptionGroup::Seeds}) +
+         "\n"
+         "Metric:\n" +
+         optionHelp(surface, {OptionGroup::SurfaceMetric}) +
+         "\n"
+         "Propagation:\n" +
+         optionHelp(surface, {OptionGroup::Propagation}) +
+         "\n"
+         "Output:\n" +
+         optionHelp(surface, {OptionGroup::Output}) +
+         "\n"
+         "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable mesh or\n"
+         "metric file; 4 a seed vertex that does not exist; 5 output cannot be written; 6 not enough\n"
+         "memory for the run.\n";
+}
 
 bool isSurfaceDistanceCall(int argc, char** argv) {
   // A volume command never names a .obj/.off/.ply/.stl file (its inputs are
@@ -410,11 +336,11 @@ int runSurfaceDistance(int argc, char** argv) {
   phase = Clock::now();
   PropagationResult result;
   if (o.lanthier) {
-    SteinerOptions steiner;
+    LanthierOptions steiner;
     steiner.steinerPoints = o.steinerPoints;
     steiner.maxDistance = o.maxDistance;
     try {
-      result = steinerPropagate(*surface, *metric, sources, steiner);
+      result = lanthierPropagate(*surface, *metric, sources, steiner);
     } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
       throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
     }

@@ -9,20 +9,29 @@
 #include <sstream>
 
 #include "command_line.hpp"
+#include "command_options.hpp"
 #include "geodesic_options.hpp"
 #include "memory_check.hpp"
-#include "run_files.hpp"
-#include "stvd/files/output_transaction.hpp"
-#include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/metric_sampling.hpp"
-#include "stvd/itk/scalar_image.hpp"
-#include "stvd/itk/tensor_frames.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "tool_run_files.hpp"
+#include "stvd/system/files/output_transaction.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/imaging/metric_sampling.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
+#include "stvd/imaging/tensor_frames.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "option_help.hpp"
+#include "stvd/itk/image_grid.hpp"
+#include "stvd/imaging/seed_options.hpp"
+#include "stvd/imaging/tensor_input_options.hpp"
+#include "stvd/front_end/propagation_choice_options.hpp"
 #include "stvd/tetmesh/grid_resampling.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
+#include "stvd/tetmesh/tet_mesh_options.hpp"
 #include "stvd/tetmesh/tet_mesh_propagation.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
+#include "stvd/cell_mesh/cell_mesh_propagation.hpp"
+#include "stvd/front_end/memory_estimates.hpp"
 #include "tet_mesh_commands.hpp"
 
 namespace stvd::tool {
@@ -34,7 +43,7 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-const char* kTetDistanceHelp =
+const char* kTetDistanceUsage =
     "Usage: stvd distance MESH.node -o OUTPUT [options]\n"
     "\n"
     "Anisotropic geodesic distance from seed vertices over a tetrahedral mesh in TetGen's format\n"
@@ -42,65 +51,12 @@ const char* kTetDistanceHelp =
     "0- or 1-based as the files number them). The graph is the mesh's edges; STVD sums 3D edge\n"
     "vectors along the predecessor chain (Campen et al. 2013, section 6.2). Coordinates and\n"
     "distances are in the mesh's units (millimetres for anatomy). See docs/tet_meshes.md.\n"
-    "\n"
-    "Seeds (at least one; all are sources at distance 0):\n"
-    "  --seed-vertex N         vertex number N as the .node file numbers it (repeatable).\n"
-    "  --seed-point X,Y,Z      a point in mesh coordinates (repeatable): it must lie in a\n"
-    "                          tetrahedron, and the nearest vertex is the seed.\n"
-    "  --seed-at W             vertex (default): --seed-point snaps to the nearest vertex; point:\n"
-    "                          the point itself is the seed, inserted as a vertex that splits its\n"
-    "                          tetrahedron into four (its metric the barycentric mean of the\n"
-    "                          corners'); outputs still list the file's vertices only.\n"
-    "\n"
-    "Metric (the Euclidean one when none is given):\n"
-    "  --tensors SOURCE        node: six .node point attributes per vertex; ele: six .ele\n"
-    "                          attributes per tetrahedron, averaged at each vertex weighted by\n"
-    "                          the volumes of its tetrahedra; or a tensor image (.nii, .nii.gz,\n"
-    "                          .nrrd, .nhdr, .mif, .mif.gz) whose metric is sampled at the vertices by\n"
-    "                          log-Euclidean trilinear interpolation.\n"
-    "  --tensor-attribute A    0-based index of the first of the six attributes (default 0).\n"
-    "  --tensor-order O        component order of attributes: fsl (default; xx,xy,xz,yy,yz,zz),\n"
-    "                          lower (xx,xy,yy,xz,yz,zz) or mrtrix (xx,yy,zz,xy,xz,yz); for an\n"
-    "                          image, as for grids. Attribute tensors are in mesh coordinates.\n"
-    "  --tensor-kind K         diffusion (default: G = (D/MD)^-1) or metric (G itself).\n"
-    "  --diffusion-metric M, --max-anisotropy A, --fa-threshold T, --tensor-frame F, --mask FILE,\n"
-    "  --accept-implausible-tensors\n"
-    "                          as for grids (docs/cli.md). Vertices whose tensor is unusable or\n"
-    "                          below the FA threshold, and tetrahedra touching them, are left out.\n"
-    "  --lps                   with an image: the mesh (and --seed-point) is in LPS coordinates;\n"
-    "                          by default it is in RAS, the NIfTI/scanner convention.\n"
-    "  --outside-image P       with an image, for vertices beyond the image's extent: error\n"
-    "                          (default; exit 3) or mask (left out of the domain).\n"
-    "\n"
-    "Propagation: --method stvd|dijkstra|lanthier, --k N (default 6), --chain-measure\n"
-    "segment|projection|largest (default segment: each candidate's straight segment is walked\n"
-    "through the tetrahedra, refused where it leaves the domain and measured with the metric\n"
-    "interpolated in each tetrahedron it crosses; docs/tet_meshes.md), --max-distance D.\n"
-    "lanthier: Steiner points on the edges and faces of the tetrahedra, joined through each\n"
-    "tetrahedron (--steiner M points per edge, 1..16, required; docs/steiner.md).\n"
-    "--no-memory-check: run even when the estimate of the memory needed exceeds the memory\n"
-    "available.\n"
-    "\n"
-    "Output:\n"
-    "  -o, --output FILE       .vtk (legacy VTK), .vtu (VTK XML) or .csv (vertex,distance with\n"
-    "                          the input's vertex numbers). VTK files hold the mesh with the point\n"
-    "                          arrays \"distance\" and \"vertex_number\". Written atomically.\n"
-    "                          Or .nii, .nii.gz, .nrrd, .nhdr, .mif with --reference: the distance\n"
-    "                          resampled onto the reference's grid (float32; linear inside each\n"
-    "                          tetrahedron; voxels outside the mesh hold the unreachable value).\n"
-    "  --reference IMAGE       scalar image (e.g. an FA map or a label image) whose grid an image\n"
-    "                          output takes; the mesh is RAS unless --lps.\n"
-    "  --unreachable-value V   distance of vertices not reached: a number or nan (default -1).\n"
-    "  -q, --quiet             no summary on stdout.\n"
-    "\n"
-    "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
-    "mesh or tensors (bad counts, indices out of range, inverted or degenerate tetrahedra, a\n"
-    "face of more than two tetrahedra);\n"
-    "4 nothing to compute (seed out of range, outside the mesh or the domain); 5 output cannot\n"
-    "be written; 6 not enough memory for the run (--no-memory-check runs anyway).\n";
+    "\n";
 
-/// --method, --steiner, --k and --chain-measure as in geodesic_options, with
-/// the tool's defaults (no --stencil).
+std::string tetDistanceHelp() { return kTetDistanceUsage + tetMeshOptionsHelp(); }
+
+/// The propagation's options with the library's defaults, and the mesh's
+/// own.
 struct TetDistanceOptions : PropagationChoice {
   std::string input;
   std::string output;
@@ -109,8 +65,8 @@ struct TetDistanceOptions : PropagationChoice {
   bool seedAtPoint = false;
   bool lps = false;
   std::string tensors;  // "", "node", "ele" or an image path
-  int tensorAttribute = 0;
-  std::string outsideImage = "error";
+  int tensorAttribute = tetmesh::kDefaultFirstTensorAttribute;
+  bool maskOutsideImage = false;  // --outside-image mask
   double maxDistance = std::numeric_limits<double>::infinity();
   TensorInputOptions tensor;
   double unreachableValue = kDefaultUnreachableValue;
@@ -119,66 +75,24 @@ struct TetDistanceOptions : PropagationChoice {
 };
 
 TetDistanceOptions parseOptions(int argc, char** argv) {
+  const CommandLine line = readCommandLine(kTetMeshDistanceCommand, argc, argv, 2, tetDistanceHelp);
+  const OptionValues& v = line.values;
   TetDistanceOptions o;
-  ArgumentReader args(argc, argv, 2);
-  while (!args.done()) {
-    const std::string a = args.take();
-    if (a == "-h" || a == "--help") {
-      // Not through takeInputOrHelp: this text has no tensor-option placeholder.
-      std::cout << kTetDistanceHelp;
-      throw ToolError(kExitOk, "");
-    }
-    if (takeInputOrHelp(a, args, o.input, kTetDistanceHelp, false)) continue;
-    if (a == "-o" || a == "--output") {
-      o.output = args.value(a);
-    } else if (a == "--seed-vertex") {
-      const std::string v = args.value(a);
-      std::size_t used = 0;
-      long long n = -1;
-      try {
-        n = std::stoll(v, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != v.size() || v.empty()) usageError("--seed-vertex: '" + v + "' is not a vertex number");
-      o.seedVertices.push_back(n);
-    } else if (a == "--seed-point") {
-      o.seedPoints.push_back(parseTriple(a, args.value(a)));
-    } else if (a == "--seed-at") {
-      const std::string v = args.value(a);
-      if (v != "vertex" && v != "point") usageError("--seed-at: '" + v + "' is not one of vertex, point");
-      o.seedAtPoint = v == "point";
-    } else if (a == "--lps") {
-      args.noValue(a);
-      o.lps = true;
-    } else if (a == "--tensors") {
-      o.tensors = args.value(a);
-    } else if (a == "--tensor-attribute") {
-      o.tensorAttribute = parseInteger(a, args.value(a));
-      if (o.tensorAttribute < 0) usageError("--tensor-attribute must be at least 0");
-    } else if (a == "--outside-image") {
-      o.outsideImage = args.value(a);
-      if (o.outsideImage != "error" && o.outsideImage != "mask")
-        usageError("--outside-image: '" + o.outsideImage + "' is not one of error, mask");
-    } else if (a != "--stencil" && parsePropagationOption(a, args, o)) {
-      // read into o's PropagationChoice
-    } else if (a == "--max-distance") {
-      o.maxDistance = parseNumber(a, args.value(a));
-      if (!(o.maxDistance > 0.0)) usageError("--max-distance must be positive");
-    } else if (a == "--reference") {
-      o.reference = args.value(a);
-    } else if (a == "--unreachable-value") {
-      const std::string v = args.value(a);
-      o.unreachableValue = parseUnreachableValue(a, v);
-    } else if (a == "-q" || a == "--quiet") {
-      args.noValue(a);
-      o.quiet = true;
-    } else if (parseTensorInputOption(a, args, o.tensor)) {
-      continue;
-    } else {
-      usageError("unknown option '" + a + "' for a tetrahedral mesh (see stvd distance MESH.node --help)");
-    }
-  }
+  static_cast<PropagationChoice&>(o) = propagationChoiceOf(v);
+  o.input = line.input;
+  o.output = v.text("--output").value_or("");
+  for (const OptionValue& given : v.all("--seed-vertex")) o.seedVertices.push_back(std::get<long long>(given));
+  o.seedPoints = imaging::pointsOf(v, "--seed-point");
+  o.seedAtPoint = v.text("--seed-at") == "point";
+  o.lps = v.has("--lps");
+  o.tensors = v.text("--tensors").value_or("");
+  o.tensorAttribute = static_cast<int>(v.integer("--tensor-attribute").value_or(o.tensorAttribute));
+  o.maskOutsideImage = v.text("--outside-image") == "mask";
+  o.maxDistance = v.number("--max-distance").value_or(o.maxDistance);
+  o.reference = v.text("--reference").value_or("");
+  o.unreachableValue = v.number("--unreachable-value").value_or(o.unreachableValue);
+  o.tensor = imaging::tensorInputOptionsOf(v);
+  o.quiet = v.has("--quiet");
   if (o.input.empty()) usageError("no input mesh (see stvd distance --help)");
   if (o.output.empty()) usageError("no output: -o FILE (.vtk, .vtu or .csv) is required");
   if (o.seedVertices.empty() && o.seedPoints.empty())
@@ -219,7 +133,7 @@ struct VertexTensors {
 VertexTensors tensorsFromAttributes(const TetDistanceOptions& o, const tetmesh::TetMesh& mesh,
                                     const std::string& nodeFile, const std::string& eleFile) {
   VertexTensors out;
-  const imaging::TensorOrder order = o.tensor.order.value_or(imaging::TensorOrder::Fsl);
+  const imaging::TensorOrder order = o.tensor.order.value_or(imaging::kDefaultAttributeTensorOrder);
   const std::size_t first = static_cast<std::size_t>(o.tensorAttribute);
   if (o.tensors == "node") {
     if (mesh.pointAttributeCount < first + 6)
@@ -272,7 +186,7 @@ VertexTensors tensorsFromImage(const TetDistanceOptions& o, const tetmesh::TetMe
     for (Vec3d& p : lps) p = {-p.x, -p.y, p.z};
   imaging::SampledMetric sampled =
       imaging::sampleMetricLogEuclidean(input.read.volume.geometry, built.metric, built.inDomain, lps);
-  if (!sampled.outsideImage.empty() && o.outsideImage == "error") {
+  if (!sampled.outsideImage.empty() && !o.maskOutsideImage) {
     const VertexId v = static_cast<VertexId>(sampled.outsideImage.front());
     const Vec3d p = mesh.points[v];
     std::ostringstream s;
@@ -295,8 +209,25 @@ VertexTensors tensorsFromImage(const TetDistanceOptions& o, const tetmesh::TetMe
 }  // namespace
 
 std::string tetMeshOptionsHelp() {
-  const std::string help = kTetDistanceHelp;
-  return help.substr(help.find("Seeds ("));
+  const OptionCommand mesh = kTetMeshDistanceCommand;
+  return "Seeds (at least one; all are sources at distance 0):\n" + optionHelp(mesh, {OptionGroup::Seeds}) +
+         "\n"
+         "Metric (the Euclidean one when none is given):\n" +
+         optionHelp(mesh, {OptionGroup::MeshMetric, OptionGroup::TensorFile, OptionGroup::Metric}) +
+         "  Vertices whose tensor is unusable or below the FA threshold, and the tetrahedra touching\n"
+         "  them, are left out (docs/cli.md).\n"
+         "\n"
+         "Propagation:\n" +
+         optionHelp(mesh, {OptionGroup::Propagation}) +
+         "\n"
+         "Output:\n" +
+         optionHelp(mesh, {OptionGroup::Output}) +
+         "\n"
+         "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 unreadable or unusable\n"
+         "mesh or tensors (bad counts, indices out of range, inverted or degenerate tetrahedra, a\n"
+         "face of more than two tetrahedra);\n"
+         "4 nothing to compute (seed out of range, outside the mesh or the domain); 5 output cannot\n"
+         "be written; 6 not enough memory for the run (--no-memory-check runs anyway).\n";
 }
 
 bool isTetMeshInput(const std::string& input) {
@@ -330,11 +261,12 @@ int runTetMeshDistance(int argc, char** argv) {
     throw ToolError(kExitInput, e.what());
   }
 
-  // The grid of an image output, read before the work.
+  // The grid of an image output, read before the work: from the
+  // reference's header alone (its values are not used).
   imaging::ScalarImage reference;
   if (!o.reference.empty()) {
     try {
-      reference = imaging::readScalarImage(o.reference);
+      reference.geometry = imaging::readImageGrid(o.reference, &reference.warnings);
     } catch (const imaging::ImageIoError& e) {
       throw ToolError(kExitInput, e.what());
     }

@@ -3,7 +3,6 @@
 // executable must not, and TetGen can crash on degenerate input: a crash of
 // the child becomes a one-line error here instead of taking the tool down.
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,8 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "child_process.hpp"
 #include "command_line.hpp"
-#include "stvd/files/termination_signals.hpp"
+#include "stvd/system/files/termination_signals.hpp"
 #include "tet_mesh_commands.hpp"
 
 extern char** environ;
@@ -37,34 +37,26 @@ int runTetrahedralize(int argc, char** argv) {
     throw ToolError(kExitInternal, "tetrahedralize: " + helper +
                                        " is missing: this stvd was built without TetGen (STVD_WITH_TETGEN, "
                                        "Debian package libtet1.5-dev)");
-  std::vector<char*> childArgv;
-  childArgv.push_back(const_cast<char*>(kHelperName));
-  for (int i = 2; i < argc; ++i) childArgv.push_back(argv[i]);
-  childArgv.push_back(nullptr);
-
-  // This process blocks the termination signals for the thread that waits
-  // for them (files/termination_signals.hpp); the child starts with none
-  // blocked and handles them itself.
-  posix_spawnattr_t attributes;
-  ::posix_spawnattr_init(&attributes);
-  sigset_t none, termination;
-  sigemptyset(&none);
+  // The child reports everything but an interruption itself; the
+  // interruption this process reports once the child has ended
+  // (files/termination_signals.hpp), naming the command.
+  std::vector<std::string> childArguments{kHelperName, "--interruptions-reported-by-parent"};
+  childArguments.insert(childArguments.end(), argv + 2, argv + argc);
+  std::vector<std::string> environment;
+  for (char** e = environ; *e; ++e) environment.emplace_back(*e);
+  files::reportInterruptionsAs("stvd tetrahedralize");
+  sigset_t termination;
   files::handledTerminationSignals(termination);
-  ::posix_spawnattr_setsigmask(&attributes, &none);
-  ::posix_spawnattr_setsigdefault(&attributes, &termination);
-  ::posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
-  pid_t child = 0;
-  const int spawned = ::posix_spawn(&child, helper.c_str(), nullptr, &attributes, childArgv.data(), environ);
-  ::posix_spawnattr_destroy(&attributes);
-  if (spawned != 0)
-    throw ToolError(kExitInternal, "tetrahedralize: cannot run " + helper + ": " + std::strerror(spawned));
-  int status = 0;
-  {
-    const files::ChildProcessGuard stopWithUs(child);
-    while (::waitpid(child, &status, 0) < 0) {
-      if (errno != EINTR) throw ToolError(kExitInternal, "tetrahedralize: lost the child process: " + std::string(std::strerror(errno)));
+  // Started with no signal blocked (child_process.hpp): it handles them
+  // itself, and dies with this process.
+  ChildProcess child = [&] {
+    try {
+      return ChildProcess(helper, childArguments, environment);
+    } catch (const ToolError& e) {
+      throw ToolError(kExitInternal, std::string("tetrahedralize: ") + e.what());
     }
-  }
+  }();
+  const int status = child.wait();
   if (WIFEXITED(status)) {
     // The child already printed its one-line message; pass its code on.
     return WEXITSTATUS(status);

@@ -11,11 +11,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "stvd/grid_geometry.hpp"
-#include "stvd/metric_field.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/stencil.hpp"
-#include "stvd/voxel_grid_domain.hpp"
+#include "stvd/stvd.hpp"
 
 namespace {
 

@@ -4,9 +4,9 @@
 // tensor volume, the three roles an MRtrix image has in stvd. A reader that
 // returns must return one value (or tensor) per voxel of its grid.
 #include "fuzz_input_file.hpp"
-#include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/scalar_image.hpp"
-#include "stvd/itk/tensor_volume.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const stvd::fuzz::FuzzInputFile input("image.mif", data, size);

@@ -3,11 +3,11 @@
 // outputs), the screening that runs before NrrdIO, and, for headers it lets
 // through, the fields we read through NrrdIO ourselves (space, measurement
 // frame, kind of a masked tensor file).
-#include "image_header_screening.hpp"
+#include "stvd/imaging/detail/image_header_screening.hpp"
 #include "nrrd_header.hpp"
 #include "fuzz_input_file.hpp"
-#include "stvd/itk/image_files.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/imaging/image_files.hpp"
+#include "stvd/errors.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const stvd::fuzz::FuzzInputFile input("header.nrrd", data, size);

@@ -4,8 +4,8 @@
 // is stated.
 #include "fuzz_input_file.hpp"
 #include "image_file_kinds.hpp"
-#include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/tensor_volume.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;

@@ -4,27 +4,48 @@
 #include <sstream>
 #include <type_traits>
 
-#include "stvd/itk/label_values.hpp"
+#include "stvd/imaging/label_values.hpp"
 
 namespace stvd::python {
 
 py::array numericArray(const py::handle& object, const std::string& name) {
+  py::module_ numpy = py::module_::import("numpy");
+  // A masked array's mask would be dropped without a word: its masked
+  // values would count as data.
+  if (py::isinstance(object, numpy.attr("ma").attr("MaskedArray")))
+    throw py::type_error(name + ": a masked array, whose mask stvd would not see; give plain values "
+                                "(numpy.ma.filled(array, 0), say)");
   py::array array = py::array::ensure(object);
   if (!array) throw py::type_error(name + ": expected a NumPy array (or a nested list of numbers), got " +
                                    std::string(py::str(py::type::of(object).attr("__name__"))));
   const char kind = array.dtype().kind();
+  const std::string dtype = py::str(array.dtype());
+  if (kind == 'c')
+    throw py::type_error(name + ": expected real numbers, got complex values (dtype " + dtype + ")");
   if (kind != 'b' && kind != 'i' && kind != 'u' && kind != 'f')
-    throw py::type_error(name + ": expected numbers, got an array of dtype " + std::string(py::str(array.dtype())));
-  py::module_ numpy = py::module_::import("numpy");
+    throw py::type_error(name + ": expected numbers, got an array of dtype " + dtype);
+  // Only the types read exactly: booleans, integers of 1 to 8 bytes,
+  // float16 (converted to float32, exactly), float32 and float64. Extended
+  // precision (numpy.longdouble, 10 to 16 bytes) is refused: read as
+  // float64 through its strides it would be other numbers, and rounded to
+  // float64 a mask or label can change (1e-5000 is not 0 in long double).
+  const py::ssize_t item = array.itemsize();
+  if ((kind == 'f' && item != 2 && item != 4 && item != 8) || ((kind == 'i' || kind == 'u') && item > 8) ||
+      (kind == 'b' && item != 1))
+    throw py::type_error(name + ": values of dtype " + dtype + " (" + std::to_string(item) +
+                         " bytes) are not read exactly; convert them to float64, float32 or an integer type "
+                         "first (array.astype(numpy.float64))");
   // Half precision has no C++ type here, and a foreign byte order no direct
   // reading: both are converted once to a native type.
-  if (kind == 'f' && array.itemsize() == 2) array = array.attr("astype")(numpy.attr("float32"));
+  if (kind == 'f' && item == 2) array = array.attr("astype")(numpy.attr("float32"));
   if (array.dtype().byteorder() == '>') array = array.attr("astype")(array.dtype().attr("newbyteorder")("="));
+  // Elements are read through typed pointers: strides that are not a
+  // multiple of the element size (a field of a structured array) and
+  // unaligned memory (a buffer at an odd offset) are copied first.
+  bool copy = !(py::detail::array_proxy(array.ptr())->flags & py::detail::npy_api::NPY_ARRAY_ALIGNED_);
   for (py::ssize_t d = 0; d < array.ndim(); ++d)
-    if (array.strides(d) % array.itemsize() != 0) {
-      array = numpy.attr("ascontiguousarray")(array);
-      break;
-    }
+    if (array.strides(d) % array.itemsize() != 0) copy = true;
+  if (copy) array = numpy.attr("ascontiguousarray")(array);
   return array;
 }
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "stvd/grid_geometry.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd::python {
@@ -71,7 +71,7 @@ decltype(auto) withFloatView(const py::array& array, F&& f) {
 std::vector<float> voxelValues(const py::array& array);
 
 /// The values of a 3D numeric array as labels, by the rules of the label
-/// image reader (stvd/itk/label_values.hpp): integers exactly, floating-point
+/// image reader (stvd/imaging/label_values.hpp): integers exactly, floating-point
 /// values only when they are integers (NaN: no label). ImageIoError naming
 /// `name` and the voxel of `geometry` otherwise. Releases the GIL.
 std::vector<std::int64_t> voxelLabels(const py::array& array, const std::string& name, const GridGeometry& geometry);

@@ -9,10 +9,11 @@
 #include <string>
 
 #include "bindings.hpp"
-#include "stvd/files/file_identity.hpp"
-#include "stvd/files/output_transaction.hpp"
-#include "stvd/itk/run_files.hpp"
-#include "stvd/itk/scalar_image.hpp"
+#include "stvd/system/files/file_identity.hpp"
+#include "stvd/system/files/output_transaction.hpp"
+#include "stvd/imaging/run_files.hpp"
+#include "stvd/imaging/scalar_image.hpp"
+#include "stvd/itk/image_grid.hpp"
 
 namespace py = pybind11;
 
@@ -26,8 +27,16 @@ void bindFiles(py::module_& m) {
 
   m.def("is_image_path", &imaging::hasImageExtension, py::arg("path"),
         "Whether stvd writes `path` as an image (.nii, .nii.gz, .nrrd, .nhdr, .mif, .mif.gz).");
+  m.def(
+      "require_image_on_grid",
+      [](const std::string& path, const std::string& reference, const std::string& subject) {
+        imaging::requireImageOnGrid(path, imaging::readImageGrid(reference), subject, reference);
+      },
+      py::arg("path"), py::arg("reference"), py::arg("subject"), py::call_guard<py::gil_scoped_release>(),
+      "ValueError '<path>: <subject> on another grid than <reference> (...)' unless the two image files' headers "
+      "declare the same grid; no data are read (stvd/itk/image_grid.hpp).");
 
-  py::class_<imaging::RunFiles>(m, "RunFiles", "The files one call reads and writes (stvd/itk/run_files.hpp).")
+  py::class_<imaging::RunFiles>(m, "RunFiles", "The files one call reads and writes (stvd/imaging/run_files.hpp).")
       .def(py::init<>())
       .def("input_image", &imaging::RunFiles::inputImage, py::arg("role"), py::arg("path"))
       .def("input_file", &imaging::RunFiles::inputFile, py::arg("role"), py::arg("path"))
@@ -65,7 +74,8 @@ void bindFiles(py::module_& m) {
           },
           py::arg("path"), py::arg("writer"),
           "Calls writer(staging_path), which must write the file there, and flushes it to disk.")
-      .def("commit", &files::OutputTransaction::commit);
+      // A FIFO output may wait for its reader: other threads run meanwhile.
+      .def("commit", &files::OutputTransaction::commit, py::call_guard<py::gil_scoped_release>());
 }
 
 }  // namespace stvd::python

@@ -15,16 +15,21 @@
 #include "bindings.hpp"
 #include "progress_relay.hpp"
 #include "propagation_keywords.hpp"
-#include "stvd/front_end_errors.hpp"
-#include "stvd/itk/tensor_arrays.hpp"
-#include "stvd/itk/tensor_input.hpp"
-#include "stvd/itk/tensor_metric.hpp"
-#include "stvd/number_text.hpp"
-#include "stvd/propagation_choice.hpp"
-#include "stvd/steiner_propagation.hpp"
-#include "stvd/surface_domain.hpp"
-#include "stvd/surface_metrics.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/imaging/tensor_arrays.hpp"
+#include "stvd/imaging/tensor_input.hpp"
+#include "stvd/imaging/tensor_metric.hpp"
+#include "stvd/front_end/mesh_options.hpp"
+#include "stvd/front_end/number_text.hpp"
+#include "stvd/front_end/propagation_choice.hpp"
+#include "stvd/front_end/propagation_choice_options.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/surface/surface_domain.hpp"
+#include "stvd/surface/surface_metrics.hpp"
 #include "stvd/tetmesh/tet_mesh_propagation.hpp"
+#include "stvd/surface/surface_propagation.hpp"
+#include "stvd/surface/surface_lanthier.hpp"
+#include "stvd/front_end/memory_estimates.hpp"
 #include "tensor_field.hpp"
 
 namespace stvd::python {
@@ -57,6 +62,7 @@ std::vector<SymTensor3> rowTensors(const py::handle& object, std::size_t rows, c
                             " does not say its component order; state it with tensor_order='fsl', 'mrtrix' or "
                             "'lower'");
     imaging::TensorInputOptions parsed;
+    parsed.naming = OptionNaming::Keywords;
     imaging::setTensorOrder(parsed, *order);
     layout.order = *parsed.order;
     for (int q = 0; q < 6; ++q) layout.componentOffset[q] = q * last;
@@ -110,7 +116,7 @@ std::vector<std::vector<VertexId>> indexRows(const py::handle& object, std::size
 /// for one that does not exist or is outside the domain.
 std::vector<VertexId> seedVertices(const std::vector<long long>& seeds, const std::vector<std::uint8_t>& inDomain,
                                    const std::string& meshName) {
-  if (seeds.empty()) throw OptionError("no seed given (--seed-vertex N)");
+  if (seeds.empty()) throw OptionError("no seed given (" + keywordOf("--seed-vertex") + "=)");
   std::vector<VertexId> sources;
   for (const long long s : seeds) {
     if (s < 0 || s >= static_cast<long long>(inDomain.size()))
@@ -188,13 +194,11 @@ py::dict tetMeshPropagate(const py::object& pointsObject, const py::object& tets
 
 RiemannianMetric surfaceMetric(const SurfaceDomain& surface, const std::string& kind, const py::object& values,
                                const std::optional<double>& anisotropy, const std::optional<std::string>& order) {
-  const bool needsGamma = kind == "curvature" || kind == "field";
-  if (kind != "isotropic" && kind != "curvature" && kind != "field" && kind != "tensors" && kind != "face-tensors")
-    throw OptionError("--metric: '" + kind + "' is not one of isotropic, curvature, field, tensors, face-tensors");
-  if (needsGamma && !anisotropy) throw OptionError("--metric " + kind + " needs --anisotropy G");
-  if (!needsGamma && anisotropy) throw OptionError("--anisotropy applies to the curvature and field metrics only");
-  if (anisotropy && !(*anisotropy >= 1.0 && std::isfinite(*anisotropy)))
-    throw OptionError("--anisotropy must be a number >= 1");
+  // Checked by the options' declarations, with messages in keyword names.
+  OptionValues given(OptionNaming::Keywords);
+  given.set(*findOption(meshOptionDeclarations(), "--metric"), kind);
+  if (anisotropy) given.set(*findOption(meshOptionDeclarations(), "--anisotropy"), *anisotropy);
+  checkSurfaceMetricChoice(kind, anisotropy.has_value(), OptionNaming::Keywords);
   const bool withValues = kind == "field" || kind == "tensors" || kind == "face-tensors";
   if (withValues == values.is_none())
     throw py::value_error(withValues ? "metric='" + kind + "' needs metric_values"
@@ -245,14 +249,16 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
     py::gil_scoped_release release;
     const std::vector<VertexId> sources = seedVertices(seeds, all, "vertices");
     if (choice.lanthier) {
-      SteinerOptions steiner;
+      LanthierOptions steiner;
       steiner.steinerPoints = choice.steinerPoints;
       steiner.maxDistance = limit;
       steiner.progress = relay.hook();
       try {
-        result = steinerPropagate(*surface, metric, sources, steiner);
+        result = lanthierPropagate(*surface, metric, sources, steiner);
       } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
-        throw OptionError("vertices: --method lanthier: " + std::string(e.what()));
+        throw OptionError("vertices: " +
+                          optionWithValue(propagationOption("--method"), "lanthier", OptionNaming::Keywords) + ": " +
+                          e.what());
       }
     } else {
       PropagationOptions options = propagationOptions(choice);

@@ -4,54 +4,110 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <variant>
+
 #include "bindings.hpp"
-#include "stvd/cell_mesh_domain.hpp"
-#include "stvd/geodesic_path.hpp"
-#include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/tensor_input.hpp"
-#include "stvd/itk/tensor_metric.hpp"
-#include "stvd/propagation_choice.hpp"
-#include "stvd/steiner_propagation.hpp"
-#include "stvd/surface_domain.hpp"
-#include "stvd/voxel_grid_domain.hpp"
+#include "propagation_keywords.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/front_end/propagation_choice_options.hpp"
 
 namespace py = pybind11;
 
 namespace {
 
-/// Every default the Python API has, from the library's own constants and
-/// default-constructed options, so that the package follows the library:
-/// the k a propagation runs with when none is given is its kind of
-/// domain's (defaultMemoryDepth), as in the tool.
+py::object pythonValue(const stvd::OptionValue& value) {
+  if (const auto* b = std::get_if<bool>(&value)) return py::bool_(*b);
+  if (const auto* i = std::get_if<long long>(&value)) return py::int_(*i);
+  if (const auto* x = std::get_if<double>(&value)) return py::float_(*x);
+  if (const auto* t = std::get_if<std::string>(&value)) return py::str(*t);
+  if (const auto* p = std::get_if<std::array<double, 3>>(&value)) return py::make_tuple((*p)[0], (*p)[1], (*p)[2]);
+  return py::none();
+}
+
+/// The commands by the names `stvd help --markdown` and the package use.
+const std::pair<stvd::OptionCommand, const char*> kCommandNames[] = {
+    {stvd::kDistanceCommand, "distance"},       {stvd::kPathCommand, "path"},
+    {stvd::kConnectivityCommand, "connectivity"}, {stvd::kSurfaceDistanceCommand, "surface"},
+    {stvd::kTetMeshDistanceCommand, "tet-mesh"},  {stvd::kInfoCommand, "info"},
+    {stvd::kCohortCommand, "cohort"}};
+
+py::list commandNames(stvd::OptionCommands commands) {
+  py::list names;
+  for (const auto& [command, name] : kCommandNames)
+    if (commands & command) names.append(name);
+  return names;
+}
+
+/// The library's option declarations (stvd/front_end/option_declarations.hpp) as
+/// dicts: what the package's keywords and the cohort command line are
+/// checked and documented with.
+py::list optionDeclarations() {
+  using namespace stvd;
+  static const char* const kTypes[] = {"switch", "integer", "index", "number", "choice", "text", "point", "voxel"};
+  py::list list;
+  for (const OptionDeclaration& o : python::optionDeclarations()) {
+    py::dict d;
+    d["flag"] = o.flag;
+    d["value_name"] = o.valueName;
+    d["keyword"] = o.keyword.empty() ? py::object(py::none()) : py::object(py::str(o.keyword));
+    d["commands"] = commandNames(o.commands);
+    d["keyword_commands"] = commandNames(o.keyword.empty() ? 0 : o.keywordCommands.value_or(o.commands));
+    d["keyword_is_negation"] = o.keywordIsNegation;
+    d["keyword_takes_number"] = o.keywordTakesNumber;
+    d["type"] = kTypes[static_cast<int>(o.type)];
+    py::list choices, keywordChoices;
+    for (const OptionChoice& c : o.choices) {
+      choices.append(c.name);
+      keywordChoices.append(c.name.substr(0, c.name.find(':')));
+    }
+    d["choices"] = choices;
+    d["keyword_choices"] = keywordChoices;
+    d["minimum"] = o.range.min ? py::object(py::float_(*o.range.min)) : py::object(py::none());
+    d["maximum"] = o.range.max ? py::object(py::float_(*o.range.max)) : py::object(py::none());
+    py::dict defaults, help;
+    for (const auto& [command, name] : kCommandNames) {
+      if (!(o.commands & command) && !(o.keywordCommands.value_or(o.commands) & command)) continue;
+      defaults[name] = pythonValue(o.defaultFor(command));
+      if (o.takes(command)) help[name] = optionHelpText(o, command);
+    }
+    d["defaults"] = defaults;
+    d["help"] = help;
+    list.append(d);
+  }
+  return list;
+}
+
+/// Every default the Python API has, from the options' declarations (so
+/// from the library's constants, as the tool's help prints them): the k a
+/// propagation runs with when none is given is its kind of domain's
+/// (defaultMemoryDepth), as in the tool.
 py::dict defaults() {
   using namespace stvd;
-  const PropagationChoice choice;
-  const imaging::TensorInputOptions tensor;
-  const PathTracingOptions tracing;
   py::dict d;
-  d["method"] = methodName(choice);
-  d["k"] = memoryDepthOf<VoxelGridDomain>(choice);
-  d["surface_k"] = memoryDepthOf<SurfaceDomain>(choice);
-  d["tet_mesh_k"] = memoryDepthOf<CellMeshDomain>(choice);
-  d["chain_measure"] = chainMeasureName(choice.chainMeasure);
+  for (const OptionDeclaration& o : python::optionDeclarations()) {
+    if (o.keyword.empty() || d.contains(o.keyword)) continue;
+    if (o.type == OptionType::Switch) {
+      d[o.keyword.c_str()] = o.keywordIsNegation;  // a switch is off unless given
+      continue;
+    }
+    const OptionValue& value = o.defaults[static_cast<int>(OptionDomain::VoxelGrid)];
+    const OptionValue& surface = o.defaults[static_cast<int>(OptionDomain::Surface)];
+    if (!std::holds_alternative<std::monostate>(value)) d[o.keyword.c_str()] = pythonValue(value);
+    else if (!std::holds_alternative<std::monostate>(surface)) d[o.keyword.c_str()] = pythonValue(surface);
+  }
+  const OptionDeclaration& k = propagationOption("--k");
+  d["surface_k"] = pythonValue(k.defaults[static_cast<int>(OptionDomain::Surface)]);
+  d["tet_mesh_k"] = pythonValue(k.defaults[static_cast<int>(OptionDomain::TetMesh)]);
   // One chain measure for every kind of domain; the key stays for scripts
   // written when surfaces had their own.
-  d["surface_chain_measure"] = chainMeasureName(choice.chainMeasure);
-  d["stencil"] = choice.stencil;
-  d["domain_connectivity"] = static_cast<int>(choice.connectivity);
-  d["tensor_kind"] = imaging::tensorKindName(tensor.metric.kind);
-  d["diffusion_metric"] = imaging::diffusionMetricName(tensor.metric.diffusionMetric);
-  // Unset: the cap depends on the tensor kind (diffusion tensors:
-  // kDefaultMaxAnisotropy; a metric as given).
-  d["max_anisotropy"] = tensor.metric.maxAnisotropy;
-  d["diffusion_max_anisotropy"] = imaging::kDefaultMaxAnisotropy;
-  d["accept_implausible_tensors"] = tensor.acceptImplausible;
-  d["unreachable_value"] = kDefaultUnreachableValue;
-  d["step"] = tracing.stepFraction;
-  d["smooth"] = tracing.smoothingPasses;
-  d["refine"] = tracing.refine;
-  d["max_k"] = kMaxMemoryDepth;
-  d["max_steiner"] = kMaxSteinerPoints;
+  d["surface_chain_measure"] =
+      pythonValue(propagationOption("--chain-measure").defaults[static_cast<int>(OptionDomain::Surface)]);
+  // Unset: the cap depends on the tensor kind (diffusion tensors: the
+  // declared default, kDefaultMaxAnisotropy; a metric as given).
+  d["diffusion_max_anisotropy"] = d["max_anisotropy"];
+  d["max_anisotropy"] = py::none();
+  d["max_k"] = static_cast<int>(*k.range.max);
+  d["max_steiner"] = static_cast<int>(*propagationOption("--steiner").range.max);
   return d;
 }
 
@@ -62,6 +118,8 @@ PYBIND11_MODULE(_core, m) {
   m.attr("__version__") = STVD_VERSION_TEXT;
   m.attr("NO_VERTEX") = stvd::kNoVertex;
   m.def("defaults", &defaults, "The library's defaults for every option of the Python API.");
+  m.def("option_declarations", &optionDeclarations,
+        "The library's option declarations: flags, keywords, commands, choices, ranges, defaults and help.");
 
   // The library's one-line messages become ValueError (its option, input and
   // domain errors derive from std::invalid_argument, which pybind11 already

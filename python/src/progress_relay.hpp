@@ -11,7 +11,7 @@
 #include <functional>
 #include <optional>
 
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
 
 namespace stvd::python {
 

@@ -1,15 +1,16 @@
 // The propagation keywords every Python call shares (method, k,
 // chain_measure, stencil, domain_connectivity, steiner, max_distance,
-// memory_check),
-// through the library's setters, so that values and messages are the
-// tool's.
+// memory_check), checked by the options' declarations
+// (stvd/front_end/propagation_choice_options.hpp), so that values, defaults and
+// messages are the tool's, with the keywords' names.
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
-#include "stvd/propagation_choice.hpp"
+#include "stvd/front_end/propagation_choice.hpp"
 
 namespace stvd::python {
 
@@ -22,6 +23,14 @@ PropagationChoice choiceOf(const std::optional<std::string>& method, const std::
 
 /// max_distance: infinity for None; OptionError unless positive.
 double maxDistanceOf(const std::optional<double>& maxDistance);
+
+/// Every option the library declares (the tool adds its own outputs), for
+/// stvd.defaults and the package's checks.
+const std::vector<OptionDeclaration>& optionDeclarations();
+
+/// The keyword of the option with the tool's flag `flag` ("--seed-voxel":
+/// "seeds"), for the package's messages.
+std::string keywordOf(const std::string& flag);
 
 /// memory_check: the tool's memory check, before a run's large
 /// allocations. MemoryShortfallError (MemoryError) naming `input` when the

@@ -7,8 +7,11 @@
 #include <cmath>
 
 #include "array_access.hpp"
-#include "stvd/itk/tensor_arrays.hpp"
-#include "stvd/itk/tensor_metric.hpp"
+#include "stvd/imaging/tensor_arrays.hpp"
+#include "stvd/imaging/tensor_input_options.hpp"
+#include "stvd/imaging/tensor_metric.hpp"
+#include "stvd/itk/image_grid.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
 
 namespace stvd::python {
 
@@ -23,16 +26,19 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
                                           const std::optional<std::string>& diffusionMetric,
                                           const std::optional<double>& maxAnisotropy,
                                           const std::optional<double>& faThreshold, bool acceptImplausible) {
-  imaging::TensorInputOptions o;
-  o.acceptImplausible = acceptImplausible;
-  if (order) imaging::setTensorOrder(o, *order);
-  if (frame) imaging::setTensorFrame(o, *frame);
-  if (kind) imaging::setTensorKind(o, *kind);
-  if (diffusionMetric) imaging::setDiffusionMetric(o, *diffusionMetric);
-  if (maxAnisotropy) imaging::setMaxAnisotropy(o, *maxAnisotropy);
-  if (faThreshold) imaging::setFaThreshold(o, *faThreshold);
-  imaging::checkTensorInputOptions(o);
-  return o;
+  // Checked by the options' declarations, with messages in keyword names.
+  OptionValues values(OptionNaming::Keywords);
+  const auto option = [](const char* flag) -> const OptionDeclaration& { return imaging::tensorInputOption(flag); };
+  if (order) values.set(option("--tensor-order"), *order);
+  if (frame) values.set(option("--tensor-frame"), *frame);
+  if (kind) values.set(option("--tensor-kind"), *kind);
+  if (diffusionMetric) values.set(option("--diffusion-metric"), *diffusionMetric);
+  if (maxAnisotropy) values.set(option("--max-anisotropy"), *maxAnisotropy);
+  if (faThreshold) values.set(option("--fa-threshold"), *faThreshold);
+  if (acceptImplausible) values.set(option("--accept-implausible-tensors"), true);
+  const imaging::TensorInputOptions options = imaging::tensorInputOptionsOf(values);
+  imaging::checkTensorInputOptions(options);
+  return options;
 }
 
 std::string scalarImageName(const py::handle& spec) {
@@ -41,15 +47,31 @@ std::string scalarImageName(const py::handle& spec) {
 
 namespace {
 
+/// The shape of the array of a tuple (array, affine, zooms, name), without
+/// reading a lazy array's data (NiBabel's ArrayProxy has a shape).
+std::vector<py::ssize_t> shapeOf(const py::handle& data, const std::string& name) {
+  if (!py::isinstance<py::array>(data) && py::hasattr(data, "shape") && py::hasattr(data, "dtype")) {
+    std::vector<py::ssize_t> shape;
+    for (const py::handle extent : py::iterable(data.attr("shape"))) shape.push_back(extent.cast<py::ssize_t>());
+    return shape;
+  }
+  const py::array values = numericArray(data, name);
+  return std::vector<py::ssize_t>(values.shape(), values.shape() + values.ndim());
+}
+
 /// The grid of an image given as a tuple (array, affine or None, zooms or
 /// None, name): the affine's, or `grid` with the array's size when there is
 /// none (reported as another grid when the sizes differ).
-GridGeometry arrayGeometry(const py::tuple& given, const py::array& values, const GridGeometry& grid,
+GridGeometry arrayGeometry(const py::tuple& given, const std::vector<py::ssize_t>& shape, const GridGeometry& grid,
                            const std::string& name) {
-  requireDimensions(values, 3, name, "(X, Y, Z)");
-  const std::array<std::size_t, 3> size{static_cast<std::size_t>(values.shape(0)),
-                                        static_cast<std::size_t>(values.shape(1)),
-                                        static_cast<std::size_t>(values.shape(2))};
+  if (shape.size() != 3) {
+    std::string text = "(";
+    for (std::size_t d = 0; d < shape.size(); ++d) text += (d ? ", " : "") + std::to_string(shape[d]);
+    throw py::value_error(name + ": expected an array of shape (X, Y, Z), got shape " + text +
+                          (shape.size() == 1 ? ",)" : ")"));
+  }
+  const std::array<std::size_t, 3> size{static_cast<std::size_t>(shape[0]), static_cast<std::size_t>(shape[1]),
+                                        static_cast<std::size_t>(shape[2])};
   if (given[1].is_none()) {
     GridGeometry g = grid;
     g.size = size;
@@ -66,31 +88,33 @@ GridGeometry arrayGeometry(const py::tuple& given, const py::array& values, cons
 
 }  // namespace
 
-imaging::ScalarImage scalarImageOf(const py::handle& spec, const GridGeometry& grid) {
+imaging::ScalarImage scalarImageOf(const py::handle& spec, const GridGeometry& grid, const std::string& subject,
+                                   const std::string& referenceName) {
   const std::string name = scalarImageName(spec);
   if (py::isinstance<py::str>(spec)) {
     py::gil_scoped_release release;
-    return imaging::readScalarImage(name);
+    return imaging::readScalarImageOnGrid(name, grid, subject, referenceName);
   }
   const py::tuple given = spec.cast<py::tuple>();
-  const py::array values = numericArray(given[0], name);
   imaging::ScalarImage image;
-  image.geometry = arrayGeometry(given, values, grid, name);
-  image.values = voxelValues(values);
+  image.geometry = arrayGeometry(given, shapeOf(given[0], name), grid, name);
+  imaging::requireSameGrid(image.geometry, grid, name, subject, referenceName);  // before a lazy array is read
+  image.values = voxelValues(numericArray(given[0], name));
   return image;
 }
 
-imaging::LabelImage labelImageOf(const py::handle& spec, const GridGeometry& grid) {
+imaging::LabelImage labelImageOf(const py::handle& spec, const GridGeometry& grid, const std::string& subject,
+                                 const std::string& referenceName) {
   const std::string name = scalarImageName(spec);
   if (py::isinstance<py::str>(spec)) {
     py::gil_scoped_release release;
-    return imaging::readLabelImage(name);
+    return imaging::readLabelImageOnGrid(name, grid, subject, referenceName);
   }
   const py::tuple given = spec.cast<py::tuple>();
-  const py::array values = numericArray(given[0], name);
   imaging::LabelImage image;
-  image.geometry = arrayGeometry(given, values, grid, name);
-  image.labels = voxelLabels(values, name, image.geometry);
+  image.geometry = arrayGeometry(given, shapeOf(given[0], name), grid, name);
+  imaging::requireSameGrid(image.geometry, grid, name, subject, referenceName);  // before a lazy array is read
+  image.labels = voxelLabels(numericArray(given[0], name), name, image.geometry);
   return image;
 }
 
@@ -124,7 +148,8 @@ void requireSymmetric(const T* data, const std::array<std::size_t, 3>& size,
 /// Builds the metric and the domain as `stvd distance` does, without the GIL.
 std::shared_ptr<TensorField> finishField(std::shared_ptr<TensorField> field, const py::handle& mask) {
   if (!mask.is_none())
-    imaging::addMask(field->input, scalarImageOf(mask, field->geometry()), scalarImageName(mask), field->name);
+    imaging::addMask(field->input, scalarImageOf(mask, field->geometry(), "the mask is", field->name),
+                     scalarImageName(mask), field->name);
   py::gil_scoped_release release;
   imaging::MetricFromTensors built = imaging::buildCheckedMetric(field->name, field->input, field->options);
   imaging::requireNonEmptyDomain(field->name, built.counts, !field->input.mask.empty(), field->options.metric);

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "stvd/itk/scalar_image.hpp"
-#include "stvd/itk/tensor_input.hpp"
-#include "stvd/metric_field.hpp"
+#include "stvd/imaging/scalar_image.hpp"
+#include "stvd/imaging/tensor_input.hpp"
+#include "stvd/metric/metric_field.hpp"
 
 namespace stvd::python {
 
@@ -47,13 +47,19 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
                                           const std::optional<double>& faThreshold, bool acceptImplausible = false);
 
 /// A scalar image given from Python: a path (read through ITK), or a tuple
-/// (array, affine or None, zooms or None, name). Without an affine the
-/// array is taken to be on `grid` when its shape is the grid's size (and is
-/// reported on another grid otherwise).
-imaging::ScalarImage scalarImageOf(const py::handle& spec, const GridGeometry& grid);
+/// (array, affine or None, zooms or None, name); the array may be a lazy
+/// one with a shape (NiBabel's ArrayProxy). Without an affine the array is
+/// taken to be on `grid` when its shape is the grid's size (and is reported
+/// on another grid otherwise). An image on another grid than `grid` is
+/// refused before its data are read (ImageIoError "<name>: <subject> on
+/// another grid than <referenceName> (...)"): from a file's header, from a
+/// lazy array's shape.
+imaging::ScalarImage scalarImageOf(const py::handle& spec, const GridGeometry& grid, const std::string& subject,
+                                   const std::string& referenceName);
 /// The same for a label image: a path read by imaging::readLabelImage, or
 /// an array whose values follow the same rules (integers exactly).
-imaging::LabelImage labelImageOf(const py::handle& spec, const GridGeometry& grid);
+imaging::LabelImage labelImageOf(const py::handle& spec, const GridGeometry& grid, const std::string& subject,
+                                 const std::string& referenceName);
 /// How such an image is named in messages: its path, or the name in the tuple.
 std::string scalarImageName(const py::handle& spec);
 

@@ -17,18 +17,25 @@
 #include "bindings.hpp"
 #include "progress_relay.hpp"
 #include "propagation_keywords.hpp"
-#include "stvd/files/output_transaction.hpp"
-#include "stvd/geodesic_path.hpp"
-#include "stvd/itk/scalar_image.hpp"
-#include "stvd/itk/seed_voxels.hpp"
-#include "stvd/itk/streamline_io.hpp"
-#include "stvd/label_regions.hpp"
-#include "stvd/number_text.hpp"
-#include "stvd/parallel_tasks.hpp"
-#include "stvd/propagation_choice.hpp"
-#include "stvd/region_connectivity.hpp"
-#include "stvd/stencil.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/system/files/output_transaction.hpp"
+#include "stvd/voxel_grid/path_tracing.hpp"
+#include "stvd/front_end/path_tracing_options.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
+#include "stvd/imaging/seed_options.hpp"
+#include "stvd/imaging/seed_voxels.hpp"
+#include "stvd/imaging/streamline_io.hpp"
+#include "stvd/voxel_grid/label_regions.hpp"
+#include "stvd/front_end/number_text.hpp"
+#include "stvd/system/parallel_tasks.hpp"
+#include "stvd/front_end/propagation_choice.hpp"
+#include "stvd/front_end/propagation_choice_options.hpp"
+#include "stvd/voxel_grid/region_connectivity.hpp"
+#include "stvd/front_end/region_connectivity_options.hpp"
+#include "stvd/voxel_grid/stencil.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
+#include "stvd/front_end/memory_estimates.hpp"
 #include "tensor_field.hpp"
 
 namespace stvd::python {
@@ -85,11 +92,11 @@ std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const Te
                                                   double maxDistance, const py::handle& progress, bool memoryCheck) {
   checkPropagationChoice(choice, /*lanthierAllowed=*/true);
   if (seedVoxels.empty() && seedPoints.empty() && seedLabels.is_none())
-    throw OptionError("no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS");
+    throw OptionError(imaging::noSeedMessage(OptionNaming::Keywords));
   std::optional<imaging::ScalarImage> labels;
   std::string labelsName;
   if (!seedLabels.is_none()) {
-    labels = scalarImageOf(seedLabels, field->geometry());
+    labels = scalarImageOf(seedLabels, field->geometry(), "the seed labels are", field->name);
     labelsName = scalarImageName(seedLabels);
   }
   // The run's state and result, as the tool estimates them, and the float32
@@ -118,14 +125,16 @@ std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const Te
         std::move(seeds), leftOut});
     const std::vector<VertexId> sources = imaging::sourceVertices(out->domain, out->seeds);
     if (choice.lanthier) {
-      SteinerOptions steiner;
+      LanthierOptions steiner;
       steiner.steinerPoints = choice.steinerPoints;
       steiner.maxDistance = maxDistance;
       steiner.progress = relay.hook();
       try {
-        out->result = steinerPropagate(out->domain, field->metric, sources, steiner);
+        out->result = lanthierPropagate(out->domain, field->metric, sources, steiner);
       } catch (const std::invalid_argument& e) {  // a grid too thin for cubes, or too large a graph
-        throw OptionError(field->name + ": --method lanthier: " + e.what());
+        throw OptionError(field->name + ": " +
+                          optionWithValue(propagationOption("--method"), "lanthier", OptionNaming::Keywords) + ": " +
+                          e.what());
       }
     } else {
       PropagationOptions options = propagationOptions(choice);
@@ -144,23 +153,22 @@ py::list tracePaths(const std::shared_ptr<VolumePropagation>& p, const std::vect
                     const std::optional<double>& step, const std::optional<int>& smooth, const std::optional<bool>& refine,
                     bool discrete) {
   checkPropagationChoice(p->choice, /*lanthierAllowed=*/false);
-  PathTracingOptions tracing;
-  if (step) {
-    if (!(*step > 0.0 && *step <= 1.0)) throw OptionError("--step must be in (0, 1]");
-    tracing.stepFraction = *step;
-  }
-  if (smooth) {
-    if (*smooth < 0 || *smooth > 1000) throw OptionError("--smooth must be between 0 and 1000");
-    tracing.smoothingPasses = *smooth;
-  }
-  if (refine) tracing.refine = *refine;
+  // Checked by the options' declarations, with messages in keyword names.
+  OptionValues values(OptionNaming::Keywords);
+  const auto option = [](const char* flag) -> const OptionDeclaration& {
+    return *findOption(pathTracingOptionDeclarations(), flag);
+  };
+  if (step) values.set(option("--step"), *step);
+  if (smooth) values.set(option("--smooth"), static_cast<long long>(*smooth));
+  if (refine && !*refine) values.set(option("--no-refine"), true);
+  const PathTracingOptions tracing = pathTracingOptionsOf(values);
   if (targetVoxels.empty() && targetPoints.empty() && targetLabels.is_none())
-    throw OptionError("no target: add --target-voxel I,J,K, --target-point X,Y,Z or --targets LABELS");
+    throw OptionError(imaging::noTargetMessage(OptionNaming::Keywords));
   const TensorField& field = *p->field;
   std::optional<imaging::LabelImage> labels;
   std::string labelsName;
   if (!targetLabels.is_none()) {
-    labels = labelImageOf(targetLabels, field.geometry());
+    labels = labelImageOf(targetLabels, field.geometry(), "the target labels are", field.name);
     labelsName = scalarImageName(targetLabels);
   }
 
@@ -233,7 +241,7 @@ py::list tracePaths(const std::shared_ptr<VolumePropagation>& p, const std::vect
 py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py::handle& labelsSpec,
                       PropagationChoice choice, unsigned threads, const py::handle& progress, bool memoryCheck) {
   checkPropagationChoice(choice, /*lanthierAllowed=*/false);
-  const imaging::LabelImage labels = labelImageOf(labelsSpec, field->geometry());
+  const imaging::LabelImage labels = labelImageOf(labelsSpec, field->geometry(), "the labels are", field->name);
   const std::string labelsName = scalarImageName(labelsSpec);
   ProgressRelay relay(progress);
   std::vector<LabelRegion> regions;
@@ -399,11 +407,13 @@ void bindVolumes(py::module_& m) {
              const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
              const std::optional<std::string>& stencil, const std::optional<int>& threads, const py::object& progress,
              const std::optional<std::string>& domainConnectivity, bool memoryCheck) {
-            if (threads && (*threads < 1 || *threads > 1024))
-              throw OptionError("--threads must be between 1 and 1024");
+            OptionValues given(OptionNaming::Keywords);
+            if (threads)
+              given.set(*findOption(regionConnectivityOptionDeclarations(), "--threads"),
+                        static_cast<long long>(*threads));
             return connectivity(field, labels,
                                 choiceOf(method, k, chainMeasure, stencil, std::nullopt, domainConnectivity),
-                                threads ? static_cast<unsigned>(*threads) : 0u, progress, memoryCheck);
+                                regionThreadsOf(given), progress, memoryCheck);
           },
           py::arg("labels"), py::arg("method") = py::none(), py::arg("k") = py::none(),
           py::arg("chain_measure") = py::none(), py::arg("stencil") = py::none(), py::arg("threads") = py::none(),
@@ -431,7 +441,7 @@ void bindVolumes(py::module_& m) {
       .def(
           "distance_map",
           [](const VolumePropagation& p, double unreachable) {
-            checkUnreachableValue(unreachable, py::str(py::float_(unreachable)));
+            checkUnreachableValue(unreachable, py::str(py::float_(unreachable)), OptionNaming::Keywords);
             py::array_t<float> map = newFortranFloatArray(p.field->geometry().size);
             float* out = map.mutable_data();
             const float value = static_cast<float>(unreachable);
@@ -445,7 +455,7 @@ void bindVolumes(py::module_& m) {
           "write_distance_map",
           [](const VolumePropagation& p, files::OutputTransaction& outputs, const std::string& path,
              double unreachable) {
-            checkUnreachableValue(unreachable, py::str(py::float_(unreachable)));
+            checkUnreachableValue(unreachable, py::str(py::float_(unreachable)), OptionNaming::Keywords);
             // The values and the writer of `stvd distance`: the same bytes.
             const float value = static_cast<float>(unreachable);
             py::gil_scoped_release release;
@@ -461,7 +471,7 @@ void bindVolumes(py::module_& m) {
           [](const VolumePropagation& p, files::OutputTransaction& outputs, const std::string& path,
              const py::list& lines, const std::vector<double>& geodesic, const std::vector<double>& euclidean,
              const std::optional<std::vector<double>>& meanFa, const py::object& fa) {
-            // The streamline set of `stvd path` (stvd/itk/streamline_io.hpp).
+            // The streamline set of `stvd path` (stvd/imaging/streamline_io.hpp).
             imaging::StreamlineSet set;
             set.geometry = p.field->geometry();
             for (const py::handle& line : lines) {

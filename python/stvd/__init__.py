@@ -6,7 +6,8 @@ same code): NumPy arrays and NiBabel images in, distances, paths and
 connectivity out. Every option that is not given takes the library's default
 (``stvd.defaults``); option names follow the tool's flags (``--seed-point``
 is ``seed_points=``, ``--tensor-order`` is ``tensor_order=``), and bad input
-raises ValueError or TypeError with the tool's one-line messages. The library
+raises ValueError or TypeError with the tool's one-line messages, which name
+options by these keywords (``k must be between 1 and 16``). The library
 works without the GIL, so threads run in parallel. See docs/python.md.
 """
 
@@ -34,9 +35,11 @@ class _Defaults:
     same measure), stencil, domain_connectivity (volumes), tensor_kind,
     diffusion_metric, max_anisotropy (None: diffusion tensors capped at
     diffusion_max_anisotropy, a metric taken as given),
-    accept_implausible_tensors, unreachable_value, step, smooth, refine
-    (paths), max_k, max_steiner. The values are the library's, the ones the
-    ``stvd`` tool uses.
+    accept_implausible_tensors, memory_check, lps, unreachable_value,
+    metric (surfaces), step, smooth, refine, discrete (paths), max_k,
+    max_steiner. The values are the library's option declarations, the ones
+    the ``stvd`` tool parses and prints its help with
+    (``stvd._core.option_declarations()``).
     """
 
     def __init__(self, values):

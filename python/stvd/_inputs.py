@@ -38,13 +38,16 @@ def scalar_image_spec(value, name):
     """A mask or label image, a path, a NiBabel image or an array, as the
     extension takes it: the path, or a tuple ``(array, affine, zooms, name)``
     (an array without an affine is taken to be on the tensors' grid when its
-    shape is theirs); ``name`` names it in messages unless a file does."""
+    shape is theirs); ``name`` names it in messages unless a file does. A
+    NiBabel image's data stay unread (its lazy ``dataobj``) until its grid
+    has been compared with the tensors': a small .nii.gz can declare a grid
+    of billions of voxels."""
     if value is None:
         return None
     if is_path(value):
         return os.fspath(value)
     if is_image(value):
-        return (np.asanyarray(value.dataobj), value.affine, image_zooms(value), image_name(value, name))
+        return (value.dataobj, value.affine, image_zooms(value), image_name(value, name))
     return (value, None, None, name)
 
 

@@ -6,22 +6,66 @@ Columns: ``subject``, ``tensors`` and ``labels`` (required), ``mask``,
 no value). Paths are relative to the manifest's folder. Every problem is one
 line naming the manifest, the row (its line number in the file, the header
 being line 1) and the column.
+
+The whole manifest is checked before any work: a subject id names a folder
+and a seed set a file (``distance_<name>.nii.gz``), so both must be names
+that are safe on every file system a study folder may live on (``safe_name``).
 """
 
 import csv
+import io
 import os
 import re
 from dataclasses import dataclass, field
 
+from . import _core
+from ._files import MANIFEST_BYTES, read_regular_text
+
 REQUIRED_COLUMNS = ("subject", "tensors", "labels")
 OPTIONAL_COLUMNS = ("mask", "tensor_order", "tensor_frame", "seeds")
 PATH_COLUMNS = ("tensors", "labels", "mask", "seeds")
-TENSOR_ORDERS = ("lower", "fsl", "mrtrix")
-TENSOR_FRAMES = ("voxel", "world")
+# The names the library declares for its options (without their aliases).
+_DECLARED = {d["flag"]: d for d in _core.option_declarations()}
+TENSOR_ORDERS = tuple(_DECLARED["--tensor-order"]["choices"])
+TENSOR_FRAMES = tuple(_DECLARED["--tensor-frame"]["choices"])
 
 # A subject id names its output folder, and a seed set names a file in it:
-# letters, digits, '.', '_' and '-', not starting with '.'.
-SAFE_NAME = re.compile(r"[A-Za-z0-9_-][A-Za-z0-9._-]*")
+# letters, digits, '.', '_' and '-', starting with a letter, a digit or '_'
+# (not '.', hidden and our own files'; not '-', an option to every shell tool).
+SAFE_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9._-]*")
+SAFE_NAME_TEXT = "letters, digits, '.', '_' and '-', starting with a letter, a digit or '_'"
+# The longest file name (in bytes) the file systems we write on take.
+NAME_MAX = 255
+# The longest path (in bytes) the system takes.
+PATH_MAX = 4095
+# Names a subject folder must not have (compared without letter case): the
+# files a cohort run writes next to the subject folders, and the names
+# Windows file systems (a study folder on an SMB share) reserve for devices.
+RUN_FILE_NAMES = ("cohort.tsv", "index.html")
+DEVICE_NAMES = ("con", "prn", "aux", "nul") + tuple(f"com{n}" for n in range(1, 10)) + tuple(
+    f"lpt{n}" for n in range(1, 10))
+
+
+def safe_name_problem(name, what, max_bytes=NAME_MAX, reserved=()):
+    """Why ``name`` cannot name a ``what`` ("output folder", "output
+    file"), or None: not of SAFE_NAME's characters, longer than
+    ``max_bytes`` bytes, ending in '.', a device name of Windows, or one of
+    ``reserved`` (compared without letter case)."""
+    shown = repr(name) if not name.isprintable() else f"'{name}'"
+    if len(shown) > 80:
+        shown = shown[:60] + "...'"
+    if not SAFE_NAME.fullmatch(name):
+        return f"{shown} cannot name an {what} ({SAFE_NAME_TEXT})"
+    length = len(name.encode("utf-8"))
+    if length > max_bytes:
+        return f"{shown} is {length} bytes long, more than the {max_bytes} an {what}'s name may have here"
+    if name.endswith("."):
+        return f"{shown} cannot name an {what} (it ends in '.', which Windows file systems drop)"
+    if name.split(".")[0].casefold() in DEVICE_NAMES:
+        return f"{shown} cannot name an {what} (a device name on Windows file systems)"
+    if name.casefold() in reserved:
+        return f"{shown} cannot name an {what}: it is the name of a file the run writes next to it"
+    return None
 
 
 class ManifestError(ValueError):
@@ -61,13 +105,23 @@ def _numbered_rows(path, what, error):
     """The rows of the tab-separated file at ``path`` that are not blank (a
     trailing newline too many carries nothing), each as (line number from
     1, cells); ``error`` (the exception type) "cannot read the <what>" when
-    the file cannot be read or is not UTF-8."""
+    the file cannot be read (or is not a regular file of at most
+    MANIFEST_BYTES: a FIFO is never waited on) or is not UTF-8. A cell
+    holding a NUL byte is refused naming its row and column."""
     try:
-        with open(path, newline="", encoding="utf-8") as file:
-            lines = list(csv.reader(file, delimiter="\t", quoting=csv.QUOTE_NONE))
-    except (OSError, UnicodeDecodeError) as e:
-        raise error(f"{path}: cannot read the {what}: {getattr(e, 'strerror', None) or e}") from None
-    return [(number, cells) for number, cells in enumerate(lines, start=1) if any(c.strip() for c in cells)]
+        text = read_regular_text(path, MANIFEST_BYTES)
+        lines = list(csv.reader(io.StringIO(text, newline=""), delimiter="\t", quoting=csv.QUOTE_NONE))
+    except (OSError, UnicodeDecodeError, csv.Error) as e:
+        reason = getattr(e, "reason", None) or getattr(e, "strerror", None) or e
+        raise error(f"{path}: cannot read the {what}: {reason}") from None
+    rows = [(number, cells) for number, cells in enumerate(lines, start=1) if any(c.strip() for c in cells)]
+    header = [c.strip() for c in rows[0][1]] if rows else []
+    for number, cells in rows:
+        for index, cell in enumerate(cells):
+            if "\0" in cell:
+                column = header[index] if number != rows[0][0] and index < len(header) else f"{index + 1}"
+                raise error(f"{_where(path, number, column or index + 1)}: the cell holds a NUL byte")
+    return rows
 
 
 def read_manifest(path):
@@ -97,7 +151,7 @@ def read_manifest(path):
     if len(numbered) == 1:
         raise ManifestError(f"{path}: no subjects (the manifest has only its header row)")
 
-    subjects, rows_by_id = [], {}
+    subjects, rows_by_id, folded = [], {}, {}
     for row, cells in numbered[1:]:
         if len(cells) != len(header):
             raise ManifestError(f"{_where(path, row)}: {len(cells)} cells, but the header has {len(header)} columns")
@@ -106,13 +160,22 @@ def read_manifest(path):
             if not values[name]:
                 raise ManifestError(f"{_where(path, row, name)}: empty cell (the column is required)")
         subject = values["subject"]
-        if not SAFE_NAME.fullmatch(subject):
-            raise ManifestError(f"{_where(path, row, 'subject')}: '{subject}' cannot name an output folder "
-                                "(letters, digits, '.', '_' and '-', not starting with '.')")
+        problem = safe_name_problem(subject, "output folder", reserved=RUN_FILE_NAMES)
+        if problem:
+            raise ManifestError(f"{_where(path, row, 'subject')}: {problem}")
         if subject in rows_by_id:
             raise ManifestError(f"{_where(path, row, 'subject')}: '{subject}' is also the subject of row "
                                 f"{rows_by_id[subject]}")
+        if subject.casefold() in folded:
+            other, other_row = folded[subject.casefold()]
+            raise ManifestError(f"{_where(path, row, 'subject')}: '{subject}' differs from '{other}' (row "
+                                f"{other_row}) only in letter case: one folder on a file system that ignores it")
         rows_by_id[subject] = row
+        folded[subject.casefold()] = (subject, row)
+        for name in PATH_COLUMNS:
+            problem = _path_problem(values.get(name))
+            if problem:
+                raise ManifestError(f"{_where(path, row, name)}: {problem}")
         for name, allowed in (("tensor_order", TENSOR_ORDERS), ("tensor_frame", TENSOR_FRAMES)):
             if values.get(name) and values[name] not in allowed:
                 raise ManifestError(f"{_where(path, row, name)}: '{values[name]}' is not one of "
@@ -126,7 +189,21 @@ def read_manifest(path):
     return subjects
 
 
-def read_seed_sets(path):
+def _path_problem(cell):
+    """Why a path cell can name no file at all, or None (a file that does
+    not exist is the subject's failure, not the manifest's)."""
+    if not cell:
+        return None
+    encoded = cell.encode("utf-8", "surrogateescape")
+    longest = max(len(part) for part in encoded.split(b"/"))
+    if longest > NAME_MAX:
+        return f"the path has a part of {longest} bytes, longer than the {NAME_MAX} a file name may have"
+    if len(encoded) > PATH_MAX:
+        return f"the path is {len(encoded)} bytes long, longer than the {PATH_MAX} the system takes"
+    return None
+
+
+def read_seed_sets(path, tensors=None):
     """The seed sets of a subject's seeds: a seeds table or a label image.
 
     A seeds table is a TSV with a header whose columns include ``name``,
@@ -138,11 +215,12 @@ def read_seed_sets(path):
     value}}``; its voxels outside the domain are left out (none inside is
     that subject's error). Sets come in the order of first appearance (of
     increasing value for regions); raises ValueError naming file, row and
-    column."""
+    column. With ``tensors`` (their file), a label image's header is
+    compared with the tensors' grid before its data are read."""
     from . import _core
 
     if _core.is_image_path(path):
-        return _label_seed_sets(path)
+        return _label_seed_sets(path, tensors)
     numbered = _numbered_rows(path, "seeds", ValueError)
     if not numbered:
         raise ValueError(f"{path}: no seeds (expected a header row with name, i, j, k)")
@@ -151,14 +229,22 @@ def read_seed_sets(path):
     for name in ("name", "i", "j", "k"):
         if name not in header:
             raise ValueError(f"{_where(path, header_row)}: no column '{name}' in the header (required: name, i, j, k)")
-    sets = {}
+    sets, folded = {}, {}
     for row, cells in numbered[1:]:
         if len(cells) != len(header):
             raise ValueError(f"{_where(path, row)}: {len(cells)} cells, but the header has {len(header)} columns")
         values = dict(zip(header, (cell.strip() for cell in cells)))
-        if not SAFE_NAME.fullmatch(values["name"]):
-            raise ValueError(f"{_where(path, row, 'name')}: '{values['name']}' cannot name an output file "
-                             "(letters, digits, '.', '_' and '-', not starting with '.')")
+        name = values["name"]
+        if name not in sets:
+            # It names the file distance_<name>.nii.gz.
+            problem = safe_name_problem(name, "output file", max_bytes=NAME_MAX - len("distance_.nii.gz"))
+            if problem:
+                raise ValueError(f"{_where(path, row, 'name')}: {problem}")
+            other = folded.get(name.casefold())
+            if other:
+                raise ValueError(f"{_where(path, row, 'name')}: '{name}' differs from '{other[0]}' (row {other[1]}) "
+                                 "only in letter case: one file on a file system that ignores it")
+            folded[name.casefold()] = (name, row)
         voxel = []
         for axis in ("i", "j", "k"):
             try:
@@ -171,11 +257,20 @@ def read_seed_sets(path):
     return sets
 
 
-def _label_seed_sets(path):
+def _label_seed_sets(path, tensors):
     import nibabel
     import numpy as np
 
+    from . import _core
+    from ._files import require_regular_file
+
+    # The grid from the headers first: a small .nii.gz can declare billions
+    # of voxels, which are not read to be refused (the library's check, which
+    # reads no data).
+    if tensors is not None:
+        _core.require_image_on_grid(path, tensors, "the seed labels are")
     try:
+        require_regular_file(path)
         values = np.unique(np.asanyarray(nibabel.load(path).dataobj))
     except Exception as error:  # NiBabel reads NIfTI; another format, or a file it cannot, is this subject's error
         raise ValueError(f"{path}: cannot read the seed labels (NIfTI): {' '.join(str(error).split())}") from None

@@ -4,8 +4,8 @@ output is compared with every input and with the other outputs by identity
 written; so ``./x``, ``../dir/x`` and symbolic links are caught) before
 anything is written, and the outputs appear together, complete, or not at
 all (staged next to their final paths, flushed, then renamed). The checks
-and the staging are the library's (``stvd/itk/run_files.hpp``,
-``stvd/files/output_transaction.hpp``)."""
+and the staging are the library's (``stvd/imaging/run_files.hpp``,
+``stvd/system/files/output_transaction.hpp``)."""
 
 import os
 
@@ -65,14 +65,20 @@ def check_outputs_are_not_inputs(outputs, inputs):
     """The identity check of ``OutputFiles`` alone, for outputs whose folders
     are made later (the subject folders of a cohort run): raises
     ``FileConflictError`` when an output is an input or another output;
-    writes nothing."""
-    _run_files(outputs, inputs)[0].check_identities()
+    writes nothing. Returns the library's RunFiles (``.inputs``: every input
+    file with the files it brings, such as a .nhdr's data file)."""
+    files = _run_files(outputs, inputs)[0]
+    files.check_identities()
+    return files
 
 
 def remove_leftover_staging_folders(folder):
     """Removes the staging folders that writers killed before they could
     clean up (a Dask worker killed mid-task) left in ``folder``; returns how
-    many. Only for a folder no running process writes into."""
+    many. Only folders demonstrably such leftovers are removed: named and
+    owned as ours, holding the record our writers put in each, naming a
+    process of this machine that no longer exists
+    (``stvd/system/files/output_transaction.hpp``); a live writer's are kept."""
     return _core.remove_leftover_staging_folders(os.fspath(folder))
 
 

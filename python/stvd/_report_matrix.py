@@ -2,9 +2,10 @@
 
 import numpy as np
 
-from ._report_slices import png_bytes
+from ._report_slices import matplotlib_defaults, png_bytes
 
 
+@matplotlib_defaults
 def draw_heatmap(matrix, labels, title, colour_map, unit):
     """Row a, column b: the value measured from region a to region b; pairs
     without a value (the diagonal, not connected) are grey. PNG bytes."""

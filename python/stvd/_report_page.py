@@ -1,12 +1,23 @@
 """The report's HTML: one self-contained page per run (images as data URIs,
 styles inline, nothing fetched), and the cohort index. Each run page carries
 a machine-readable summary (a JSON script block) from which the cohort index
-is made."""
+is made.
+
+What a page may hold, whoever wrote the names and summaries it shows (a
+subject folder named ``javascript:alert(1)``, a summary planted in a shared
+folder): links only to relative paths inside the page's folder
+(``safe_link``), images only as ``data:image/png;base64,`` URIs
+(``safe_image``), JSON that no value can end or comment out of its script
+block (``summary_block``), and a Content-Security-Policy that lets the page
+load nothing from anywhere and run no script but its own image check."""
 
 import base64
+import hashlib
 import html
 import json
+import os
 import re
+import urllib.parse
 
 SUMMARY_ID = "stvd-report-summary"
 
@@ -61,6 +72,31 @@ def data_uri(png):
     return "data:image/png;base64," + base64.b64encode(png).decode("ascii")
 
 
+_PNG_DATA_URI = re.compile(r"data:image/png;base64,[A-Za-z0-9+/]*={0,2}")
+
+
+def safe_image(uri):
+    """``uri`` when it is a ``data:image/png;base64,`` URI (the only images a
+    page embeds), else None: an ``http://`` thumbnail in a summary would make
+    the page fetch from the network."""
+    return uri if isinstance(uri, str) and _PNG_DATA_URI.fullmatch(uri) else None
+
+
+def safe_link(relative_path):
+    """The href of a file at ``relative_path`` (relative to the page's
+    folder, as ``os.path.relpath`` gives it), or None when the file is not
+    inside the page's folder (an absolute path, a '..' part). Every part is
+    percent-encoded and the link starts with './': a folder named
+    ``javascript:alert(1)`` becomes ``./javascript%3Aalert%281%29/...``, a
+    relative path, never a URL scheme."""
+    if not isinstance(relative_path, str) or not relative_path or os.path.isabs(relative_path):
+        return None
+    parts = relative_path.replace(os.sep, "/").split("/")
+    if any(part in ("", ".", "..") for part in parts):
+        return None
+    return "./" + "/".join(urllib.parse.quote(part, safe="") for part in parts)
+
+
 def escape(value):
     return html.escape(str(value), quote=True)
 
@@ -79,8 +115,19 @@ def number_text(value, decimals=1):
     return str(value)
 
 
+# Nothing is loaded from anywhere (default-src 'none'): images only from
+# data: URIs, styles only inline, and no script but the image check, named
+# by its hash. A page opened from a shared folder can neither fetch nor
+# send anything, whatever names and summaries it shows.
+CONTENT_SECURITY_POLICY = (
+    "default-src 'none'; img-src data:; style-src 'unsafe-inline'; script-src 'sha256-"
+    + base64.b64encode(hashlib.sha256(IMAGE_CHECK_SCRIPT.encode("utf-8")).digest()).decode("ascii")
+    + "'; base-uri 'none'; form-action 'none'")
+
+
 def page(title, body):
     return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+            f"<meta http-equiv=\"Content-Security-Policy\" content=\"{CONTENT_SECURITY_POLICY}\">\n"
             f"<title>{escape(title)}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n"
             "<div id=\"stvd-broken-images\" class=\"broken\" hidden></div>\n"
             f"{body}\n"
@@ -88,20 +135,31 @@ def page(title, body):
             f"<script>{IMAGE_CHECK_SCRIPT}</script>\n</body>\n</html>\n")
 
 
+def script_json(value):
+    """JSON for a script block that no value can end or comment out: '<',
+    '>' and '&' are written as \\u escapes (the same JSON), so that neither
+    ``</script>`` nor ``<!--<script>``, which would make the parser swallow
+    the page's own script, can appear in it."""
+    text = json.dumps(value, sort_keys=True)
+    return text.replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
+
+
 def summary_block(summary):
-    """The run's summary as a JSON script block (``</`` escaped so that no
-    value can end the block)."""
-    text = json.dumps(summary, sort_keys=True).replace("</", "<\\/")
-    return f"<script type=\"application/json\" id=\"{SUMMARY_ID}\">{text}</script>"
+    """The run's summary as a JSON script block (``script_json``)."""
+    return f"<script type=\"application/json\" id=\"{SUMMARY_ID}\">{script_json(summary)}</script>"
 
 
 _SUMMARY_PATTERN = re.compile(r"<script type=\"application/json\" id=\"" + SUMMARY_ID + r"\">(.*?)</script>", re.S)
 
 
 def read_summary(page_text):
-    """The summary block of a run page, or None when the page has none."""
+    """The summary block of a run page, or None when the page has none (or
+    a block that is not a JSON object)."""
     match = _SUMMARY_PATTERN.search(page_text)
-    return json.loads(match.group(1)) if match else None
+    if not match:
+        return None
+    summary = json.loads(match.group(1))
+    return summary if isinstance(summary, dict) else None
 
 
 def slice_figure(panel, png, caption):
@@ -145,8 +203,12 @@ def table(header, rows, table_id=None, raw_columns=()):
     return f"<table{identifier}><tr>{head}</tr>{''.join(body)}</table>"
 
 
+STATUSES = ("ok", "warnings", "failed", "missing")
+
+
 def status_badge(status):
-    return f"<span class=\"status status-{escape(status)}\">{escape(status)}</span>"
+    status = status if status in STATUSES else "missing"
+    return f"<span class=\"status status-{status}\">{status}</span>"
 
 
 def item_list(items, css_class, list_id):

@@ -2,9 +2,13 @@
 point, turned to the image's nearest RAS axes, shown in a stated convention,
 with the L/R/A/P/S/I letter of each edge taken from the direction cosines.
 
-Drawing uses matplotlib's Agg canvas directly: no display, no pyplot state.
+Drawing uses matplotlib's Agg canvas directly: no display, no pyplot state,
+and matplotlib's own defaults (``matplotlib_defaults``): a ``matplotlibrc`` in
+the working folder, which matplotlib reads first, or the user's, changes
+nothing on a page and runs nothing (``text.usetex`` would run LaTeX).
 """
 
+import functools
 import io
 
 import numpy as np
@@ -149,6 +153,20 @@ def contour_step(maximum):
     return 10 * magnitude
 
 
+def matplotlib_defaults(draw):
+    """Runs ``draw`` with matplotlib's built-in settings (its "default"
+    style), whatever matplotlibrc file matplotlib found."""
+
+    @functools.wraps(draw)
+    def drawn(*args, **kwargs):
+        import matplotlib.style
+
+        with matplotlib.style.context("default"):
+            return draw(*args, **kwargs)
+
+    return drawn
+
+
 def new_figure(width_mm, height_mm, scale=1.0):
     """A figure of the panel's physical size at PIXELS_PER_MM (capped), with
     one axes filling it."""
@@ -172,6 +190,7 @@ def png_bytes(figure):
     return buffer.getvalue()
 
 
+@matplotlib_defaults
 def draw_panel(panel, layers, scale=1.0):
     """The panel as PNG bytes. ``layers`` holds the turned arrays and
     overlays (see report._SliceLayers): fa, distance (NaN where not

@@ -22,6 +22,8 @@ import time
 
 import numpy as np
 
+from ._files import open_regular_binary, require_regular_file
+
 CONNECTIVITY = "connectivity"
 CONNECTIVITY_FILE = "connectivity.tsv"
 REPORT_FILE = "report.html"
@@ -66,6 +68,7 @@ def _load_tensors(path):
     (every part of the subject uses it), another file as its path."""
     import nibabel
 
+    require_regular_file(path)  # a FIFO named like the tensors is not waited on
     try:
         image = nibabel.load(path)
     except Exception:  # NRRD, which NiBabel does not read, or a file it cannot: the library says why
@@ -81,24 +84,32 @@ def _load_tensors(path):
     return loaded
 
 
-def _file_record(path):
+def file_record(path):
     """The size and SHA-256 of a written file, as the statistics keep them."""
     digest = hashlib.sha256()
-    with open(path, "rb") as file:
+    with open_regular_binary(path) as file:
         for block in iter(lambda: file.read(1 << 20), b""):
             digest.update(block)
-    return {"bytes": os.path.getsize(path), "sha256": digest.hexdigest()}
+        size = file.tell()
+    return {"bytes": size, "sha256": digest.hexdigest()}
 
 
 class _SeedLabels:
     """A seed label image, read once per task: the seeds of one region as an
-    image on the file's grid (the library checks it against the tensors')."""
+    image on the file's grid (the library checks it against the tensors'),
+    read once its header is known to be on the grid of the tensor file
+    ``tensors`` (the library's check, which reads no data: a small .nii.gz
+    can declare billions of voxels)."""
 
-    def __init__(self, path):
+    def __init__(self, path, tensors):
         import nibabel
 
+        from . import _core
+
         self.path = path
+        _core.require_image_on_grid(path, tensors, "the seed labels are")
         try:
+            require_regular_file(path)
             image = nibabel.load(path)
             self.labels = np.asanyarray(image.dataobj)
         except Exception as error:
@@ -199,7 +210,7 @@ def compute_parts(subject, parts, seed_sets, folder, options, report=False):
                     continue
                 seeds = seed_sets[part]
                 if isinstance(seeds, dict):
-                    seed_labels = seed_labels or _SeedLabels(subject.seeds)
+                    seed_labels = seed_labels or _SeedLabels(subject.seeds, subject.tensors)
                     try:
                         propagation = stvd.propagate(tensors, seed_labels=seed_labels.region(seeds["label"]),
                                                      max_distance=options.get("max_distance"), **common)
@@ -215,8 +226,8 @@ def compute_parts(subject, parts, seed_sets, folder, options, report=False):
                 _write_report(out, files[REPORT_FILE][1], subject, tensors, first_map, table)
         # The QC page says when it was made: its record goes with the run's
         # (where and when), not with the statistics (the same on any cluster).
-        outputs = {name: _file_record(path) for name, (_, path) in files.items() if name != REPORT_FILE}
-        page = {"qc_page": _file_record(files[REPORT_FILE][1])} if report else {}
+        outputs = {name: file_record(path) for name, (_, path) in files.items() if name != REPORT_FILE}
+        page = {"qc_page": file_record(files[REPORT_FILE][1])} if report else {}
     except (ValueError, TypeError, OSError, MemoryError, EOFError) as error:
         return {"error": one_line(error)}
     except Exception as error:  # anything else from reading a hostile file is still this subject's failure

@@ -31,20 +31,35 @@ re-run skips complete subjects and computes the others again; a subject that
 fails is recorded and never stops the others. Workers read and write the
 files themselves: only names and small summaries travel through the
 scheduler.
+
+What a run removes from a subject's folder: the declared outputs of this
+run it rewrites (statistics, run record, error), and the outputs a run of
+ours demonstrably wrote there and this request no longer has (a renamed
+seed set, the parts of a failed subject) - a file recorded, with its size
+and SHA-256, in an earlier run's ``statistics.json`` or ``run.json`` or in
+this run's results, still holding those bytes, and no input of any
+subject. Never a file by the look of its name.
 """
 
 import argparse
 import contextlib
+import errno
 import fcntl
 import json
 import logging
 import os
+import re
+import stat
 import sys
+import tempfile
 import time
 
-from ._manifest import ManifestError, read_manifest, read_seed_sets
+from . import _core
+from ._files import RECORD_BYTES, kind_of, read_regular_text
+from ._manifest import PATH_MAX, ManifestError, read_manifest, read_seed_sets
 from ._outputs import OutputFiles, check_outputs_are_not_inputs, remove_leftover_staging_folders
-from ._subject import CONNECTIVITY, CONNECTIVITY_FILE, REPORT_FILE, compute_parts, one_line, output_files
+from ._subject import (CONNECTIVITY, CONNECTIVITY_FILE, REPORT_FILE, compute_parts, file_record, one_line,
+                       output_files)
 
 STATISTICS_FILE = "statistics.json"
 RUN_FILE = "run.json"
@@ -55,10 +70,11 @@ LOCK_FILE = ".stvd-cohort.lock"
 TABLE_COLUMNS = ("subject", "status", "regions", "pairs_connected", "mean_geodesic_mm", "maps", "map_max_mm",
                  "error")
 
-# The options of the package's calls that a cohort run passes on, as the
-# tool's flags name them (None: the library's default, stvd.defaults).
-OPTION_NAMES = ("method", "k", "chain_measure", "stencil", "max_distance", "tensor_kind", "diffusion_metric",
-                "max_anisotropy", "fa_threshold", "unreachable_value")
+# The options of the package's calls that a cohort run passes on (None:
+# the library's default, stvd.defaults), as the library declares them for
+# `stvd cohort`: flag, keyword, kind of value and help with the default.
+OPTIONS = tuple(d for d in _core.option_declarations() if "cohort" in d["commands"])
+OPTION_NAMES = tuple(d["keyword"] for d in OPTIONS)
 
 __all__ = ["run", "Cohort", "ManifestError", "main"]
 
@@ -96,6 +112,7 @@ class _Plan:
         self.subject, self.folder, self.parts, self.seed_sets, self.request, self.error = (
             subject, folder, parts, seed_sets, request, error)
         self.report = request["report"]
+        self.recorded = {}  # what earlier runs recorded writing in the folder (_start_subject)
 
     def output_files(self):
         files = {name: os.path.join(self.folder, name) for name in (STATISTICS_FILE, RUN_FILE, ERROR_FILE)}
@@ -122,7 +139,7 @@ def _plan(subject, outdir, options, connectivity, maps, report):
         parts.append(CONNECTIVITY)
     if maps and subject.seeds is not None:
         try:
-            seed_sets = read_seed_sets(subject.seeds)
+            seed_sets = read_seed_sets(subject.seeds, subject.tensors)
         except ValueError as e:
             error = one_line(e)
         parts += list(seed_sets)
@@ -141,8 +158,7 @@ def _complete_statistics(plan):
     """The statistics of a subject complete from an earlier run of the same
     request, or None."""
     try:
-        with open(os.path.join(plan.folder, STATISTICS_FILE), encoding="utf-8") as file:
-            statistics = json.load(file)
+        statistics = json.loads(read_regular_text(os.path.join(plan.folder, STATISTICS_FILE), RECORD_BYTES))
         if statistics.get("request") != plan.request:
             return None
         for name, record in statistics["outputs"].items():
@@ -151,8 +167,64 @@ def _complete_statistics(plan):
         if plan.report and not os.path.isfile(os.path.join(plan.folder, REPORT_FILE)):
             return None
         return statistics
-    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+    except (OSError, ValueError, KeyError, TypeError, AttributeError, RecursionError):
         return None
+
+
+_SHA256 = re.compile(r"[0-9a-f]{64}")
+
+
+def _is_output_name(name):
+    """Whether ``name`` is a file name a subject's task writes (a plain name
+    in the subject's folder)."""
+    return (isinstance(name, str) and os.path.basename(name) == name and
+            (name in (CONNECTIVITY_FILE, REPORT_FILE) or (name.startswith("distance_") and name.endswith(".nii.gz"))))
+
+
+def _is_file_record(record):
+    return (isinstance(record, dict) and isinstance(record.get("bytes"), int) and
+            isinstance(record.get("sha256"), str) and _SHA256.fullmatch(record["sha256"]) is not None)
+
+
+def _recorded_outputs(folder):
+    """What earlier runs of ours recorded writing in a subject's folder,
+    ``{file name: {'bytes', 'sha256'}}``: the outputs of its statistics.json
+    and the QC page of its run.json (records that cannot be read, or
+    entries that are not such records, count for nothing)."""
+    recorded = {}
+    for name in (STATISTICS_FILE, RUN_FILE):
+        try:
+            record = json.loads(read_regular_text(os.path.join(folder, name), RECORD_BYTES))
+        except (OSError, ValueError, RecursionError):
+            continue
+        if not isinstance(record, dict):
+            continue
+        if name == STATISTICS_FILE:
+            entries = record.get("outputs") if isinstance(record.get("outputs"), dict) else {}
+        else:
+            tasks = record.get("tasks") if isinstance(record.get("tasks"), list) else []
+            entries = {REPORT_FILE: task["qc_page"] for task in tasks if isinstance(task, dict) and "qc_page" in task}
+        recorded.update({file: entry for file, entry in entries.items()
+                         if _is_output_name(file) and _is_file_record(entry)})
+    return recorded
+
+
+def _remove_if_ours(path, record, inputs):
+    """Removes ``path`` when it is the file a run of ours recorded writing
+    (a regular file of the recorded size and SHA-256) and no input of the
+    run (``inputs``: (device, inode) of every input file); else nothing."""
+    try:
+        status = os.lstat(path)
+    except OSError:
+        return
+    if (not stat.S_ISREG(status.st_mode) or status.st_size != record["bytes"] or
+            (status.st_dev, status.st_ino) in inputs):
+        return
+    try:
+        if file_record(path)["sha256"] == record["sha256"]:
+            os.remove(path)
+    except OSError:
+        pass
 
 
 def _summary_row(subject_id, statistics=None, error=None):
@@ -175,10 +247,13 @@ def _summary_row(subject_id, statistics=None, error=None):
 
 
 def _start_subject(plan):
-    """Prepares a subject's folder for computing: what an earlier run left
-    (its statistics first, so that the subject counts as incomplete until
-    this run has finished it) is removed."""
+    """Prepares a subject's folder for computing: what earlier runs recorded
+    writing there is noted (``plan.recorded``), then the records an earlier
+    run left (its statistics first, so that the subject counts as incomplete
+    until this run has finished it) are removed: they are outputs of this
+    run, checked against every input."""
     os.makedirs(plan.folder, exist_ok=True)
+    plan.recorded = _recorded_outputs(plan.folder)
     for name in (STATISTICS_FILE, RUN_FILE, ERROR_FILE):
         with contextlib.suppress(FileNotFoundError):
             os.remove(os.path.join(plan.folder, name))
@@ -192,9 +267,10 @@ def _write_text(path, text):
         out.write_text(path, text)
 
 
-def _finish_subject(plan, results):
+def _finish_subject(plan, results, inputs=frozenset()):
     """Writes a computed subject's statistics (or its error) once all its
-    parts are in; returns its row of the cohort table."""
+    parts are in; returns its row of the cohort table. ``inputs``: (device,
+    inode) of every input file of the run, which is never removed."""
     errors = [r["error"] for r in results if "error" in r]
     if plan.error is not None:
         errors.insert(0, plan.error)
@@ -205,11 +281,19 @@ def _finish_subject(plan, results):
     # The folder keeps the outputs of this request only: a failed subject
     # none (the parts that did finish are computed again with the others),
     # a complete one not those of an earlier request (a seed set renamed).
+    # Only files a run of ours recorded writing are removed: this run's
+    # results and the earlier runs' records, each still holding the bytes
+    # recorded, and never an input.
+    written = dict(plan.recorded)
+    for r in results:
+        written.update(r.get("outputs", {}))
+        page = r.get("run", {}).get("qc_page")
+        if page:
+            written[REPORT_FILE] = page
     keep = set() if errors else set(outputs) | ({REPORT_FILE} if plan.report else set())
-    for name in os.listdir(plan.folder):
-        ours = name in (CONNECTIVITY_FILE, REPORT_FILE) or (name.startswith("distance_") and name.endswith(".nii.gz"))
-        if ours and name not in keep:
-            os.remove(os.path.join(plan.folder, name))
+    for name, record in written.items():
+        if name not in keep and _is_output_name(name) and _is_file_record(record):
+            _remove_if_ours(os.path.join(plan.folder, name), record, inputs)
     if errors:
         _write_text(os.path.join(plan.folder, ERROR_FILE), errors[0] + "\n")
         return _summary_row(plan.subject.id, error=errors[0])
@@ -261,11 +345,30 @@ class _Progress:
             self._bar.close()
 
 
+LOOPBACK = "127.0.0.1"
+
+
 @contextlib.contextmanager
-def _dask_client(client, scheduler, workers):
+def _dask_client(client, scheduler, workers, host):
     """The client to run on: the caller's, one connected to ``scheduler``,
     or one of an embedded LocalCluster of ``workers`` processes (one per
-    core by default, one thread each), closed afterwards."""
+    core by default, one thread each), closed afterwards.
+
+    The embedded cluster's scheduler, nannies, workers and their HTTP
+    servers (the dashboard) listen on ``host`` only (this machine's
+    loopback unless the caller names another), with a private scratch
+    folder (not the shared ``dask-worker-space`` of the temporary folder).
+    They talk TLS with keys made for this run only (``_security``): the
+    loopback address is every local user's, and a Dask scheduler runs the
+    work any client that connects submits.
+    The processes it starts (workers, multiprocessing's resource tracker)
+    start without the working folder on their module path: PYTHONSAFEPATH
+    is set in this process's environment while the cluster runs (until
+    they take their parent's module path, spawned interpreters would import
+    from their working folder, which is this process's). When the run is
+    interrupted (a termination signal, KeyboardInterrupt, any error) the
+    workers are killed and waited for before the cluster is closed: none
+    goes on with a subject and writes after the run has ended."""
     if client is not None:
         yield client
         return
@@ -279,9 +382,67 @@ def _dask_client(client, scheduler, workers):
         with own:
             yield own
         return
-    with LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
-                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, Client(cluster) as own:
-        yield own
+    address = [(host, 0)]  # a pair, so that an IPv6 address needs no brackets
+    security, protocol = _security()
+    safe_path = os.environ.get("PYTHONSAFEPATH")
+    os.environ["PYTHONSAFEPATH"] = "1"
+    try:
+        with tempfile.TemporaryDirectory(prefix="stvd-cohort-dask-") as scratch, \
+                LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
+                             host=host, protocol=protocol, security=security, dashboard_address=address,
+                             worker_dashboard_address=address, local_directory=scratch,
+                             silence_logs=logging.ERROR) as cluster, \
+                Client(cluster) as own:
+            try:
+                yield own
+            except BaseException:
+                _stop_workers_now(cluster)
+                raise
+    finally:
+        if safe_path is None:
+            os.environ.pop("PYTHONSAFEPATH", None)
+        else:
+            os.environ["PYTHONSAFEPATH"] = safe_path
+
+
+def _security():
+    """Dask's security and protocol for the embedded cluster: mutual TLS
+    with a certificate authority, key and certificate made for this run
+    (in memory; the worker processes get them from their parent), so that
+    only this run's client and workers can connect. Without the package
+    cryptography (Debian: python3-cryptography), which makes them, plain TCP
+    and a warning."""
+    from distributed.security import Security
+
+    try:
+        return Security.temporary(), "tls://"
+    except ImportError:
+        print("stvd cohort: the package cryptography (python3-cryptography) is missing: the embedded cluster "
+              "runs without TLS, and other users of this machine can submit work to it", file=sys.stderr)
+        return None, "tcp://"
+
+
+def _stop_workers_now(cluster):
+    """Kills the worker processes of an embedded cluster (their nannies told
+    not to start new ones) and waits until every one has ended."""
+    import psutil
+
+    processes = []
+    for nanny in list(cluster.workers.values()):
+        with contextlib.suppress(Exception):
+            nanny.close_gracefully()  # no restart when its worker ends
+        pid = getattr(nanny, "pid", None)
+        if pid:
+            with contextlib.suppress(psutil.Error):
+                processes.append(psutil.Process(pid))
+    for process in processes:
+        with contextlib.suppress(psutil.Error):
+            process.kill()
+    for process in processes:
+        # Ended (a zombie until its nanny reaps it) or gone.
+        with contextlib.suppress(psutil.Error):
+            while process.status() != psutil.STATUS_ZOMBIE:
+                time.sleep(0.01)
 
 
 def _dashboard(client):
@@ -295,9 +456,22 @@ def _dashboard(client):
 
 @contextlib.contextmanager
 def _locked(outdir):
-    """One run at a time per output folder (two would remove each other's
-    staging folders)."""
-    with open(os.path.join(outdir, LOCK_FILE), "a") as lock:
+    """One run at a time per output folder (two would compute the same
+    subjects and replace each other's outputs). The lock file is opened
+    without following a link and without blocking, and must be a regular
+    file: a link or a FIFO planted under its name is refused, never
+    followed or waited on."""
+    path = os.path.join(outdir, LOCK_FILE)
+    try:
+        fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, 0o644)
+    except OSError as error:
+        if error.errno == errno.ELOOP:
+            raise OSError(f"the lock file {LOCK_FILE} is a symbolic link, which stvd does not follow") from None
+        raise OSError(f"cannot open the lock file {LOCK_FILE}: {error.strerror}") from None
+    with os.fdopen(fd, "rb") as lock:
+        mode = os.fstat(fd).st_mode
+        if not stat.S_ISREG(mode):
+            raise OSError(f"the lock file {LOCK_FILE} is {kind_of(mode)}, not a regular file")
         try:
             fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -308,7 +482,9 @@ def _locked(outdir):
 def _check_files(manifest, outdir, plans, report):
     """No output of the run is an input of any subject, nor the manifest,
     nor another output: the library's check (``stvd.FileConflictError``)
-    over the whole run, before any folder is made."""
+    over the whole run, before any folder is made. Returns (device, inode)
+    of every input file that exists (companions included): clean-up never
+    removes one."""
     inputs = [("manifest", os.path.abspath(manifest))]
     for plan in plans:
         inputs += [(f"{column} input of subject {plan.subject.id}", path)
@@ -320,20 +496,47 @@ def _check_files(manifest, outdir, plans, report):
     for plan in plans:
         outputs += [(f"output {name} of subject {plan.subject.id}", path)
                     for name, path in plan.output_files().items()]
-    check_outputs_are_not_inputs(outputs, inputs)
+    files = check_outputs_are_not_inputs(outputs, inputs)
+    identities = set()
+    for _, path in files.inputs:
+        try:
+            status = os.stat(path)
+        except OSError:
+            continue
+        identities.add((status.st_dev, status.st_ino))
+    return frozenset(identities)
 
 
-def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=False, connectivity=True, maps=True,
-        split_seed_sets=False, threads=1, progress=False, report=True, method=None, k=None, chain_measure=None,
-        stencil=None, max_distance=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None,
-        fa_threshold=None, unreachable_value=None):
+def _check_path_lengths(manifest, plans):
+    """ManifestError when a subject's files would have paths longer than
+    the system takes (a long OUTDIR with long ids and seed set names):
+    found before any work, not after other subjects' folders exist."""
+    staging = ".stvd-staging-4194304-4294967295"  # the longest name of a staging folder
+    for plan in plans:
+        for path in plan.output_files().values():
+            longest = os.path.join(os.path.dirname(path), staging, os.path.basename(path))
+            length = len(longest.encode("utf-8", "surrogateescape"))
+            if length > PATH_MAX:
+                raise ManifestError(f"{manifest}, row {plan.subject.row}, column subject: in {os.path.dirname(path)} "
+                                    f"the subject's files would have paths of {length} bytes, more than the "
+                                    f"{PATH_MAX} the system takes")
+
+
+def run(manifest, outdir, *, client=None, scheduler=None, workers=None, host=None, serial=False, connectivity=True,
+        maps=True, split_seed_sets=False, threads=1, progress=False, report=True, method=None, k=None,
+        chain_measure=None, stencil=None, max_distance=None, tensor_kind=None, diffusion_metric=None,
+        max_anisotropy=None, fa_threshold=None, unreachable_value=None):
     """Runs every subject of ``manifest`` and writes into ``outdir``
     (created if needed). Returns a ``Cohort``.
 
     Where it runs: ``client=`` an existing ``distributed.Client``;
     ``scheduler=`` the address of a running Dask scheduler
     (``tcp://host:8786``); otherwise an embedded LocalCluster of
-    ``workers`` processes (default: one per core), closed at the end.
+    ``workers`` processes (default: one per core), closed at the end, whose
+    scheduler, workers and dashboard listen on ``host``: by default
+    127.0.0.1, this machine only; name another address (``"0.0.0.0"``: all
+    interfaces) to reach them from elsewhere, where anyone who can reach it
+    sees the tasks (subject ids, paths, logs) and can submit work.
     ``serial=True`` runs the subjects one after the other in this process,
     without Dask (the reference for the cluster's outputs, which are the
     same bytes).
@@ -364,6 +567,9 @@ def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=F
                    fa_threshold=fa_threshold, unreachable_value=unreachable_value)
     if not (connectivity or maps):
         raise ValueError("nothing to compute: neither connectivity nor maps")
+    if host is not None and (serial or client is not None or scheduler is not None):
+        raise ValueError("host= is where the embedded cluster listens: not with serial, client or scheduler")
+    host = LOOPBACK if host is None else str(host)
     manifest = os.fspath(manifest)
     outdir = os.path.abspath(os.fspath(outdir))
     subjects = read_manifest(manifest)
@@ -374,7 +580,8 @@ def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=F
                                     "maps only (nothing to compute for this subject)")
     report = bool(report)
     plans = [_plan(subject, outdir, options, connectivity, maps, report) for subject in subjects]
-    _check_files(manifest, outdir, plans, report)
+    _check_path_lengths(manifest, plans)
+    inputs = _check_files(manifest, outdir, plans, report)
     os.makedirs(outdir, exist_ok=True)
 
     with _locked(outdir):
@@ -395,15 +602,16 @@ def run(manifest, outdir, *, client=None, scheduler=None, workers=None, serial=F
                     results = [] if plan.error else [compute_parts(plan.subject, plan.parts, plan.seed_sets,
                                                                    plan.folder, _with_threads(options, threads),
                                                                    plan.report)]
-                    rows[plan.subject.id] = dict(_finish_subject(plan, results), computed=True)
+                    rows[plan.subject.id] = dict(_finish_subject(plan, results, inputs), computed=True)
                     bar.subject(rows[plan.subject.id])
             elif pending:
-                with _dask_client(client, scheduler, workers) as dask_client:
+                with _dask_client(client, scheduler, workers, host) as dask_client:
                     dashboard = _dashboard(dask_client)
                     if dashboard and progress:
                         print(f"stvd cohort: Dask dashboard at {dashboard}", file=sys.stderr)
                     worker_count = len(dask_client.scheduler_info().get("workers", {}))
-                    _run_on_dask(dask_client, pending, _with_threads(options, threads), split_seed_sets, rows, bar)
+                    _run_on_dask(dask_client, pending, _with_threads(options, threads), split_seed_sets, rows, bar,
+                                 inputs)
         finally:
             bar.close()
             for plan in pending:  # what workers killed mid-write left behind
@@ -439,7 +647,7 @@ def _with_threads(options, threads):
     return dict(options, threads=threads)
 
 
-def _run_on_dask(client, plans, options, split_seed_sets, rows, bar):
+def _run_on_dask(client, plans, options, split_seed_sets, rows, bar, inputs):
     """Submits the tasks (a subject, or with ``split_seed_sets`` a part of
     one), gathers the small results as they come, and finishes each subject
     when its last part is in. A task whose worker died is run again by the
@@ -450,7 +658,7 @@ def _run_on_dask(client, plans, options, split_seed_sets, rows, bar):
     futures, waiting, results = {}, {}, {}
     for order, plan in enumerate(plans):
         if plan.error is not None:
-            rows[plan.subject.id] = dict(_finish_subject(plan, []), computed=True)
+            rows[plan.subject.id] = dict(_finish_subject(plan, [], inputs), computed=True)
             bar.subject(rows[plan.subject.id])
             continue
         groups = [[part] for part in plan.parts] if split_seed_sets else [plan.parts]
@@ -476,7 +684,7 @@ def _run_on_dask(client, plans, options, split_seed_sets, rows, bar):
         results[subject].append(result)
         waiting[subject] -= 1
         if waiting[subject] == 0:
-            rows[subject] = dict(_finish_subject(plan, results.pop(subject)), computed=True)
+            rows[subject] = dict(_finish_subject(plan, results.pop(subject), inputs), computed=True)
             bar.subject(rows[subject])
 
 
@@ -526,6 +734,10 @@ def _parser():
     where.add_argument("--scheduler", metavar="ADDRESS", help="a running Dask scheduler (tcp://host:8786)")
     where.add_argument("--workers", type=int, metavar="N",
                        help="worker processes of the embedded cluster (default: one per core)")
+    where.add_argument("--host", metavar="ADDRESS",
+                       help="where the embedded cluster's scheduler, workers and dashboard listen (default "
+                       "127.0.0.1, this machine only; 0.0.0.0: every interface, where anyone who can reach "
+                       "the machine sees the tasks and can submit work)")
     where.add_argument("--serial", action="store_true", help="one subject after the other in this process, no Dask")
     where.add_argument("--split-seed-sets", action="store_true",
                        help="a task per seed set and per connectivity table, not per subject (with QC pages "
@@ -535,10 +747,10 @@ def _parser():
     work = parser.add_argument_group("what it computes (options as in stvd distance; defaults: the tool's)")
     work.add_argument("--no-connectivity", action="store_true", help="distance maps only")
     work.add_argument("--no-maps", action="store_true", help="connectivity only")
-    for flag, kind in (("--method", str), ("--k", int), ("--chain-measure", str), ("--stencil", str),
-                       ("--max-distance", float), ("--tensor-kind", str), ("--diffusion-metric", str),
-                       ("--max-anisotropy", float), ("--fa-threshold", float), ("--unreachable-value", float)):
-        work.add_argument(flag, type=kind)
+    for option in OPTIONS:
+        work.add_argument(option["flag"], dest=option["keyword"], metavar=option["value_name"],
+                          type={"integer": int, "number": float}.get(option["type"], str),
+                          help=option["help"]["cohort"].replace("\n", " ").replace("%", "%%"))
     shown = parser.add_argument_group("output")
     shown.add_argument("--progress", dest="progress", action="store_true", default=None,
                        help="a progress bar (default: when stderr is a terminal)")
@@ -561,10 +773,13 @@ def main(argv=None):
         parser.error("--threads must be at least 1")
     if args.workers is not None and args.workers < 1:
         parser.error("--workers must be at least 1")
-    if args.serial and (args.scheduler or args.workers):
-        parser.error("--serial runs in this process: no --scheduler or --workers")
+    if args.serial and (args.scheduler or args.workers or args.host):
+        parser.error("--serial runs in this process: no --scheduler, --workers or --host")
+    if args.scheduler and args.host:
+        parser.error("--host is where the embedded cluster listens: not with --scheduler")
     try:
-        cohort = run(args.manifest, args.output, scheduler=args.scheduler, workers=args.workers, serial=args.serial,
+        cohort = run(args.manifest, args.output, scheduler=args.scheduler, workers=args.workers, host=args.host,
+                     serial=args.serial,
                      connectivity=not args.no_connectivity, maps=not args.no_maps,
                      split_seed_sets=args.split_seed_sets, threads=args.threads, progress=progress,
                      report=args.report, **options)
@@ -589,4 +804,7 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    from ._interruption import ending_by_signal
+
+    with ending_by_signal():
+        sys.exit(main())

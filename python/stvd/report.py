@@ -26,6 +26,8 @@ See docs/report.md.
 import argparse
 import csv
 import datetime
+import errno
+import io
 import json
 import math
 import os
@@ -35,6 +37,7 @@ import time
 import numpy as np
 
 from . import __version__
+from ._files import PAGE_BYTES, RECORD_BYTES, TABLE_BYTES, read_regular_text, require_regular_file
 from ._inputs import is_image, is_path, tensor_field
 from ._outputs import FileConflictError, OutputError, OutputFiles
 from . import _report_page as page
@@ -345,9 +348,21 @@ def _resolve(path, statistics_folder):
     return beside if os.path.exists(beside) else path
 
 
+def _require_regular(path, role):
+    """ReportError unless ``path`` is a regular file (a FIFO or a device
+    named like an input is not read: it would block or never end)."""
+    try:
+        require_regular_file(path)
+    except OSError as error:
+        if error.errno == errno.ENOENT:
+            raise ReportError(f"{path}: the {role} file does not exist") from None
+        raise ReportError(f"{path}: cannot read the {role}: {getattr(error, 'reason', None) or error}") from None
+
+
 def _load_nifti(path, role):
     import nibabel
 
+    _require_regular(path, role)
     try:
         return nibabel.load(path)
     except FileNotFoundError:
@@ -357,14 +372,19 @@ def _load_nifti(path, role):
 
 
 def _on_grid(image, path, role, affine, shape):
-    data = np.asanyarray(image.dataobj)
-    while data.ndim > 3 and data.shape[-1] == 1:
-        data = data[..., 0]
-    if tuple(data.shape[:3]) != tuple(shape) or data.ndim != 3:
-        raise ReportError(f"{path}: the {role} image is {'x'.join(map(str, data.shape))} voxels, the tensors "
+    # The header's grid first: a small .nii.gz can declare a grid of
+    # billions of voxels, which are not read to be refused.
+    declared = tuple(int(n) for n in image.shape)
+    while len(declared) > 3 and declared[-1] == 1:
+        declared = declared[:-1]
+    if declared[:3] != tuple(shape) or len(declared) != 3:
+        raise ReportError(f"{path}: the {role} image is {'x'.join(map(str, declared))} voxels, the tensors "
                           f"{'x'.join(map(str, shape))}")
     if not np.allclose(image.affine, affine, atol=1e-3 * float(np.abs(affine[:3, :3]).max())):
         raise ReportError(f"{path}: the {role} image is not on the grid of the tensors (another affine)")
+    data = np.asanyarray(image.dataobj)
+    while data.ndim > 3 and data.shape[-1] == 1:
+        data = data[..., 0]
     return data
 
 
@@ -375,6 +395,7 @@ def read_streamlines(path):
         return _read_vtk_lines(path)
     import nibabel
 
+    _require_regular(path, "paths")
     try:
         return [np.asarray(line, dtype=np.float64) for line in nibabel.streamlines.load(str(path)).streamlines]
     except FileNotFoundError:
@@ -385,11 +406,12 @@ def read_streamlines(path):
 
 def _read_vtk_lines(path):
     try:
-        with open(path, encoding="ascii") as file:
-            words = file.read().split()
-    except FileNotFoundError:
-        raise ReportError(f"{path}: the paths file does not exist") from None
-    except (OSError, UnicodeDecodeError) as error:
+        words = read_regular_text(path, TABLE_BYTES, encoding="ascii").split()
+    except OSError as error:
+        if error.errno == errno.ENOENT:
+            raise ReportError(f"{path}: the paths file does not exist") from None
+        raise ReportError(f"{path}: cannot read the paths: {getattr(error, 'reason', None) or error}") from None
+    except UnicodeDecodeError as error:
         raise ReportError(f"{path}: cannot read the paths: {error}") from None
     try:
         at = words.index("POINTS")
@@ -408,11 +430,13 @@ def _read_vtk_lines(path):
 
 def _read_tsv(path, role):
     try:
-        with open(path, newline="", encoding="utf-8") as file:
-            return list(csv.DictReader(file, delimiter="\t"))
-    except FileNotFoundError:
-        raise ReportError(f"{path}: the {role} does not exist") from None
-    except (OSError, UnicodeDecodeError, csv.Error) as error:
+        text = read_regular_text(path, TABLE_BYTES)
+        return list(csv.DictReader(io.StringIO(text, newline=""), delimiter="\t"))
+    except OSError as error:
+        if error.errno == errno.ENOENT:
+            raise ReportError(f"{path}: the {role} does not exist") from None
+        raise ReportError(f"{path}: cannot read the {role}: {getattr(error, 'reason', None) or error}") from None
+    except (UnicodeDecodeError, csv.Error) as error:
         raise ReportError(f"{path}: cannot read the {role}: {error}") from None
 
 
@@ -468,11 +492,13 @@ def _fa_of_tensors(tensors, parameters, mask):
 
 def _content_from_files(statistics_path, distance, paths, paths_table, table, labels, fa):
     try:
-        with open(statistics_path, encoding="utf-8") as file:
-            statistics = json.load(file)
-    except FileNotFoundError:
-        raise ReportError(f"{statistics_path}: the statistics file does not exist") from None
-    except (OSError, UnicodeDecodeError, ValueError) as error:
+        statistics = json.loads(read_regular_text(statistics_path, RECORD_BYTES))
+    except OSError as error:
+        if error.errno == errno.ENOENT:
+            raise ReportError(f"{statistics_path}: the statistics file does not exist") from None
+        raise ReportError(f"{statistics_path}: cannot read the statistics (JSON of --stats): "
+                          f"{getattr(error, 'reason', None) or error}") from None
+    except (UnicodeDecodeError, ValueError, RecursionError) as error:
         raise ReportError(f"{statistics_path}: cannot read the statistics (JSON of --stats): {error}") from None
     if not isinstance(statistics, dict) or "input" not in statistics:
         raise ReportError(f"{statistics_path}: not the --stats file of a stvd run (no \"input\")")
@@ -688,11 +714,39 @@ def _array_on_grid(value, name, affine, shape):
 # The cohort index
 
 
+def _summary_of_page(path):
+    """The run summary of the page at ``path``, or None: read only when it is
+    a regular file of at most ``PAGE_BYTES`` (a FIFO or a link to /dev/zero
+    named like a page is never read), kept only in the fields and types a
+    summary has (it may come from a page anyone could have put there)."""
+    try:
+        summary = page.read_summary(read_regular_text(path, PAGE_BYTES))
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError):
+        return None
+    if summary is None:
+        return None
+    clean = {}
+    for key in ("subject", "kind", "status", "input", "stvd_version", "thumbnail", "error"):
+        value = summary.get(key)
+        if isinstance(value, (str, int, float)) and not isinstance(value, bool):
+            clean[key] = str(value)
+    if "subject" not in clean:
+        return None
+    warnings = summary.get("warnings")
+    clean["warnings"] = warnings if isinstance(warnings, int) and not isinstance(warnings, bool) else 0
+    figures = summary.get("figures")
+    if isinstance(figures, dict):
+        clean["figures"] = {str(k): v for k, v in figures.items()
+                            if isinstance(v, (str, int, float)) and not isinstance(v, bool)}
+    return clean
+
+
 def cohort_entries_from_folder(folder):
     """The cohort index's entries for a folder of reports: every ``.html``
     page with a run summary in the folder and its subfolders (one level, as
     a cohort's ``OUTDIR/<subject>/`` holds them), in name order. A subfolder
-    without a report is listed as ``missing``."""
+    without a report is listed as ``missing``. Pages are read only when they
+    are regular files of at most ``PAGE_BYTES``."""
     entries = []
     try:
         names = sorted(os.listdir(folder))
@@ -702,16 +756,15 @@ def cohort_entries_from_folder(folder):
         path = os.path.join(folder, name)
         pages = []
         if os.path.isdir(path):
-            pages = [os.path.join(path, n) for n in sorted(os.listdir(path)) if n.endswith(".html")]
+            try:
+                pages = [os.path.join(path, n) for n in sorted(os.listdir(path)) if n.endswith(".html")]
+            except OSError:  # a folder that cannot be listed holds no page we can show
+                pages = []
         elif name.endswith(".html"):
             pages = [path]
         found = False
         for candidate in pages:
-            try:
-                with open(candidate, encoding="utf-8") as file:
-                    summary = page.read_summary(file.read())
-            except (OSError, UnicodeDecodeError, ValueError):
-                summary = None
+            summary = _summary_of_page(candidate)
             if summary is not None:
                 entries.append(dict(summary, report=candidate))
                 found = True
@@ -738,27 +791,33 @@ def write_cohort_index(output, subjects, *, title="stvd cohort"):
     folder = os.path.dirname(os.path.abspath(output))
     figure_keys = []
     for entry in entries:
-        for key in (entry.get("figures") or {}):
+        for key in (entry.get("figures") if isinstance(entry.get("figures"), dict) else {}):
             if key not in figure_keys:
                 figure_keys.append(key)
     rows = []
     counts = {}
     for entry in entries:
-        status = entry.get("status") or "missing"
+        status = entry.get("status") if entry.get("status") in page.STATUSES else "missing"
         counts[status] = counts.get(status, 0) + 1
         report = entry.get("report")
-        href = page.escape(os.path.relpath(os.path.abspath(report), folder)) if report else None
+        # Only pages inside the index's folder are linked, by a relative
+        # path (page.safe_link); only data: PNG thumbnails are shown.
+        href = page.safe_link(os.path.relpath(os.path.abspath(report), folder)) if report else None
         subject = page.escape(entry.get("subject", "?"))
-        name = f"<a href=\"{href}\">{subject}</a>" if href else subject
+        name = f"<a href=\"{page.escape(href)}\">{subject}</a>" if href else subject
         picture = ""
-        if entry.get("thumbnail"):
-            picture = f"<img src=\"{page.escape(entry['thumbnail'])}\" alt=\"axial slice of {subject}\">"
+        thumbnail = page.safe_image(entry.get("thumbnail"))
+        if thumbnail:
+            picture = f"<img src=\"{thumbnail}\" alt=\"axial slice of {subject}\">"
             if href:
-                picture = f"<a href=\"{href}\">{picture}</a>"
-        detail = page.escape(entry.get("error") or "")
-        if entry.get("warnings"):
-            detail = f"{entry['warnings']} warnings" + (f"; {detail}" if detail else "")
-        figures = entry.get("figures") or {}
+                picture = f"<a href=\"{page.escape(href)}\">{picture}</a>"
+        detail = str(entry.get("error") or "")  # escaped by page.table
+        if report and not href:
+            detail = "its page lies outside the index's folder and is not linked" + (f"; {detail}" if detail else "")
+        warnings = entry.get("warnings")
+        if isinstance(warnings, int) and not isinstance(warnings, bool) and warnings:
+            detail = f"{warnings} warnings" + (f"; {detail}" if detail else "")
+        figures = entry.get("figures") if isinstance(entry.get("figures"), dict) else {}
         rows.append([name, page.status_badge(status), picture, detail] +
                     [figures.get(key, "") for key in figure_keys])
     header = ["subject", "status", "axial slice", "warnings or error"] + [_FIGURE_LABELS.get(k, k) for k in figure_keys]
@@ -775,9 +834,10 @@ def cohort_index_from_folder(folder, output=None, *, title=None):
     written to ``output`` (default: ``FOLDER/index.html``). Returns the
     counts per status."""
     output = output or os.path.join(folder, "index.html")
+    # An index made before has no run summary and is no entry; a subject's
+    # page is one, and an output that is one of them is refused (the pages
+    # an index reads are its inputs).
     entries = cohort_entries_from_folder(folder)
-    if os.path.exists(output):  # an index made before is not a subject's page
-        entries = [e for e in entries if "report" not in e or not os.path.samefile(e["report"], output)]
     return write_cohort_index(output, entries, title=title or f"stvd cohort: {os.path.basename(os.path.abspath(folder))}")
 
 
@@ -934,4 +994,7 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    from ._interruption import ending_by_signal
+
+    with ending_by_signal():
+        sys.exit(main())

@@ -25,9 +25,11 @@
 #include "kuhn_lattice.hpp"
 #include "relative_error.hpp"
 #include "scenes.hpp"
-#include "stvd/cell_mesh_candidate_path.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/voxel_grid_candidate_path.hpp"
+#include "stvd/cell_mesh/cell_mesh_candidate_path.hpp"
+#include "stvd/cell_mesh/cell_mesh_propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_candidate_path.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 #include "wall_scenes.hpp"
 
 namespace stvd {

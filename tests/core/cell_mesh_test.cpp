@@ -16,8 +16,10 @@
 #include "method_cases.hpp"
 #include "relative_error.hpp"
 #include "scenes.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/cell_mesh_candidate_path.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/cell_mesh/cell_mesh_candidate_path.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/cell_mesh/cell_mesh_propagation.hpp"
 
 namespace stvd {
 namespace {

@@ -21,7 +21,8 @@
 #include "relative_error.hpp"
 #include "method_cases.hpp"
 #include "scenes.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd {
 namespace {

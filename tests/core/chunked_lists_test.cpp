@@ -1,7 +1,7 @@
 // Specification of the front queue's bucket storage (detail/chunked_lists.hpp):
 // lists give back their values in append order, and a drained list's
 // memory is reused rather than kept per list.
-#include "stvd/detail/chunked_lists.hpp"
+#include "stvd/propagation/detail/chunked_lists.hpp"
 
 #include <gtest/gtest.h>
 

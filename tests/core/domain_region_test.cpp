@@ -10,7 +10,8 @@
 #include <vector>
 
 #include "method_cases.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 #include "wall_scenes.hpp"
 
 namespace stvd {

@@ -12,7 +12,7 @@
 #include <array>
 #include <cmath>
 
-#include "stvd/grid_geometry.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd::test {

@@ -1,4 +1,4 @@
-// stvd/files/file_identity.hpp: an output is compared with the inputs by
+// stvd/system/files/file_identity.hpp: an output is compared with the inputs by
 // what file it is, not by how it is spelled.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "stvd/files/file_identity.hpp"
+#include "stvd/system/files/file_identity.hpp"
 
 namespace stvd::files {
 namespace {

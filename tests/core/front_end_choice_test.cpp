@@ -7,10 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "stvd/label_regions.hpp"
-#include "stvd/propagation_choice.hpp"
-#include "stvd/surface_domain.hpp"
-#include "stvd/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/label_regions.hpp"
+#include "stvd/front_end/propagation_choice.hpp"
+#include "stvd/surface/surface_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/surface/surface_propagation.hpp"
 
 namespace stvd {
 namespace {

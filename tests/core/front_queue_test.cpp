@@ -1,7 +1,7 @@
 // Specification of the propagation's priority queue (detail/front_queue.hpp):
 // whatever the keys, it pops vertices in exact key order, each vertex once
 // with the lowest key it was given, exactly as one indexed heap would.
-#include "stvd/detail/front_queue.hpp"
+#include "stvd/propagation/detail/front_queue.hpp"
 
 #include <gtest/gtest.h>
 

@@ -26,9 +26,10 @@
 #include "exact_metrics.hpp"
 #include "method_cases.hpp"
 #include "scenes.hpp"
-#include "stvd/geodesic_path.hpp"
-#include "stvd/geodesic_path_refinement.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/voxel_grid/path_tracing.hpp"
+#include "stvd/voxel_grid/path_refinement.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd {
 namespace {

@@ -13,8 +13,8 @@
 
 #include "exact_metrics.hpp"
 #include "scenes.hpp"
-#include "stvd/stencil.hpp"
-#include "stvd/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/stencil.hpp"
+#include "stvd/voxel_grid/voxel_grid_domain.hpp"
 
 namespace stvd {
 namespace {

@@ -12,10 +12,12 @@
 
 #include "method_cases.hpp"
 #include "scenes.hpp"
-#include "stvd/cell_mesh_domain.hpp"
-#include "stvd/metric_field.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/stencil.hpp"
+#include "stvd/cell_mesh/cell_mesh_domain.hpp"
+#include "stvd/metric/metric_field.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/stencil.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/cell_mesh/cell_mesh_propagation.hpp"
 
 namespace stvd {
 namespace {

@@ -1,11 +1,11 @@
-// stvd/large_array.hpp: the huge-page advice changes where an array lives,
+// stvd/system/large_array.hpp: the huge-page advice changes where an array lives,
 // never what it holds.
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <vector>
 
-#include "stvd/large_array.hpp"
+#include "stvd/system/large_array.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd {

@@ -12,7 +12,8 @@
 #include "exact_metrics.hpp"
 #include "scenes.hpp"
 #include "method_cases.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd {
 namespace {

@@ -9,7 +9,9 @@
 #include <vector>
 
 #include "scenes.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/cell_mesh/cell_mesh_propagation.hpp"
 
 namespace stvd {
 namespace {

@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
 
 namespace stvd::test {
 

@@ -18,7 +18,8 @@
 #include <vector>
 
 #include "scenes.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd {
 namespace {

@@ -1,17 +1,20 @@
-// stvd/files/output_transaction.hpp: the outputs of a run appear together,
+// stvd/system/files/output_transaction.hpp: the outputs of a run appear together,
 // complete, or not at all, and what was at their paths before stays until
 // then.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
-#include "stvd/files/output_transaction.hpp"
+#include "stvd/system/files/output_transaction.hpp"
 
 namespace stvd::files {
 namespace {
@@ -147,31 +150,128 @@ TEST_F(OutputTransactionTest, WriteAtomicallyIsOneTransaction) {
   EXPECT_EQ(entries(), std::vector<std::string>{"a.txt"});
 }
 
-TEST_F(OutputTransactionTest, LeftoverStagingFoldersOfAKilledRunAreRemovedAndLiveOnesKept) {
-  // A child process killed (SIGKILL, no cleanup) while it writes an output.
+/// A child process that stages `name` in `folder` and then stops: killed
+/// with SIGKILL (no cleanup) when `die`, otherwise waiting until its
+/// parent kills it. Returns its pid once the staged file exists.
+pid_t stagingChild(const std::string& folder, const std::string& name, bool die) {
+  int ready[2];
+  if (::pipe(ready) != 0) return -1;
   const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
   if (child == 0) {
+    ::close(ready[0]);
     OutputTransaction outputs;
-    outputs.write(path("a.txt"), [](const std::string& staging) {
+    outputs.write(folder + "/" + name, [&](const std::string& staging) {
       std::ofstream(staging) << "half";
-      ::kill(::getpid(), SIGKILL);
+      if (die) ::kill(::getpid(), SIGKILL);
+      (void)!::write(ready[1], "r", 1);
+      ::pause();
     });
     ::_exit(0);  // not reached
   }
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);
-  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
-  ASSERT_EQ(entries().size(), 1u);
-  ASSERT_EQ(entries()[0].rfind(kStagingFolderPrefix + std::to_string(child) + "-", 0), 0u) << entries()[0];
+  ::close(ready[1]);
+  char c;
+  (void)!::read(ready[0], &c, 1);  // staged (or dead)
+  ::close(ready[0]);
+  return child;
+}
 
+TEST_F(OutputTransactionTest, LeftoverStagingFoldersOfAKilledRunAreRemovedAndLiveOnesKept) {
+  // A child process that writes an output and goes on living, and one
+  // killed (SIGKILL, no cleanup) while it writes (each sweeps the folder
+  // before it stages: the live one first, so that the dead one's is there).
+  const pid_t live = stagingChild(folder_.string(), "c.txt", false);
+  struct Reap {  // the live child never outlives the test, whatever fails
+    pid_t pid;
+    ~Reap() {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, nullptr, 0);
+    }
+  } reap{live};
+  const pid_t dead = stagingChild(folder_.string(), "a.txt", true);
+  int status = 0;
+  ASSERT_EQ(::waitpid(dead, &status, 0), dead);
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+  auto folderOf = [this](pid_t pid) {  // its staging folder (the counter is the parent's, copied by fork)
+    for (const std::string& name : entries())
+      if (name.rfind(kStagingFolderPrefix + std::to_string(pid) + "-", 0) == 0) return name;
+    return std::string();
+  };
+  ASSERT_NE(folderOf(dead), "");
+  const std::string liveFolder = folderOf(live);
+  ASSERT_NE(liveFolder, "");
+  // What is not demonstrably ours: a folder named like ours without the
+  // record our runs write, and a file.
+  fs::create_directory(path(".stvd-staging-1-1"));
+  std::ofstream(path(".stvd-staging-1-1/a.txt")) << "someone's";
   std::ofstream(path(".stvd-staging-notes.txt")) << "a file, not a staging folder";
-  OutputTransaction live;
-  live.write(path("b.txt"), text("new b"));
-  EXPECT_EQ(removeLeftoverStagingFolders(folder_.string()), 1u);
+
+  EXPECT_EQ(removeLeftoverStagingFolders(folder_.string()), 1u);  // the dead child's
+  OutputTransaction ours;
+  ours.write(path("b.txt"), text("new b"));
   EXPECT_EQ(removeLeftoverStagingFolders((folder_ / "." / "").string()), 0u);  // this process's, kept
-  live.commit();
-  EXPECT_EQ(entries(), (std::vector<std::string>{".stvd-staging-notes.txt", "b.txt"}));
+  ours.commit();
+  EXPECT_EQ(entries(), (std::vector<std::string>{".stvd-staging-1-1", liveFolder, ".stvd-staging-notes.txt",
+                                                 "b.txt"}));
+  // Once the live one is killed too (and still a zombie, not reaped), its
+  // folder goes as well, the next time a run stages here.
+  ::kill(live, SIGKILL);
+  siginfo_t info{};
+  ASSERT_EQ(::waitid(P_PID, static_cast<id_t>(live), &info, WEXITED | WNOWAIT), 0);
+  EXPECT_EQ(removeLeftoverStagingFolders(folder_.string()), 1u);
+  EXPECT_EQ(contents(path(".stvd-staging-1-1/a.txt")), "someone's");
+}
+
+TEST_F(OutputTransactionTest, TheFirstOutputStagedInAFolderRemovesTheLeftoversThere) {
+  const pid_t dead = stagingChild(folder_.string(), "a.txt", true);
+  ::waitpid(dead, nullptr, 0);
+  ASSERT_EQ(entries().size(), 1u);
+  writeAtomically(path("b.txt"), text("b"));
+  EXPECT_EQ(entries(), std::vector<std::string>{"b.txt"});
+}
+
+TEST_F(OutputTransactionTest, AReplacedFileKeepsItsMode) {
+  std::ofstream(path("a.txt")) << "previous";
+  ASSERT_EQ(::chmod(path("a.txt").c_str(), 0640), 0);
+  writeAtomically(path("a.txt"), text("new"));
+  struct stat status {};
+  ASSERT_EQ(::stat(path("a.txt").c_str(), &status), 0);
+  EXPECT_EQ(status.st_mode & 07777, 0640u);
+  EXPECT_EQ(contents(path("a.txt")), "new");
+}
+
+TEST_F(OutputTransactionTest, AFifoIsWrittenToAndStaysAFifo) {
+  ASSERT_EQ(::mkfifo(path("f").c_str(), 0644), 0);
+  std::string got;
+  std::thread reader([&] { got = contents(path("f")); });
+  OutputTransaction outputs;
+  outputs.write(path("f"), text("streamed"));
+  outputs.write(path("b.txt"), text("b"));
+  outputs.commit();
+  reader.join();
+  EXPECT_EQ(got, "streamed");
+  struct stat status {};
+  ASSERT_EQ(::lstat(path("f").c_str(), &status), 0);
+  EXPECT_TRUE(S_ISFIFO(status.st_mode));
+  EXPECT_EQ(entries(), (std::vector<std::string>{"b.txt", "f"}));
+}
+
+TEST_F(OutputTransactionTest, AStreamWhoseReaderIsGoneLeavesTheFilesAsTheyWere) {
+  ASSERT_EQ(::mkfifo(path("f").c_str(), 0644), 0);
+  std::ofstream(path("b.txt")) << "previous b";
+  // The reader opens the FIFO and closes it at once: the write fails with
+  // EPIPE (and SIGPIPE does not end the process).
+  std::thread reader([&] { std::ifstream(path("f")).close(); });
+  OutputTransaction outputs;
+  outputs.write(path("f"), text(std::string(1 << 20, 'x')));
+  outputs.write(path("b.txt"), text("new b"));
+  try {
+    outputs.commit();
+    ADD_FAILURE() << "the commit succeeded";
+  } catch (const OutputError& e) {
+    EXPECT_EQ(std::string(e.what()).find(path("f") + ": cannot write to a FIFO: Broken pipe"), 0u) << e.what();
+  }
+  reader.join();
+  EXPECT_EQ(contents(path("b.txt")), "previous b");
 }
 
 }  // namespace

@@ -11,11 +11,11 @@
 
 #include "exact_metrics.hpp"
 #include "kuhn_lattice.hpp"
-#include "stvd/cell_mesh_domain.hpp"
-#include "stvd/grid_geometry.hpp"
-#include "stvd/metric_field.hpp"
-#include "stvd/norms.hpp"
-#include "stvd/voxel_grid_domain.hpp"
+#include "stvd/cell_mesh/cell_mesh_domain.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
+#include "stvd/metric/metric_field.hpp"
+#include "stvd/metric/norms.hpp"
+#include "stvd/voxel_grid/voxel_grid_domain.hpp"
 
 namespace stvd::test {
 

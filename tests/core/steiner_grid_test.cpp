@@ -21,8 +21,10 @@
 #include "method_cases.hpp"
 #include "relative_error.hpp"
 #include "scenes.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 
 namespace stvd {
 namespace {
@@ -32,8 +34,8 @@ using test::RelativeErrors;
 /// Relative slack of single-precision segment lengths summed in double.
 constexpr double kFloatSlack = 1e-5;
 
-SteinerOptions withSteinerPoints(int m) {
-  SteinerOptions o;
+LanthierOptions withSteinerPoints(int m) {
+  LanthierOptions o;
   o.steinerPoints = m;
   return o;
 }
@@ -74,8 +76,8 @@ TEST(SteinerGrid, ConstantMetricErrorFallsWithEveryDoublingOfSteinerPoints) {
   const ConstantScene& scene = constantScene();
   double previous = std::numeric_limits<double>::infinity();
   for (int m : {1, 2, 4, 8}) {
-    const SteinerPropagationResult r =
-        steinerPropagate(scene.domain, scene.metric, {scene.source}, withSteinerPoints(m));
+    const LanthierResult r =
+        lanthierPropagate(scene.domain, scene.metric, {scene.source}, withSteinerPoints(m));
     EXPECT_EQ(r.termination, Termination::Completed);
     EXPECT_EQ(r.finalizedVertices, scene.domain.vertexCount());
     const RelativeErrors e = scene.errorsOf(r.distance);
@@ -94,9 +96,9 @@ TEST(SteinerGrid, ConstantMetricErrorFallsWithEveryDoublingOfSteinerPoints) {
 TEST(SteinerGrid, SteinerPointFieldHoldsTheDistanceAtEachPointsPosition) {
   const ConstantScene& scene = constantScene();
   const int m = 3;
-  SteinerOptions o = withSteinerPoints(m);
+  LanthierOptions o = withSteinerPoints(m);
   o.keepPointDistances = true;
-  const SteinerPropagationResult r = steinerPropagate(scene.domain, scene.metric, {scene.source}, o);
+  const LanthierResult r = lanthierPropagate(scene.domain, scene.metric, {scene.source}, o);
   const std::uint64_t perVoxel = 1 + 3 * m + 3 * m * m;
   ASSERT_EQ(r.graphPoints, perVoxel * scene.domain.vertexCount());
   ASSERT_EQ(r.pointDistance.size(), r.graphPoints);
@@ -234,8 +236,8 @@ TEST(SteinerGrid, CurvedMetricErrorFallsWithMAndEndsWellBelowThePapersChainRule)
   const CurvedScene& scene = curvedScene();
   double previous = std::numeric_limits<double>::infinity();
   for (int m : {1, 2, 4, 8}) {
-    const SteinerPropagationResult r =
-        steinerPropagate(scene.domain(), scene.metric(), {scene.source()}, withSteinerPoints(m));
+    const LanthierResult r =
+        lanthierPropagate(scene.domain(), scene.metric(), {scene.source()}, withSteinerPoints(m));
     const RelativeErrors e = scene.errorsOf(r.distance);
     test::reportMeasurement("Steiner pull-back gamma 10, M = " + std::to_string(m), e);
     EXPECT_EQ(e.unreached(), 0u);
@@ -276,8 +278,8 @@ TEST(SteinerGrid, ConstantRandersNormConvergesFromAbove) {
       scene.domain.vertexCount(), {test::toSymTensor(m), toFloat(omega)});
   double previous = std::numeric_limits<double>::infinity();
   for (int steiner : {1, 2, 4}) {
-    const SteinerPropagationResult r =
-        steinerPropagate(scene.domain, metric, {scene.source}, withSteinerPoints(steiner));
+    const LanthierResult r =
+        lanthierPropagate(scene.domain, metric, {scene.source}, withSteinerPoints(steiner));
     RelativeErrors e;
     const Vec3d s = scene.domain.physicalPoint(scene.source);
     for (VertexId v = 0; v < scene.domain.vertexCount(); ++v)

@@ -17,8 +17,10 @@
 #include "exact_metrics.hpp"
 #include "method_cases.hpp"
 #include "relative_error.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 
 namespace stvd {
 namespace {
@@ -101,9 +103,9 @@ TEST(SteinerObstacle, WallWithHoleIsPassedOnlyThroughTheHoleAndNeverCut) {
   const VoxelGridDomain domain(scene.geometry(), Stencil::full26(), scene.mask());
   const RiemannianMetric metric = RiemannianMetric::constant(domain.vertexCount(), test::toSymTensor(scene.tensor()));
   const VertexId source = domain.vertexAt(4, 5, 2);
-  SteinerOptions options;
+  LanthierOptions options;
   options.steinerPoints = 4;
-  const SteinerPropagationResult steiner = steinerPropagate(domain, metric, {source}, options);
+  const LanthierResult steiner = lanthierPropagate(domain, metric, {source}, options);
   const PropagationResult stvd = shortTermVectorDijkstra(domain, metric, {source}, 8);  // default measure
   // The chain rules (the paper's and the largest-norm one) at k = 16.
   std::vector<PropagationResult> chainRules;

@@ -11,7 +11,8 @@
 
 #include "exact_metrics.hpp"
 #include "scenes.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 
 namespace stvd {
 namespace {
@@ -21,8 +22,8 @@ struct SmallGrid {
   RiemannianMetric metric{test::smoothVaryingTensors(domain)};
 };
 
-SteinerOptions withSteinerPoints(int m) {
-  SteinerOptions o;
+LanthierOptions withSteinerPoints(int m) {
+  LanthierOptions o;
   o.steinerPoints = m;
   return o;
 }
@@ -30,27 +31,27 @@ SteinerOptions withSteinerPoints(int m) {
 TEST(SteinerInput, RefusesWhatCannotBeComputed) {
   const SmallGrid s;
   const VertexId v = s.domain.vertexAt(4, 4, 3);
-  auto run = [&](const std::vector<VertexId>& sources, const SteinerOptions& o) {
-    return steinerPropagate(s.domain, s.metric, sources, o);
+  auto run = [&](const std::vector<VertexId>& sources, const LanthierOptions& o) {
+    return lanthierPropagate(s.domain, s.metric, sources, o);
   };
   EXPECT_THROW(run({}, {}), std::invalid_argument);
   EXPECT_THROW(run({s.domain.vertexCount()}, {}), std::invalid_argument);
   EXPECT_THROW(run({v}, withSteinerPoints(0)), std::invalid_argument);
   EXPECT_THROW(run({v}, withSteinerPoints(kMaxSteinerPoints + 1)), std::invalid_argument);
-  SteinerOptions nan;
+  LanthierOptions nan;
   nan.maxDistance = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(run({v}, nan), std::invalid_argument);
-  SteinerOptions badTarget;
+  LanthierOptions badTarget;
   badTarget.targets = {s.domain.vertexCount() + 3};
   EXPECT_THROW(run({v}, badTarget), std::invalid_argument);
   const RiemannianMetric small = RiemannianMetric::constant(10, test::toSymTensor(test::Mat3{}));
-  EXPECT_THROW(steinerPropagate(s.domain, small, {v}), std::invalid_argument);
+  EXPECT_THROW(lanthierPropagate(s.domain, small, {v}), std::invalid_argument);
 
   // A source outside the mask.
   std::vector<std::uint8_t> mask(s.domain.vertexCount(), 1);
   mask[v] = 0;
   const VoxelGridDomain masked(s.domain.geometry(), Stencil::full26(), mask);
-  EXPECT_THROW(steinerPropagate(masked, s.metric, {v}), std::invalid_argument);
+  EXPECT_THROW(lanthierPropagate(masked, s.metric, {v}), std::invalid_argument);
 }
 
 /// Masked voxels carry no Steiner points: masking the last slice of a grid
@@ -69,10 +70,10 @@ TEST(SteinerInput, MaskedVoxelsCarryNoPoints) {
                                                            s.metric.params().begin() + cut.vertexCount()));
   const VertexId source = s.domain.vertexAt(2, 3, 3);
   ASSERT_EQ(cut.vertexAt(2, 3, 3), source);
-  SteinerOptions o = withSteinerPoints(2);
+  LanthierOptions o = withSteinerPoints(2);
   o.keepPointDistances = true;
-  const SteinerPropagationResult a = steinerPropagate(masked, s.metric, {source}, o);
-  const SteinerPropagationResult b = steinerPropagate(cut, cutMetric, {source}, o);
+  const LanthierResult a = lanthierPropagate(masked, s.metric, {source}, o);
+  const LanthierResult b = lanthierPropagate(cut, cutMetric, {source}, o);
   EXPECT_EQ(a.graphPoints, 19u * cut.vertexCount());
   EXPECT_EQ(a.graphPoints, b.graphPoints);
   EXPECT_EQ(a.pointDistance, b.pointDistance);
@@ -94,10 +95,10 @@ TEST(SteinerInput, VoxelWithoutADomainNeighbourAlongAnAxisIsReachedOnlyAsASource
   for (const auto& o : off) mask[s.domain.vertexAt(4 + o[0], 4 + o[1], 3 + o[2])] = 0;
   const VoxelGridDomain masked(s.domain.geometry(), Stencil::full26(), mask);
   const VertexId isolated = masked.vertexAt(4, 4, 3), other = masked.vertexAt(0, 0, 0);
-  const SteinerPropagationResult fromOther = steinerPropagate(masked, s.metric, {other}, withSteinerPoints(2));
+  const LanthierResult fromOther = lanthierPropagate(masked, s.metric, {other}, withSteinerPoints(2));
   EXPECT_EQ(fromOther.distance[isolated], kUnreachable);
   EXPECT_TRUE(std::isfinite(fromOther.distance[masked.vertexAt(8, 7, 6)]));
-  const SteinerPropagationResult fromIsolated = steinerPropagate(masked, s.metric, {isolated}, withSteinerPoints(2));
+  const LanthierResult fromIsolated = lanthierPropagate(masked, s.metric, {isolated}, withSteinerPoints(2));
   EXPECT_EQ(fromIsolated.distance[isolated], 0.0);
   EXPECT_EQ(fromIsolated.finalizedVertices, 1u);
 }
@@ -105,12 +106,12 @@ TEST(SteinerInput, VoxelWithoutADomainNeighbourAlongAnAxisIsReachedOnlyAsASource
 TEST(SteinerStop, MaximumDistanceKeepsEveryDistanceUpToIt) {
   const SmallGrid s;
   const VertexId source = s.domain.vertexAt(2, 3, 3);
-  const SteinerPropagationResult full = steinerPropagate(s.domain, s.metric, {source}, withSteinerPoints(2));
+  const LanthierResult full = lanthierPropagate(s.domain, s.metric, {source}, withSteinerPoints(2));
   std::vector<double> sorted = full.distance;
   std::sort(sorted.begin(), sorted.end());
-  SteinerOptions o = withSteinerPoints(2);
+  LanthierOptions o = withSteinerPoints(2);
   o.maxDistance = sorted[sorted.size() / 2];
-  const SteinerPropagationResult cut = steinerPropagate(s.domain, s.metric, {source}, o);
+  const LanthierResult cut = lanthierPropagate(s.domain, s.metric, {source}, o);
   EXPECT_EQ(cut.termination, Termination::MaxDistanceReached);
   for (VertexId v = 0; v < s.domain.vertexCount(); ++v) {
     if (full.distance[v] <= o.maxDistance)
@@ -123,10 +124,10 @@ TEST(SteinerStop, MaximumDistanceKeepsEveryDistanceUpToIt) {
 TEST(SteinerStop, TargetsStopThePropagationOnceAllAreFinal) {
   const SmallGrid s;
   const VertexId source = s.domain.vertexAt(1, 1, 1);
-  const SteinerPropagationResult full = steinerPropagate(s.domain, s.metric, {source}, withSteinerPoints(2));
-  SteinerOptions o = withSteinerPoints(2);
+  const LanthierResult full = lanthierPropagate(s.domain, s.metric, {source}, withSteinerPoints(2));
+  LanthierOptions o = withSteinerPoints(2);
   o.targets = {s.domain.vertexAt(3, 2, 2), s.domain.vertexAt(2, 4, 1)};
-  const SteinerPropagationResult r = steinerPropagate(s.domain, s.metric, {source}, o);
+  const LanthierResult r = lanthierPropagate(s.domain, s.metric, {source}, o);
   EXPECT_EQ(r.termination, Termination::TargetsReached);
   for (const VertexId t : o.targets) EXPECT_EQ(r.distance[t], full.distance[t]);
   EXPECT_LT(r.finalizedVertices, full.finalizedVertices);
@@ -136,9 +137,9 @@ TEST(SteinerStop, TargetsStopThePropagationOnceAllAreFinal) {
 TEST(SteinerStop, SeveralSourcesGiveTheMinimumOfTheSingleSourceFields) {
   const SmallGrid s;
   const VertexId a = s.domain.vertexAt(1, 1, 1), b = s.domain.vertexAt(7, 6, 5);
-  const SteinerPropagationResult both = steinerPropagate(s.domain, s.metric, {a, b}, withSteinerPoints(2));
-  const SteinerPropagationResult fromA = steinerPropagate(s.domain, s.metric, {a}, withSteinerPoints(2));
-  const SteinerPropagationResult fromB = steinerPropagate(s.domain, s.metric, {b}, withSteinerPoints(2));
+  const LanthierResult both = lanthierPropagate(s.domain, s.metric, {a, b}, withSteinerPoints(2));
+  const LanthierResult fromA = lanthierPropagate(s.domain, s.metric, {a}, withSteinerPoints(2));
+  const LanthierResult fromB = lanthierPropagate(s.domain, s.metric, {b}, withSteinerPoints(2));
   for (VertexId v = 0; v < s.domain.vertexCount(); ++v)
     EXPECT_EQ(both.distance[v], std::min(fromA.distance[v], fromB.distance[v])) << "vertex " << v;
 }
@@ -148,7 +149,7 @@ TEST(SteinerStop, ProgressCallbackCanCancel) {
   // 65536 points, so there are two reports before the end.
   const VoxelGridDomain domain(test::obliqueGrid({14, 14, 14}), Stencil::full26());
   const RiemannianMetric metric = RiemannianMetric::constant(domain.vertexCount(), test::toSymTensor(test::Mat3{}));
-  SteinerOptions o = withSteinerPoints(4);
+  LanthierOptions o = withSteinerPoints(4);
   int calls = 0;
   o.progress = [&calls](const PropagationProgress& p) {
     // Voxels, not graph points: 65536 points hold about 65536 / 61 voxels.
@@ -157,7 +158,7 @@ TEST(SteinerStop, ProgressCallbackCanCancel) {
     EXPECT_LT(p.finalizedVertices, 65536u * (calls + 1) / 20);
     return ++calls < 2;
   };
-  const SteinerPropagationResult r = steinerPropagate(domain, metric, {0}, o);
+  const LanthierResult r = lanthierPropagate(domain, metric, {0}, o);
   EXPECT_EQ(r.termination, Termination::Cancelled);
   EXPECT_EQ(calls, 2);
   EXPECT_LT(r.finalizedVertices, domain.vertexCount());

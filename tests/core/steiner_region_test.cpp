@@ -14,8 +14,10 @@
 
 #include "exact_metrics.hpp"
 #include "scenes.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 #include "wall_scenes.hpp"
 
 namespace stvd {
@@ -24,8 +26,8 @@ namespace {
 using test::Slab;
 using test::WallScene;
 
-SteinerOptions withSteinerPoints(int m) {
-  SteinerOptions o;
+LanthierOptions withSteinerPoints(int m) {
+  LanthierOptions o;
   o.steinerPoints = m;
   return o;
 }
@@ -59,7 +61,7 @@ TEST(SteinerRegion, WallScenesAreNeverCutAndNeverLongerThanDijkstraOnSixNeighbou
       const RiemannianMetric metric = scene.slab.identityMetric();
       const VertexId source = domain.vertexAt(scene.source[0], scene.source[1], scene.source[2]);
       const VertexId target = domain.vertexAt(scene.target[0], scene.target[1], scene.target[2]);
-      const double d = steinerPropagate(domain, metric, {source}, withSteinerPoints(2)).distance[target];
+      const double d = lanthierPropagate(domain, metric, {source}, withSteinerPoints(2)).distance[target];
       const double dijkstra6 = dijkstra(domain, metric, {source}).distance[target];
       const double exact = scene.exact(c);
       std::printf("[ measured ] %s, connectivity %s: Lanthier M = 2 %.3f mm, exact %.3f, Dijkstra-6 %.3f\n",
@@ -105,7 +107,7 @@ TEST(SteinerRegion, ReachesTheSameVoxelsAsDijkstraAndStvdAndIsNeverLongerThanDij
       const PropagationResult d26 = dijkstra(grid26, metric, {source});
       const PropagationResult stvd = propagate(grid26, metric, {source});
       const PropagationResult d6 = dijkstra(grid6, metric, {source});
-      const SteinerPropagationResult lanthier = steinerPropagate(grid26, metric, {source}, withSteinerPoints(1));
+      const LanthierResult lanthier = lanthierPropagate(grid26, metric, {source}, withSteinerPoints(1));
       std::size_t reached = 0, contactsUsed = 0;
       for (VertexId v = 0; v < grid26.vertexCount(); ++v) {
         const bool r = std::isfinite(d26.distance[v]);
@@ -164,9 +166,9 @@ TEST(SteinerRegion, EveryPointOfTheRegionAndNoOtherIsReachedFromAllDomainVoxels)
     std::vector<VertexId> sources;
     for (VertexId v = 0; v < domain.vertexCount(); ++v)
       if (domain.contains(v)) sources.push_back(v);
-    SteinerOptions o = withSteinerPoints(m);
+    LanthierOptions o = withSteinerPoints(m);
     o.keepPointDistances = true;
-    const SteinerPropagationResult r = steinerPropagate(domain, anisotropicMetric(domain.vertexCount()), sources, o);
+    const LanthierResult r = lanthierPropagate(domain, anisotropicMetric(domain.vertexCount()), sources, o);
     std::size_t inside = 0;
     for (SteinerPointId p = 0; p < r.graphPoints; ++p) {
       const Vec3d x = domain.geometry().physicalPointToIndex(steinerPointPosition(domain, m, p));
@@ -203,7 +205,7 @@ TEST(SteinerRegion, AOneVoxelThickSheetAndASingleSliceAreSurfaces) {
     const VertexId source = domain.vertexAt(7, 9, layer);
     double previous = INFINITY;
     for (int m : {1, 2, 4}) {
-      const SteinerPropagationResult r = steinerPropagate(domain, metric, {source}, withSteinerPoints(m));
+      const LanthierResult r = lanthierPropagate(domain, metric, {source}, withSteinerPoints(m));
       double sum = 0.0;
       int count = 0;
       for (int j = 0; j < 20; ++j)

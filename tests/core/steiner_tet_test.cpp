@@ -14,8 +14,9 @@
 #include "exact_metrics.hpp"
 #include "relative_error.hpp"
 #include "scenes.hpp"
-#include "stvd/steiner_propagation.hpp"
-#include "stvd/tetrahedral_cells.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/cell_mesh/tetrahedral_cells.hpp"
+#include "stvd/cell_mesh/cell_mesh_lanthier.hpp"
 
 namespace stvd {
 namespace {
@@ -98,9 +99,9 @@ TEST(SteinerTetrahedra, ConstantMetricErrorFallsWithEveryDoublingOfSteinerPoints
   const TetScene& scene = tetScene();
   double previous = std::numeric_limits<double>::infinity();
   for (int m : {1, 2, 4, 8}) {
-    SteinerOptions o;
+    LanthierOptions o;
     o.steinerPoints = m;
-    const SteinerPropagationResult r = steinerPropagate(scene.cells, scene.metric, {scene.source}, o);
+    const LanthierResult r = lanthierPropagate(scene.cells, scene.metric, {scene.source}, o);
     EXPECT_EQ(r.termination, Termination::Completed);
     RelativeErrors e;
     for (VertexId v = 0; v < scene.cells.vertexCount(); ++v)
@@ -120,10 +121,10 @@ TEST(SteinerTetrahedra, ConstantMetricErrorFallsWithEveryDoublingOfSteinerPoints
 TEST(SteinerTetrahedra, SteinerPointFieldHoldsTheDistanceAtEachPointsPosition) {
   const TetScene& scene = tetScene();
   const int m = 3;
-  SteinerOptions o;
+  LanthierOptions o;
   o.steinerPoints = m;
   o.keepPointDistances = true;
-  const SteinerPropagationResult r = steinerPropagate(scene.cells, scene.metric, {scene.source}, o);
+  const LanthierResult r = lanthierPropagate(scene.cells, scene.metric, {scene.source}, o);
   ASSERT_EQ(r.graphPoints, scene.cells.vertexCount() + 3 * scene.cells.edges().size() +
                                3 * scene.cells.faces().size());
   RelativeErrors e;

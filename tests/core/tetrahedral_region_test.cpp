@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "scenes.hpp"
-#include "stvd/cell_mesh_domain.hpp"
+#include "stvd/cell_mesh/cell_mesh_domain.hpp"
 
 namespace stvd {
 namespace {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "scenes.hpp"
-#include "stvd/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_domain.hpp"
 
 namespace stvd {
 namespace {

@@ -13,9 +13,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "stvd/metric_field.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/voxel_grid_domain.hpp"
+#include "stvd/metric/metric_field.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd::test {
 

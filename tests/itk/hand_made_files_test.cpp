@@ -5,10 +5,11 @@
 #include <gtest/gtest.h>
 
 #include "known_field.hpp"
-#include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/tensor_metric.hpp"
-#include "stvd/itk/tensor_volume.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/imaging/tensor_metric.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd::imaging {
 namespace {

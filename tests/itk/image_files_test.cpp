@@ -1,7 +1,7 @@
-// The files behind an image path (stvd/itk/image_files.hpp): what the tool
+// The files behind an image path (stvd/imaging/image_files.hpp): what the tool
 // compares with its outputs before it reads anything, so it reads headers
 // that nothing has checked yet.
-#include "stvd/itk/image_files.hpp"
+#include "stvd/imaging/image_files.hpp"
 
 #include <fstream>
 #include <string>

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <vector>
 
-#include "stvd/itk/tensor_frames.hpp"
-#include "stvd/stencil.hpp"
+#include "stvd/imaging/tensor_frames.hpp"
+#include "stvd/voxel_grid/stencil.hpp"
 #include "test_support.hpp"
 
 namespace stvd::testing {

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "stvd/itk/metric_sampling.hpp"
+#include "stvd/imaging/metric_sampling.hpp"
 
 namespace stvd::imaging {
 namespace {

@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "stvd/itk/scalar_image.hpp"
-#include "stvd/itk/tensor_frames.hpp"
-#include "stvd/itk/tensor_volume.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
+#include "stvd/imaging/tensor_frames.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
 #include "test_support.hpp"
 
 namespace stvd::imaging {

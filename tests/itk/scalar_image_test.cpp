@@ -4,8 +4,8 @@
 
 #include <fstream>
 
-#include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/scalar_image.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
 #include "test_support.hpp"
 
 namespace stvd::imaging {

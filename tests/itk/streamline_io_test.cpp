@@ -6,8 +6,8 @@
 
 #include <cmath>
 
-#include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/streamline_io.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/imaging/streamline_io.hpp"
 #include "streamline_reading.hpp"
 #include "test_support.hpp"
 

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/streamline_io.hpp"
-#include "stvd/itk/tensor_arrays.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/imaging/streamline_io.hpp"
+#include "stvd/imaging/tensor_arrays.hpp"
 
 namespace stvd::imaging {
 namespace {

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "stvd/itk/tensor_frames.hpp"
+#include "stvd/imaging/tensor_frames.hpp"
 #include "test_support.hpp"
 
 namespace stvd::imaging {

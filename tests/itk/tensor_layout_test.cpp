@@ -2,7 +2,7 @@
 // writer relies on.
 #include <gtest/gtest.h>
 
-#include "stvd/itk/tensor_layout.hpp"
+#include "stvd/imaging/tensor_layout.hpp"
 
 namespace stvd::imaging {
 namespace {

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <limits>
 
-#include "stvd/itk/symmetric_eigen.hpp"
-#include "stvd/itk/tensor_frames.hpp"
-#include "stvd/itk/tensor_metric.hpp"
+#include "stvd/imaging/symmetric_eigen.hpp"
+#include "stvd/imaging/tensor_frames.hpp"
+#include "stvd/imaging/tensor_metric.hpp"
 #include "test_support.hpp"
 
 namespace stvd::imaging {

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <tuple>
 
-#include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/tensor_volume.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
 #include "test_support.hpp"
 
 namespace stvd::imaging {

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "stvd/grid_geometry.hpp"
-#include "stvd/itk/tensor_frames.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
+#include "stvd/imaging/tensor_frames.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd::testing {
@@ -100,16 +100,22 @@ std::string toolExecutable();
 
 /// Runs `stvd` with these arguments (each passed as one word), capturing
 /// stdout and stderr. A run ended by a signal has the exit code the shell
-/// reports, 128 + the signal's number; a run still going after 120 s is
+/// reports, 128 + the signal's number; a run still going after 600 s (a
+/// hang, even on a loaded machine; STVD_TEST_TOOL_TIMEOUT sets another) is
 /// ended (exit code 124).
 ToolRun runTool(const std::vector<std::string>& arguments);
 
 /// Runs a bash script in which "$0" is `stvd` and "$@" these arguments, for
 /// example one that runs the tool under "ulimit -f 0; trap '' XFSZ", which
 /// makes every write beyond the limit fail with EFBIG instead of ending the
-/// tool. The exit code is the script's (124 after 120 s); stdout and stderr
+/// tool. The exit code is the script's (124 after 600 s); stdout and stderr
 /// are captured.
 ToolRun runToolInBash(const std::string& script, const std::vector<std::string>& arguments);
+
+/// The processor time (user and system, seconds) the tool runs of this test
+/// program have used so far, with their children: how much work a run did,
+/// whatever the load of the machine (wall-clock time is not).
+double toolProcessorSeconds();
 /// A tab-separated table with a header line (the TSV files of `stvd path`
 /// and `stvd connectivity`) as rows of named columns.
 std::vector<std::map<std::string, std::string>> readTsv(const std::string& path);

@@ -19,7 +19,7 @@
 #include <map>
 #include <sstream>
 
-#include "stvd/itk/scalar_image.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
 #include "kuhn_cube.hpp"
@@ -30,7 +30,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr int kInput = 3, kDomain = 4;
+constexpr int kUsage = 2, kInput = 3, kDomain = 4;
 
 // The metric of the tests, G = [[2, 0.5, -0.3], [0.5, 1.5, 0.2], [-0.3, 0.2, 3]].
 const double kG[3][3] = {{2.0, 0.5, -0.3}, {0.5, 1.5, 0.2}, {-0.3, 0.2, 3.0}};
@@ -491,6 +491,37 @@ TEST_F(TetMeshTool, TetrahedralizeRejectsAnOpenSurface) {
   addCube(points, faces, {0, 0, 0}, true);
   writeOff(in("open.off"), points, faces);
   expectFailure({"tetrahedralize", in("open.off"), "-o", out("m")}, kInput, "open.off: the surface is not closed");
+}
+
+TEST_F(TetMeshTool, TetrahedralizeRefusesBoundsUnderWhichTetGenNeedNotEndAndBoundsTheMesh) {
+  std::vector<Vec3d> points;
+  std::vector<std::vector<int>> faces;
+  addCube(points, faces, {0, 0, 0});
+  writeOff(in("cube.off"), points, faces);
+  // --quality 1 with --max-volume 0.001 refined the unit cube for ever (1 GB
+  // after two minutes); 1.02 too. Refused before anything is read.
+  for (const std::string quality : {"1", "1.02", "0.9"})
+    expectFailure({"tetrahedralize", in("cube.off"), "-o", out("m"), "--quality", quality, "--max-volume", "0.001"},
+                  kUsage, "--quality must be at least 1.1 (below it TetGen's refinement need not end)");
+  // A volume bound that alone asks for more points than the limit: refused
+  // before meshing (10^9 tetrahedra in the unit cube).
+  expectFailure({"tetrahedralize", in("cube.off"), "-o", out("m"), "--max-volume", "1e-9"}, kInput,
+                "cube.off: a volume bound of 1e-09 asks for at least 1e+09 tetrahedra in the surface's volume of 1, "
+                "about 1.25e+08 points, more than the limit of 2000000 added points");
+  // A mesh that reaches the limit while refining is not a result: TetGen
+  // stops there, and the bounds are not met.
+  expectFailure({"tetrahedralize", in("cube.off"), "-o", out("m"), "--quality", "1.1", "--max-volume", "0.001",
+                 "--max-points", "500"},
+                kInput, "cube.off: the mesh needs more than the limit of 500 added points to meet a radius-edge bound "
+                        "of 1.1 and a volume bound of 0.001 (TetGen stopped there)");
+  expectFailure({"tetrahedralize", in("cube.off"), "-o", out("m"), "--max-points", "0"}, kUsage,
+                "--max-points must be a whole number from 1 to 2147483647");
+  EXPECT_TRUE(listFolder(path("out")).empty());
+  // Within the bounds and the limit the mesh is made (1,489 points).
+  const ToolRun run = runTool({"tetrahedralize", in("cube.off"), "-o", out("m"), "--quality", "1.1", "--max-volume",
+                               "0.001", "--max-points", "5000", "-q"});
+  EXPECT_EQ(run.exitCode, 0) << run.err;
+  EXPECT_EQ(listFolder(path("out")), (std::vector<std::string>{"m.ele", "m.face", "m.node"}));
 }
 
 TEST_F(TetMeshTool, ATetGenCrashBecomesAOneLineErrorWithoutOutput) {

@@ -6,8 +6,8 @@
 #include <fstream>
 
 #include "known_field.hpp"
-#include "stvd/itk/scalar_image.hpp"
-#include "stvd/itk/tensor_volume.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
+#include "stvd/imaging/tensor_volume.hpp"
 #include "test_support.hpp"
 
 namespace stvd::testing {

@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "known_field.hpp"
-#include "stvd/itk/scalar_image.hpp"
-#include "stvd/itk/tensor_volume.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
 #include "test_support.hpp"
 
 namespace stvd::testing {

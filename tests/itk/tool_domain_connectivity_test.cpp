@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "stvd/itk/scalar_image.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
 #include "test_support.hpp"
 
 namespace stvd::testing {

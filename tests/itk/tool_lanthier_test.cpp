@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "known_field.hpp"
-#include "stvd/itk/scalar_image.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
 #include "test_support.hpp"
 
 namespace stvd::testing {

@@ -11,7 +11,7 @@
 #include <map>
 #include <sstream>
 
-#include "stvd/itk/scalar_image.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
 #include "streamline_reading.hpp"
 #include "test_support.hpp"
 

@@ -6,7 +6,7 @@
 
 #include <filesystem>
 
-#include "stvd/itk/tensor_plausibility.hpp"
+#include "stvd/imaging/tensor_plausibility.hpp"
 #include "test_support.hpp"
 
 namespace stvd::testing {

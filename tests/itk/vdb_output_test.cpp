@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "stvd/itk/tensor_volume.hpp"
+#include "stvd/imaging/tensor_volume.hpp"
 #include "stvd/vdb/distance_grid.hpp"
 #include "test_support.hpp"
 

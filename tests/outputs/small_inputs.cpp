@@ -6,7 +6,7 @@
 
 #include "known_field.hpp"
 #include "kuhn_cube.hpp"
-#include "stvd/itk/tensor_volume.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
 

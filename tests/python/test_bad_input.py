@@ -1,6 +1,8 @@
 """Bad input raises ValueError or TypeError with the tool's one-line
-messages, and nothing reachable from Python crashes the interpreter."""
+messages, in the package's keyword names (k, not --k), and nothing reachable
+from Python crashes the interpreter."""
 
+import re
 import subprocess
 import sys
 import textwrap
@@ -11,6 +13,31 @@ import pytest
 
 import stvd
 from conftest import CC_BODY, DIPY_5D, FSL_6, MASK, tool_message
+
+
+def in_keyword_names(message):
+    """The tool's message as the package words it, by the options'
+    declarations: a flag with one of its values (or its value's name) is
+    keyword=value, a text value quoted (``--method lanthier`` is
+    ``method='lanthier'``, ``--steiner M`` is ``steiner=M``), a switch is
+    keyword=True, any other flag its keyword."""
+    declarations = sorted((d for d in stvd._core.option_declarations() if d["keyword"]),
+                          key=lambda d: -len(d["flag"]))
+
+    def worded(match, declaration):
+        value = match.group(1)
+        if declaration["type"] == "switch":
+            return declaration["keyword"] + ("=False" if declaration["keyword_is_negation"] else "=True")
+        if value is None or (value not in declaration["choices"] and value != declaration["value_name"]):
+            return declaration["keyword"] + (match.group(0)[len(declaration["flag"]):] if value else "")
+        quoted = (declaration["type"] in ("choice", "text") and not declaration["keyword_takes_number"]
+                  and value != declaration["value_name"])
+        return f"{declaration['keyword']}={quoted and repr(value) or value}"
+
+    for declaration in declarations:
+        pattern = re.escape(declaration["flag"]) + r"(?![\w-])(?: ([\w.:-]+?)(?=[,;:)]?(?:\s|$)))?"
+        message = re.sub(pattern, lambda match, d=declaration: worded(match, d), message)
+    return message
 
 
 def message_of(error_type, call):
@@ -43,9 +70,20 @@ def message_of(error_type, call):
     (["--seed-voxel", "55,54,15", "--domain-connectivity", "26", "--stencil", "18"],
      dict(seeds=CC_BODY, domain_connectivity=26, stencil="18")),
 ])
-def test_messages_are_the_tools(tmp_path, tool_options, keywords):
-    expected = tool_message("distance", DIPY_5D, "-o", tmp_path / "d.nii.gz", *tool_options)
+def test_messages_are_the_tools_in_keyword_names(tmp_path, tool_options, keywords):
+    expected = in_keyword_names(tool_message("distance", DIPY_5D, "-o", tmp_path / "d.nii.gz", *tool_options))
     assert message_of(ValueError, lambda: stvd.distance(str(DIPY_5D), **keywords)) == expected
+    assert "--" not in expected
+
+
+def test_the_keyword_wording_of_the_tools_messages():
+    assert in_keyword_names("--k must be between 1 and 16") == "k must be between 1 and 16"
+    assert in_keyword_names("--method lanthier needs --steiner M, the Steiner points per cube edge") == (
+        "method='lanthier' needs steiner=M, the Steiner points per cube edge")
+    assert in_keyword_names("use --stencil 26 or larger; --domain-connectivity 18 joins") == (
+        "use stencil='26' or larger; domain_connectivity=18 joins")
+    assert in_keyword_names("or go on with --accept-implausible-tensors") == (
+        "or go on with accept_implausible_tensors=True")
 
 
 def test_a_seed_outside_the_domain_says_why():
@@ -89,7 +127,7 @@ def test_seeds_masks_and_labels_of_the_wrong_kind(dipy_image):
     assert message_of(ValueError, lambda: stvd.distance(dipy_image, seed_points=[(np.nan, 0, 0)])) == (
         "seed_points: a point is not finite")
     assert message_of(ValueError, lambda: stvd.distance(dipy_image)) == (
-        "no seed: add --seed-voxel I,J,K, --seed-point X,Y,Z or --seeds LABELS")
+        "no seed: add seeds=, seed_points= or seed_labels=")
     assert message_of(ValueError, lambda: stvd.distance(dipy_image, CC_BODY, mask=np.ones((10, 10, 10)))) == (
         f"mask: the mask is on another grid than {DIPY_5D} (size 10x10x10 differs from 112x112x32)")
     shifted = nib.Nifti1Image(np.ones(dipy_image.shape[:3], np.uint8), dipy_image.affine + np.diag([0, 0, 0, 0]))
@@ -108,16 +146,16 @@ def test_seeds_masks_and_labels_of_the_wrong_kind(dipy_image):
 def test_paths_and_connectivity_refuse_what_the_tool_refuses(tmp_path, dipy_image):
     lanthier = stvd.propagate(dipy_image, CC_BODY, method="lanthier", steiner=1, max_distance=5)
     assert message_of(ValueError, lambda: stvd.trace_paths(lanthier, (56, 54, 15))) == (
-        "--method lanthier gives distances but no predecessors, which paths need; use stvd or dijkstra")
+        "method='lanthier' gives distances but no predecessors, which paths need; use stvd or dijkstra")
     result = stvd.propagate(dipy_image, CC_BODY, max_distance=5)
     assert message_of(ValueError, lambda: stvd.trace_paths(result, (66, 46, 20))) == (
         f"{DIPY_5D}: target voxel (66, 46, 20) is not reachable from the seeds (no path inside the domain "
         "connects them)")
     assert message_of(ValueError, lambda: stvd.trace_paths(result)) == (
-        "no target: add --target-voxel I,J,K, --target-point X,Y,Z or --targets LABELS")
+        "no target: add targets=, target_points= or target_labels=")
     labels = np.zeros(dipy_image.shape[:3], np.float32)
     labels[55, 54, 15] = 1.5
-    # The rule and words of the tool's label reader (stvd/itk/label_values.hpp).
+    # The rule and words of the tool's label reader (stvd/imaging/label_values.hpp).
     assert message_of(ValueError, lambda: stvd.connectivity(result, labels)) == (
         "labels: voxel (55, 54, 15) holds 1.5, which is not an integer (a label image holds integer labels)")
     labels[55, 54, 15] = 1

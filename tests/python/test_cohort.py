@@ -8,7 +8,9 @@ import json
 import os
 import pathlib
 import shutil
+import signal
 import subprocess
+import sys
 
 import nibabel as nib
 import numpy as np
@@ -20,6 +22,19 @@ from conftest import TOOL, run_tool
 from synthetic_cohort import make_cohort
 
 SUBJECTS = 7  # base, flipped, seed_outside, s02..s04, corrupt
+
+# A writer killed (SIGKILL) while it stages argv[1]: it leaves its staging
+# folder, with the record of its process, behind.
+KILLED_WRITER = """
+import os, signal, sys
+import stvd
+out = stvd.OutputFiles({"output": sys.argv[1]})
+def write(staging):
+    with open(staging, "wb") as file:
+        file.write(b"half")
+    os.kill(os.getpid(), signal.SIGKILL)
+out.write(sys.argv[1], write)
+"""
 BAD = {"corrupt", "seed_outside"}
 
 
@@ -118,7 +133,7 @@ def test_every_good_subject_has_a_qc_page_and_the_index_lists_all_in_the_manifes
         if row["subject"] in BAD:
             assert html.escape(row["error"]) in index
         else:
-            assert f'href="{row["subject"]}/report.html"' in index
+            assert f'href="./{row["subject"]}/report.html"' in index
 
 
 def test_the_same_brain_under_a_flipped_header_gives_the_same_geodesic_distances(serial):
@@ -172,15 +187,22 @@ def test_a_second_run_computes_only_what_is_missing_or_failed(cohort, tmp_path):
     assert (outdir / "cohort.tsv").read_text() == table
 
     # A missing output, a repaired subject: computed again, now complete;
-    # what a worker killed while it wrote left there is removed.
+    # what a writer killed while it wrote left there is removed (a staging
+    # folder with the record of a process that is gone), and a folder named
+    # like one that no run of ours made is not.
     (outdir / "s03" / "distance_CST_L.nii.gz").unlink()
-    leftover = outdir / "s03" / ".stvd-staging-99999999-0"
-    leftover.mkdir()
-    (leftover / "distance_CST_L.nii.gz").write_bytes(b"half")
+    killed = subprocess.run([sys.executable, "-c", KILLED_WRITER, str(outdir / "s03" / "distance_CST_L.nii.gz")],
+                            capture_output=True)
+    assert killed.returncode == -signal.SIGKILL, killed.stderr
+    [leftover] = [p for p in (outdir / "s03").iterdir() if p.name.startswith(".stvd-staging-")]
+    someone = outdir / "s03" / ".stvd-staging-99999999-0"
+    someone.mkdir()
+    (someone / "notes.txt").write_text("not stvd's")
     shutil.copy(data / "base" / "tensors.nii.gz", data / "corrupt" / "tensors.nii.gz")
     third = stvd.cohort.run(manifest, outdir, serial=True, report=False)
     assert set(third.computed) == {"s03", "corrupt", "seed_outside"} and third.failed == ["seed_outside"]
     assert (outdir / "s03" / "distance_CST_L.nii.gz").is_file() and not leftover.exists()
+    assert (someone / "notes.txt").read_text() == "not stvd's"
     assert (outdir / "corrupt" / "connectivity.tsv").read_bytes() == (outdir / "base" / "connectivity.tsv").read_bytes()
     assert not (outdir / "corrupt" / "error.txt").exists()
 

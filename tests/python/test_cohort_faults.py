@@ -19,6 +19,11 @@ from synthetic_cohort import make_cohort
 from test_cohort import BAD, folder_bytes, qc_pages
 
 
+# A bound for a hang, not a time the test expects: a loaded machine starts
+# interpreters and runs subjects many times slower than a quiet one.
+DEADLINE = 600
+
+
 def start(module, *args, log):
     """A Dask program (the module that `dask-scheduler` or `dask-worker`
     runs, with this test's interpreter and PYTHONPATH)."""
@@ -32,19 +37,23 @@ def dask_cluster(tmp_path):
     end. Yields (address, {name: process})."""
     scheduler_file = tmp_path / "scheduler.json"
     log = open(tmp_path / "cluster.log", "w")
-    processes = {"scheduler": start("distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0",
-                                    "--no-dashboard", "--scheduler-file", scheduler_file, log=log)}
+    # Their HTTP servers too on 127.0.0.1 and a free port: without
+    # --dashboard-address, --no-dashboard still serves on every interface
+    # (the scheduler on port 8787, which another test run may hold).
+    http = ("--no-dashboard", "--dashboard-address", "127.0.0.1:0")
+    processes = {"scheduler": start("distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0", *http,
+                                    "--scheduler-file", scheduler_file, log=log)}
     try:
-        deadline = time.monotonic() + 60
+        deadline = time.monotonic() + DEADLINE
         while not scheduler_file.exists():
             assert time.monotonic() < deadline, "the scheduler did not start"
             time.sleep(0.1)
         for name in ("victim", "survivor"):
             processes[name] = start("distributed.cli.dask_worker", "--scheduler-file", scheduler_file,
-                                    "--name", name, "--nthreads", "1", "--no-nanny", "--host", "127.0.0.1",
-                                    "--no-dashboard", log=log)
-        with Client(scheduler_file=str(scheduler_file), timeout="60s") as client:
-            client.wait_for_workers(2, timeout=60)
+                                    "--name", name, "--nthreads", "1", "--no-nanny", "--host", "127.0.0.1", *http,
+                                    log=log)
+        with Client(scheduler_file=str(scheduler_file), timeout=f"{DEADLINE}s") as client:
+            client.wait_for_workers(2, timeout=DEADLINE)
             yield client, processes
     finally:
         for process in processes.values():
@@ -52,7 +61,7 @@ def dask_cluster(tmp_path):
                 process.terminate()
         for process in processes.values():
             try:
-                process.wait(timeout=20)
+                process.wait(timeout=DEADLINE)
             except subprocess.TimeoutExpired:
                 process.kill()
                 process.wait()
@@ -85,7 +94,7 @@ def test_a_worker_killed_mid_task_loses_nothing_and_duplicates_nothing(dask_clus
         # Kill the victim while it computes a good subject, after at least
         # one subject is complete: mid-run and mid-task.
         good = [s["subject"] for s in serial.subjects if s["subject"] not in BAD]
-        killed, deadline = None, time.monotonic() + 120
+        killed, deadline = None, time.monotonic() + DEADLINE
         while killed is None:
             assert run.poll() is None, "the run ended before a worker could be killed"
             assert time.monotonic() < deadline
@@ -94,12 +103,12 @@ def test_a_worker_killed_mid_task_loses_nothing_and_duplicates_nothing(dask_clus
             if killed is None:
                 time.sleep(0.02)
         os.kill(processes["victim"].pid, signal.SIGKILL)
-        stdout, stderr = run.communicate(timeout=300)
+        stdout, stderr = run.communicate(timeout=DEADLINE)
     finally:
         if run.poll() is None:
             run.kill()
             run.wait()
-    assert processes["victim"].wait(timeout=20) == -signal.SIGKILL
+    assert processes["victim"].wait(timeout=DEADLINE) == -signal.SIGKILL
 
     assert run.returncode == 3, stderr  # the two bad subjects
     assert "10 subjects: 10 computed on 2 Dask workers" in stdout

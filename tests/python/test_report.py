@@ -7,6 +7,7 @@ import io
 import os
 import re
 import subprocess
+import sys
 
 import nibabel as nib
 import numpy as np
@@ -175,7 +176,7 @@ def test_cohort_index_from_entries_and_from_a_folder(tmp_path):
     counts = stvd.report.cohort_index_from_folder(tmp_path)
     assert counts == {"warnings": 2, "missing": 1}
     text = (tmp_path / "index.html").read_text()
-    assert text.count("<a href=\"sub-01/report.html\">") == 2  # the name and the thumbnail
+    assert text.count("<a href=\"./sub-01/report.html\">") == 2  # the name and the thumbnail
     assert "3 subjects: 1 missing, 2 warnings." in text
     # The cohort run's form: entries with a failed subject and its error.
     entries = stvd.report.cohort_entries_from_folder(tmp_path)[:2]
@@ -197,14 +198,24 @@ def test_an_output_is_never_an_input(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["d.nii.gz", "link.html", "report.html"]
 
 
+def interpreter_with(folder, files):
+    """The environment of a tool run whose report uses an interpreter
+    (STVD_PYTHON) with ``files`` (name: text) in its own site packages: a
+    virtual environment that sees the system's packages too. (PYTHONPATH
+    would not do: the tool runs Python isolated from it.)"""
+    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", "--without-pip", str(folder)], check=True)
+    site = next(folder.glob("lib/python3*/site-packages"))
+    for name, text in files.items():
+        (site / name).parent.mkdir(parents=True, exist_ok=True)
+        (site / name).write_text(text)
+    return dict(os.environ, STVD_PYTHON=str(folder / "bin" / "python3"))
+
+
 def test_what_python_says_while_importing_does_not_stop_the_report(tmp_path):
     # matplotlib's first run on a machine says on stderr that it builds its
     # font cache; the tool waits for the child's "ready" past such lines.
-    site = tmp_path / "site"
-    site.mkdir()
-    (site / "sitecustomize.py").write_text(
-        "import sys\nprint('Matplotlib is building the font cache; this may take a moment.', file=sys.stderr)\n")
-    environment = dict(os.environ, PYTHONPATH=str(site))
+    environment = interpreter_with(tmp_path / "python", {"sitecustomize.py": (
+        "import sys\nprint('Matplotlib is building the font cache; this may take a moment.', file=sys.stderr)\n")})
     process = subprocess.run([str(TOOL), "distance", str(DIPY_5D), "--seed-voxel", "55,54,15", "-o",
                               str(tmp_path / "d.nii.gz"), "-q", "--report", str(tmp_path / "r.html")],
                              capture_output=True, text=True, env=environment)
@@ -213,15 +224,13 @@ def test_what_python_says_while_importing_does_not_stop_the_report(tmp_path):
 
 
 def test_without_matplotlib_nothing_is_written(tmp_path):
-    # A matplotlib that cannot be imported comes first on the path.
-    fake = tmp_path / "fake" / "matplotlib"
-    fake.mkdir(parents=True)
-    (fake / "__init__.py").write_text("raise ImportError('no matplotlib here')\n")
-    environment = dict(os.environ, PYTHONPATH=str(tmp_path / "fake"))
+    # The interpreter's matplotlib cannot be imported.
+    environment = interpreter_with(tmp_path / "python", {
+        "matplotlib/__init__.py": "raise ImportError('no matplotlib here')\n"})
     process = subprocess.run([str(TOOL), "distance", str(DIPY_5D), "--seed-voxel", "55,54,15", "-o",
                               str(tmp_path / "d.nii.gz"), "--report", str(tmp_path / "r.html")],
                              capture_output=True, text=True, env=environment)
     assert process.returncode == 1
     assert process.stderr.startswith("stvd: report: the report needs matplotlib (Debian: python3-matplotlib) for ")
     assert process.stderr.count("\n") == 1
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["fake"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["python"]

@@ -29,7 +29,7 @@ def chromium(tmp_path, *arguments):
     process = subprocess.run(
         [browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--no-first-run",
          "--disable-extensions", f"--user-data-dir={tmp_path / 'chromium-profile'}", *arguments],
-        capture_output=True, text=True, timeout=120)
+        capture_output=True, text=True, timeout=600)  # a hang; Chromium starts slowly on a loaded machine
     assert process.returncode == 0, process.stderr[-2000:]
     return process.stdout
 

@@ -1,6 +1,7 @@
 """Calls from Python: the GIL is released while the library computes,
 progress goes to any callable (or a tqdm bar), and a callable can cancel."""
 
+import sys
 import threading
 import time
 
@@ -12,28 +13,40 @@ from conftest import CC_BODY
 
 
 def test_the_gil_is_released_while_the_library_computes(dipy_image):
-    """A Python thread keeps running while another one is in the library: the
-    longest pause between its iterations is a small part of the computation
-    (with the GIL held it would be about half of it: the library lets go
-    only for its two progress reports on this brain)."""
+    """A Python thread runs while another one is in the library, between its
+    two progress reports on this brain. The check counts events, not time:
+    with the switch interval made long, the computing thread gives up the
+    GIL only when the library lets go of it, and the other thread (which
+    gives it up at every turn) can then see that the first report has come
+    and the second not yet. Were the GIL held, it would see that zero
+    times."""
     stvd.distance(dipy_image, CC_BODY)  # warm up
-    finished = threading.Event()
-    took = []
+    phase = ["before"]
+    seen_between = [0]
+    reports = []
 
-    def compute():
-        start = time.perf_counter()
-        stvd.distance(dipy_image, CC_BODY, stencil="98")
-        took.append(time.perf_counter() - start)
-        finished.set()
+    def progress(*report):
+        reports.append(report)
+        phase[0] = "between" if len(reports) == 1 else "after"
 
-    worker = threading.Thread(target=compute)
-    ticks = []
-    worker.start()
-    while not finished.is_set():
-        ticks.append(time.perf_counter())
-    worker.join()
-    longest_pause = np.max(np.diff(ticks))
-    assert longest_pause < 0.2 * took[0], (longest_pause, took[0])
+    def watch():
+        while phase[0] != "done":
+            if phase[0] == "between":
+                seen_between[0] += 1
+            time.sleep(0)  # lets go of the GIL
+
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(100.0)  # no forced hand-over: the GIL moves only when let go
+    watcher = threading.Thread(target=watch)
+    try:
+        watcher.start()
+        stvd.distance(dipy_image, CC_BODY, stencil="98", progress=progress)
+    finally:
+        phase[0] = "done"
+        watcher.join()
+        sys.setswitchinterval(interval)
+    assert len(reports) == 2
+    assert seen_between[0] > 0
 
 
 def test_threads_give_the_same_maps_as_one_after_the_other(dipy_image):

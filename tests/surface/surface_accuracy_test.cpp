@@ -10,9 +10,10 @@
 #include <string>
 
 #include "../core/relative_error.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/surface_domain.hpp"
-#include "stvd/surface_metrics.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/surface/surface_domain.hpp"
+#include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
 #include "surface_meshes.hpp"
 
 namespace stvd::test {

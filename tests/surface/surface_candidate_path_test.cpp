@@ -12,10 +12,11 @@
 #include <vector>
 
 #include "../core/relative_error.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/surface_candidate_path.hpp"
-#include "stvd/surface_domain.hpp"
-#include "stvd/surface_metrics.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/surface/surface_candidate_path.hpp"
+#include "stvd/surface/surface_domain.hpp"
+#include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
 #include "surface_meshes.hpp"
 
 namespace stvd::test {

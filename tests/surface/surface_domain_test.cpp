@@ -6,9 +6,10 @@
 #include <cmath>
 #include <string>
 
-#include "stvd/propagation.hpp"
-#include "stvd/surface_domain.hpp"
-#include "stvd/surface_metrics.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/surface/surface_domain.hpp"
+#include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
 #include "surface_meshes.hpp"
 
 namespace stvd::test {

@@ -18,10 +18,12 @@
 #include <vector>
 
 #include "../core/relative_error.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/surface_io/surface_mesh_io.hpp"
-#include "stvd/surface_metrics.hpp"
+#include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
+#include "stvd/surface/surface_lanthier.hpp"
 
 namespace stvd::test {
 namespace {
@@ -91,9 +93,9 @@ RelativeErrors dijkstraErrors(const Scene& s, const std::string& label) {
 }
 
 RelativeErrors lanthierErrors(const Scene& s, const std::string& label, int m) {
-  SteinerOptions o;
+  LanthierOptions o;
   o.steinerPoints = m;
-  const RelativeErrors e = errorsOf(s, steinerPropagate(s.surface, s.metric, {s.source}, o).distance);
+  const RelativeErrors e = errorsOf(s, lanthierPropagate(s.surface, s.metric, {s.source}, o).distance);
   reportMeasurement(label + ", Lanthier M=" + std::to_string(m), e);
   return e;
 }
@@ -187,9 +189,9 @@ TEST_P(RealMeshUnderTheCurvatureMetric, StaysAboveLanthierWithSixteenSteinerPoin
   for (const double gamma : {10.0, 20.0}) {
     const RiemannianMetric metric = curvatureMetric(surface, gamma);
     const std::string label = std::string(name) + ", curvature metric " + std::to_string(int(gamma));
-    SteinerOptions lanthier;
+    LanthierOptions lanthier;
     lanthier.steinerPoints = 16;
-    const Scene s{surface, metric, 0, steinerPropagate(surface, metric, {0}, lanthier).distance};
+    const Scene s{surface, metric, 0, lanthierPropagate(surface, metric, {0}, lanthier).distance};
     const RelativeErrors d = errorsOf(s, dijkstra(surface, metric, {0}).distance);
     reportMeasurement(label + ", Dijkstra", d);
     double previous = d.mean();

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "../core/exact_metrics.hpp"
-#include "stvd/surface_domain.hpp"
+#include "stvd/surface/surface_domain.hpp"
 
 namespace stvd::test {
 

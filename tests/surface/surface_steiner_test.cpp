@@ -16,10 +16,12 @@
 #include <vector>
 
 #include "../core/relative_error.hpp"
-#include "stvd/propagation.hpp"
-#include "stvd/steiner_propagation.hpp"
-#include "stvd/surface_domain.hpp"
-#include "stvd/surface_metrics.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/surface/surface_domain.hpp"
+#include "stvd/surface/surface_metrics.hpp"
+#include "stvd/surface/surface_propagation.hpp"
+#include "stvd/surface/surface_lanthier.hpp"
 #include "surface_meshes.hpp"
 
 namespace stvd::test {
@@ -41,9 +43,9 @@ RelativeErrors errorsOf(const std::vector<double>& distance, const SurfaceDomain
 RelativeErrors steinerErrors(const std::string& label, const SurfaceDomain& surface,
                              const RiemannianMetric& metric, VertexId source, int m,
                              const ExactDistance& exact) {
-  SteinerOptions o;
+  LanthierOptions o;
   o.steinerPoints = m;
-  const SteinerPropagationResult r = steinerPropagate(surface, metric, {source}, o);
+  const LanthierResult r = lanthierPropagate(surface, metric, {source}, o);
   const RelativeErrors e = errorsOf(r.distance, surface, exact);
   reportMeasurement(label + ", Steiner M=" + std::to_string(m), e);
   return e;
@@ -153,10 +155,10 @@ TEST(SurfaceSteiner, OnACurvedHeightFieldTheErrorShrinksWithMAndOvertakesStvd) {
   // STVD: measured mean (max) M=8 0.00106 (0.0067), STVD k=5 0.00198
   // (0.0130), k=8 0.00326 (0.0097).
   constexpr double kFarField = 6.0;
-  SteinerOptions o;
+  LanthierOptions o;
   o.steinerPoints = 8;
   const RelativeErrors farSteiner =
-      errorsOf(steinerPropagate(surface, metric, {source}, o).distance, surface, exact, kFarField);
+      errorsOf(lanthierPropagate(surface, metric, {source}, o).distance, surface, exact, kFarField);
   PropagationOptions p;
   p.chainMeasure = ChainMeasure::ProjectionWeighted;  // the figures quoted are the paper's rule's
   p.k = 5;
@@ -206,10 +208,10 @@ TEST(SurfaceSteiner, InsideOneFaceEveryPointGetsTheNormOfItsStraightSegment) {
   const SurfaceDomain surface(points, faces);
   const SymTensor3 g{4, 1, 0, 2, 0, 3};
   const RiemannianMetric metric = surfaceMetricFromWorldTensors(surface, std::vector<SymTensor3>(4, g));
-  SteinerOptions o;
+  LanthierOptions o;
   o.steinerPoints = 3;
   o.keepPointDistances = true;
-  const SteinerPropagationResult r = steinerPropagate(surface, metric, {0}, o);
+  const LanthierResult r = lanthierPropagate(surface, metric, {0}, o);
   ASSERT_EQ(r.graphPoints, 4u + 4u * 3u);
   ASSERT_EQ(r.pointDistance.size(), r.graphPoints);
   for (SteinerPointId p = 0; p < r.graphPoints; ++p) {
@@ -232,7 +234,7 @@ TEST(SurfaceSteiner, AComponentWithoutASeedStaysUnreached) {
   faces.add({3, 4, 5});
   const SurfaceDomain surface(points, faces);
   const RiemannianMetric metric = isotropicSurfaceMetric(surface);
-  const SteinerPropagationResult r = steinerPropagate(surface, metric, {0}, {});
+  const LanthierResult r = lanthierPropagate(surface, metric, {0}, {});
   EXPECT_NEAR(r.distance[1], 1.0, 1e-6);
   EXPECT_NEAR(r.distance[2], 1.0, 1e-6);
   for (VertexId v = 3; v < 6; ++v) EXPECT_EQ(r.distance[v], kUnreachable) << "vertex " << v;
@@ -245,15 +247,15 @@ TEST(SurfaceSteiner, RefusesBadInputWithAnException) {
   faces.add({0, 1, 2});
   const SurfaceDomain surface(points, faces);
   const RiemannianMetric metric = isotropicSurfaceMetric(surface);
-  SteinerOptions o;
+  LanthierOptions o;
   o.steinerPoints = 0;
-  EXPECT_THROW(steinerPropagate(surface, metric, {0}, o), std::invalid_argument);
+  EXPECT_THROW(lanthierPropagate(surface, metric, {0}, o), std::invalid_argument);
   o.steinerPoints = kMaxSteinerPoints + 1;
-  EXPECT_THROW(steinerPropagate(surface, metric, {0}, o), std::invalid_argument);
-  EXPECT_THROW(steinerPropagate(surface, metric, {3}, {}), std::invalid_argument);
-  EXPECT_THROW(steinerPropagate(surface, metric, {}, {}), std::invalid_argument);
+  EXPECT_THROW(lanthierPropagate(surface, metric, {0}, o), std::invalid_argument);
+  EXPECT_THROW(lanthierPropagate(surface, metric, {3}, {}), std::invalid_argument);
+  EXPECT_THROW(lanthierPropagate(surface, metric, {}, {}), std::invalid_argument);
   const RiemannianMetric tooSmall = RiemannianMetric::constant(2, SymTensor3{1, 0, 0, 1, 0, 1});
-  EXPECT_THROW(steinerPropagate(surface, tooSmall, {0}, {}), std::invalid_argument);
+  EXPECT_THROW(lanthierPropagate(surface, tooSmall, {0}, {}), std::invalid_argument);
 }
 
 }  // namespace

@@ -75,9 +75,46 @@ TEST(SurfaceValidation, BadOptionsAreRejectedBeforeMeshing) {
   TetrahedralizeOptions o;
   o.quality = 0.5;
   EXPECT_THROW(tetrahedralizeSurface(boxSurface({0, 0, 0}, {1, 1, 1}), o, "s"), std::invalid_argument);
+  // Radius-edge bounds under which TetGen's refinement need not end (1.0
+  // and 1.02 never did on this cube with a volume bound of 0.001).
+  for (const double quality : {1.0, 1.02, 1.09}) {
+    o.quality = quality;
+    EXPECT_THROW(tetrahedralizeSurface(boxSurface({0, 0, 0}, {1, 1, 1}), o, "s"), std::invalid_argument) << quality;
+  }
   o.quality = 2.0;
   o.maxVolume = -1.0;
   EXPECT_THROW(tetrahedralizeSurface(boxSurface({0, 0, 0}, {1, 1, 1}), o, "s"), std::invalid_argument);
+  o.maxVolume.reset();
+  o.maxAddedPoints = 0;
+  EXPECT_THROW(tetrahedralizeSurface(boxSurface({0, 0, 0}, {1, 1, 1}), o, "s"), std::invalid_argument);
+}
+
+TEST(SurfaceValidation, AMeshNeedingMorePointsThanTheLimitIsAnError) {
+  TetrahedralizeOptions o;
+  o.quality = kMinimumQuality;
+  o.maxVolume = 0.001;
+  o.maxAddedPoints = 500;  // the mesh takes 1,481
+  try {
+    tetrahedralizeSurface(boxSurface({0, 0, 0}, {1, 1, 1}), o, "s");
+    FAIL() << "no error";
+  } catch (const tetmesh::TetMeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("needs more than the limit of 500 added points"), std::string::npos)
+        << e.what();
+  }
+  o.maxAddedPoints = 5000;
+  EXPECT_GT(tetrahedralizeSurface(boxSurface({0, 0, 0}, {1, 1, 1}), o, "s").vertexCount(), 1000u);
+  // Refused before meshing: a box of 8 x 10^6 cubic units at a volume bound
+  // of 1 asks for 10^6 points at least.
+  o.maxVolume = 1.0;
+  o.maxAddedPoints = 100'000;
+  try {
+    tetrahedralizeSurface(boxSurface({0, 0, 0}, {200, 200, 200}), o, "big");
+    FAIL() << "no error";
+  } catch (const tetmesh::TetMeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("big: a volume bound of 1 asks for at least 8e+06 tetrahedra"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

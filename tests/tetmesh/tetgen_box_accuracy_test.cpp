@@ -22,8 +22,9 @@
 #include "../core/relative_error.hpp"
 #include "../core/scenes.hpp"
 #include "l_shaped_prism_surface.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
 #include "stvd/tetgen/tetrahedralize.hpp"
+#include "stvd/cell_mesh/cell_mesh_propagation.hpp"
 
 namespace stvd {
 namespace {

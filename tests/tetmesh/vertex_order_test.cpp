@@ -10,8 +10,9 @@
 #include <random>
 
 #include "../core/kuhn_lattice.hpp"
-#include "stvd/propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
 #include "stvd/tetmesh/vertex_order.hpp"
+#include "stvd/cell_mesh/cell_mesh_propagation.hpp"
 
 namespace stvd::tetmesh {
 namespace {

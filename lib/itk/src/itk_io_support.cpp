@@ -22,7 +22,8 @@
 #include <stdexcept>
 
 #include "library_messages.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/system/files/regular_file.hpp"
 
 
 namespace stvd::imaging::detail {
@@ -69,18 +70,19 @@ std::string conciseItkMessage(const std::exception& e) {
   return line;
 }
 
-OpenedImage openImageForReading(const std::string& path) {
+OpenedImage openImageForReading(const std::string& path, bool withData) {
   registerImageIoFactories();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw ImageIoError(path, "no such file");
   if (std::filesystem::is_directory(path, ec)) throw ImageIoError(path, "is a folder, not an image file");
-  {
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) throw ImageIoError(path, std::string("cannot open: ") + std::strerror(errno));
-    if (probe.peek() == std::ifstream::traits_type::eof()) throw ImageIoError(path, "the file is empty");
+  try {  // opened without blocking: a FIFO or a device named like an image is refused, not read for ever
+    const files::RegularFile probe(path);
+    if (probe.size() == 0) throw ImageIoError(path, "the file is empty");
+  } catch (const files::InputFileError& e) {
+    throw ImageIoError(path, e.problem());
   }
   OpenedImage image;
-  image.screened = screenImageFile(path);
+  image.screened = screenImageFile(path, withData);
   LibraryMessageCapture quiet;
   image.io = itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::IOFileModeEnum::ReadMode);
   if (!image.io)
@@ -130,12 +132,15 @@ GridGeometry geometryOfAxes(itk::ImageIOBase& io, const std::string& path) {
 }
 
 /// The geometry ITK reads from `header` as a 3D file: a scratch .nii of the
-/// header alone, read for its information only.
+/// header alone, read for its information only. The scratch file is a new
+/// file of a random name (mkstemps: O_EXCL, mode 0600), never one that
+/// someone put in the shared temporary folder under a name we would use.
 GridGeometry threeDimensionalGeometry(const std::vector<unsigned char>& header, const std::string& path) {
-  static std::atomic<unsigned> serial{0};
-  const std::filesystem::path scratch =
-      std::filesystem::temp_directory_path() /
-      ("stvd-header-" + std::to_string(::getpid()) + "-" + std::to_string(serial++) + ".nii");
+  std::error_code ec;
+  std::string pattern = (std::filesystem::temp_directory_path(ec) / "stvd-header-XXXXXX.nii").string();
+  const int fd = ::mkstemps(pattern.data(), 4);
+  if (fd < 0) throw ImageIoError(path, "cannot make a scratch file in the temporary folder: " + std::string(std::strerror(errno)));
+  const std::filesystem::path scratch = pattern;
   struct Remove {
     std::filesystem::path p;
     ~Remove() {
@@ -144,11 +149,17 @@ GridGeometry threeDimensionalGeometry(const std::vector<unsigned char>& header, 
     }
   } remove{scratch};
   {
-    std::ofstream out(scratch, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(header.data()), static_cast<std::streamsize>(header.size()));
-    const char noExtension[4] = {0, 0, 0, 0};
-    out.write(noExtension, 4);
-    if (!out) throw ImageIoError(path, "cannot write a scratch file in " + scratch.parent_path().string());
+    std::string bytes(header.begin(), header.end());
+    bytes.append(4, '\0');  // no extension
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+      const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      done += static_cast<std::size_t>(n);
+    }
+    if (::close(fd) != 0 || done != bytes.size())
+      throw ImageIoError(path, "cannot write a scratch file in " + scratch.parent_path().string());
   }
   LibraryMessageCapture quiet;
   itk::ImageIOBase::Pointer io = itk::ImageIOFactory::CreateImageIO(scratch.c_str(), itk::IOFileModeEnum::ReadMode);

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "image_header_screening.hpp"
-#include "stvd/grid_geometry.hpp"
+#include "stvd/imaging/detail/image_header_screening.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
 
 namespace stvd::imaging::detail {
 
@@ -29,8 +29,10 @@ struct OpenedImage {
 
 /// Screens the header (image_header_screening.hpp), then opens `path` with
 /// the ITK reader for it and reads the header. Throws ImageIoError: missing
-/// or unreadable file, unknown format, bad or hostile header.
-OpenedImage openImageForReading(const std::string& path);
+/// or unreadable file (or not a regular file), unknown format, bad or
+/// hostile header. With `withData` false the screening leaves out what only
+/// reading the data needs (screenImageFile): for the grid alone.
+OpenedImage openImageForReading(const std::string& path, bool withData = true);
 
 /// The geometry of the first three axes, in LPS as ITK reports it. A 2D
 /// image gets a third axis of size 1; a NIfTI file whose third axis ITK

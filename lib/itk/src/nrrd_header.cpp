@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "library_messages.hpp"
-#include "stvd/itk/image_io_error.hpp"
+#include "stvd/errors.hpp"
 
 namespace stvd::imaging::detail {
 namespace {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "stvd/itk/tensor_frames.hpp"
+#include "stvd/imaging/tensor_frames.hpp"
 
 namespace stvd::imaging::detail {
 

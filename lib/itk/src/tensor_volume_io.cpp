@@ -10,12 +10,13 @@
 
 #include "itk_io_support.hpp"
 #include "nrrd_header.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/imaging/detail/image_output.hpp"
+#include "stvd/imaging/image_files.hpp"
+#include "stvd/imaging/mrtrix_image.hpp"
+#include "stvd/imaging/tensor_arrays.hpp"
+#include "stvd/itk/tensor_volume_io.hpp"
 #include "written_files.hpp"
-#include "stvd/itk/image_files.hpp"
-#include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/mrtrix_image.hpp"
-#include "stvd/itk/tensor_arrays.hpp"
-#include "stvd/itk/tensor_volume.hpp"
 
 namespace stvd::imaging {
 namespace {

@@ -7,9 +7,9 @@
 #include <cstring>
 
 #include "itk_io_support.hpp"
-#include "stvd/files/output_transaction.hpp"
-#include "stvd/itk/image_io_error.hpp"
-#include "stvd/itk/mrtrix_image.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/imaging/mrtrix_image.hpp"
+#include "stvd/system/files/output_transaction.hpp"
 
 namespace stvd::imaging::detail {
 namespace {
@@ -98,16 +98,6 @@ void checkWrittenImage(const std::string& path, const std::string& reportedPath,
     checkReadsBack(path, reportedPath, components, [&] { return readNrrdFloats(path); });
   else if (isMrtrixImagePath(path))
     checkReadsBack(path, reportedPath, components, [&] { return readMrtrixImage(path).values; });
-}
-
-void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write) {
-  try {
-    files::writeAtomically(path, write);
-  } catch (const files::OutputError& e) {
-    std::string problem = e.what();
-    problem.erase(0, e.path().size() + 2);
-    throw ImageIoError(path, problem);
-  }
 }
 
 }  // namespace stvd::imaging::detail

@@ -1,6 +1,6 @@
-// Writing files from the imaging adapter: atomically, with its own exception,
-// and checked afterwards where the library underneath does not report a
-// failed write. Private to the adapter.
+// Images written through ITK, checked afterwards where the library
+// underneath does not report a failed write. Private to the ITK file I/O;
+// the atomic writing itself is stvd/imaging/detail/image_output.hpp.
 #pragma once
 
 #include <functional>
@@ -24,9 +24,5 @@ namespace stvd::imaging::detail {
 ///   header and data that disagree).
 void checkWrittenImage(const std::string& path, const std::string& reportedPath,
                        const std::vector<float>& components);
-
-/// Runs `write` as one atomic output at `path` (files::writeAtomically),
-/// with its failures as ImageIoError, the adapter's exception.
-void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write);
 
 }  // namespace stvd::imaging::detail

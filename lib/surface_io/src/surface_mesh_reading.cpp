@@ -11,6 +11,7 @@
 #include <map>
 #include <sstream>
 
+#include "stvd/system/files/regular_file.hpp"
 #include "stvd/surface_io/surface_mesh_io.hpp"
 
 namespace stvd::surface_io {
@@ -25,12 +26,15 @@ std::string lowerExtension(const std::string& path) {
   return e;
 }
 
+/// The whole file: a regular file only (a FIFO or a device such as
+/// /dev/zero named like a mesh would block the reader or never end).
 std::string readAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw MeshFileError(path + ": cannot open the file: " + std::strerror(errno));
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw MeshFileError(path + ": cannot read the file");
-  return text;
+  try {
+    return files::readRegularFile(path);
+  } catch (const files::InputFileError& e) {
+    throw MeshFileError(path + ": " + (e.problem() == "no such file" ? "cannot open the file: No such file or directory"
+                                                                      : e.problem()));
+  }
 }
 
 /// Splits into lines (LF or CRLF); `lines[i]` is line i + 1 of the file.

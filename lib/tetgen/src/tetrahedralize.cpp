@@ -4,13 +4,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
 
+#include <sys/stat.h>
 #include <tetgen.h>
+
+#include "stvd/system/files/regular_file.hpp"
 
 namespace stvd::tetgen {
 namespace {
@@ -54,10 +58,43 @@ SurfaceMesh mergeIdenticalPoints(const SurfaceMesh& s) {
   return merged;
 }
 
+/// The volume a closed surface encloses (the divergence theorem over a fan
+/// of triangles per polygon; either orientation).
+double enclosedVolume(const SurfaceMesh& s) {
+  double sixTimes = 0.0;
+  for (const auto& polygon : s.polygons)
+    for (std::size_t c = 1; c + 1 < polygon.size(); ++c) {
+      const Vec3d a = s.points[polygon[0]], b = s.points[polygon[c]], d = s.points[polygon[c + 1]];
+      const Vec3d n = cross(b, d);
+      sixTimes += a.x * n.x + a.y * n.y + a.z * n.z;
+    }
+  return std::abs(sixTimes) / 6.0;
+}
+
+/// A number for a message: up to six significant digits.
+std::string numberText(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", x);
+  return text;
+}
+
 }  // namespace
 
 SurfaceMesh readSurface(const std::string& path) {
   const std::string e = lowerExtension(path);
+  // TetGen's loaders read a file by its name until its end: a FIFO named
+  // like a surface would block them, a link to /dev/zero never end. Only a
+  // regular file is handed to them (a .poly's points may be in the .node
+  // file next to it).
+  for (const std::string& file : {path, e == ".poly" ? path.substr(0, path.size() - 5) + ".node" : path}) {
+    struct stat status {};
+    if (file != path && ::stat(file.c_str(), &status) != 0) continue;  // no .node: the points are in the .poly
+    try {
+      const files::RegularFile regular(file);
+    } catch (const files::InputFileError& error) {
+      if (error.problem() != "no such file") throw TetMeshError(error.what());
+    }
+  }
   tetgenio io;
   std::vector<char> name(path.begin(), path.end());
   bool ok = false;
@@ -142,12 +179,44 @@ void validateSurface(const SurfaceMesh& surface, const std::string& source) {
 
 tetmesh::TetMesh tetrahedralizeSurface(const SurfaceMesh& surface, const TetrahedralizeOptions& options,
                                        const std::string& source) {
-  if (!(options.quality >= 1.0) || !std::isfinite(options.quality))
-    throw std::invalid_argument("the quality bound (radius-edge ratio) must be at least 1");
+  // When TetGen's quality refinement ends. TetGen 1.5's documentation of
+  // -q: Shewchuk's Delaunay refinement, which it uses, is proven to end with
+  // no tetrahedron's radius-edge ratio above 2.0 provided no angle or
+  // dihedral angle of the input is below 60 degrees; in practice it often
+  // ends for bounds down to about 1.4 or somewhat lower; and a bound too
+  // small (near or below 1) may make TetGen run for ever. Measured with
+  // TetGen 1.5.0 on the unit cube with a volume bound of 0.001: 1.05 ends
+  // after 5,300 points, 1.02 and 1.01 were still adding points after 30 s
+  // (1.0 is the case that never ended). Bounds below kMinimumQuality are
+  // refused; between it and 2 termination is likely but not certain, so
+  // every run is also bounded by the number of points TetGen may add
+  // (-S), which turns a refinement that would not end into an error. The
+  // second value -q can take, a minimum dihedral-angle bound, is never
+  // passed (it stays 0, off): TetGen documents no termination guarantee
+  // for it.
+  if (!(options.quality >= kMinimumQuality) || !std::isfinite(options.quality))
+    throw std::invalid_argument("the quality bound (radius-edge ratio) must be at least " +
+                                numberText(kMinimumQuality) + " (below it TetGen's refinement need not end)");
   if (options.maxVolume && !(*options.maxVolume > 0.0 && std::isfinite(*options.maxVolume)))
     throw std::invalid_argument("the maximum volume must be positive");
+  if (options.maxAddedPoints == 0 || options.maxAddedPoints > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw std::invalid_argument("the limit on added points must be between 1 and " +
+                                std::to_string(std::numeric_limits<int>::max()));
   validateSurface(surface, source);
   const SurfaceMesh s = mergeIdenticalPoints(surface);
+  if (options.maxVolume) {
+    // The volume bound alone asks for at least volume / bound tetrahedra;
+    // TetGen's quality meshes have about six per point (fewer near the
+    // boundary), so eight per point underestimates the points needed.
+    const double volume = enclosedVolume(s);
+    const double tetrahedra = volume / *options.maxVolume;
+    const double points = tetrahedra / 8.0;
+    if (points > static_cast<double>(options.maxAddedPoints))
+      throw TetMeshError(source + ": a volume bound of " + numberText(*options.maxVolume) + " asks for at least " +
+                         numberText(tetrahedra) + " tetrahedra in the surface's volume of " + numberText(volume) +
+                         ", about " + numberText(points) + " points, more than the limit of " +
+                         std::to_string(options.maxAddedPoints) + " added points");
+  }
 
   tetgenio in, out;
   in.firstnumber = 0;
@@ -173,12 +242,14 @@ tetmesh::TetMesh tetrahedralizeSurface(const SurfaceMesh& surface, const Tetrahe
   }
 
   // p: the input is a piecewise linear complex; q: radius-edge bound;
-  // a: volume bound; Q: quiet. TetGen parses a mutable char array.
-  char text[128];
+  // a: volume bound; S: at most this many added points; Q: quiet. TetGen
+  // parses a mutable char array.
+  char text[160];
   if (options.maxVolume)
-    std::snprintf(text, sizeof text, "pq%.17ga%.17gQ", options.quality, *options.maxVolume);
+    std::snprintf(text, sizeof text, "pq%.17ga%.17gS%zuQ", options.quality, *options.maxVolume,
+                  options.maxAddedPoints);
   else
-    std::snprintf(text, sizeof text, "pq%.17gQ", options.quality);
+    std::snprintf(text, sizeof text, "pq%.17gS%zuQ", options.quality, options.maxAddedPoints);
   std::vector<char> switches(text, text + std::char_traits<char>::length(text) + 1);
   try {
     ::tetrahedralize(switches.data(), &in, &out);
@@ -188,6 +259,13 @@ tetmesh::TetMesh tetrahedralizeSurface(const SurfaceMesh& surface, const Tetrahe
   }
   if (out.numberofpoints <= 0 || out.numberoftetrahedra <= 0)
     throw TetMeshError(source + ": TetGen produced no tetrahedra");
+  // At the limit TetGen stops refining and returns a mesh that does not
+  // meet the bounds: not a result.
+  if (static_cast<std::size_t>(out.numberofpoints) >= s.points.size() + options.maxAddedPoints)
+    throw TetMeshError(source + ": the mesh needs more than the limit of " + std::to_string(options.maxAddedPoints) +
+                       " added points to meet a radius-edge bound of " + numberText(options.quality) +
+                       (options.maxVolume ? " and a volume bound of " + numberText(*options.maxVolume) : "") +
+                       " (TetGen stopped there)");
 
   tetmesh::TetMesh mesh;
   mesh.firstIndex = 0;

@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -14,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "stvd/files/file_identity.hpp"
-#include "stvd/files/output_transaction.hpp"
-#include "stvd/files/termination_signals.hpp"
+#include "stvd/system/files/file_identity.hpp"
+#include "stvd/system/files/output_transaction.hpp"
+#include "stvd/system/files/termination_signals.hpp"
 #include "stvd/tetgen/tetrahedralize.hpp"
 #include "stvd/tetmesh/tet_mesh_writers.hpp"
 
@@ -26,7 +27,7 @@ namespace {
 constexpr int kExitOk = 0, kExitInternal = 1, kExitUsage = 2, kExitInput = 3, kExitOutput = 5;
 
 const char* kHelp =
-    "Usage: stvd-tetrahedralize SURFACE -o MESH [--max-volume V] [--quality Q] [-q]\n"
+    "Usage: stvd-tetrahedralize SURFACE -o MESH [--max-volume V] [--quality Q] [--max-points N] [-q]\n"
     "\n"
     "Quality tetrahedral mesh of the interior of a closed surface (.off, .stl, .ply, .poly),\n"
     "through TetGen 1.5 (Hang Si; AGPL-3.0-or-later). Writes MESH.node, MESH.ele and MESH.face\n"
@@ -34,12 +35,16 @@ const char* kHelp =
     "\n"
     "  -o, --output MESH   base name of the output files (required); its folder must exist.\n"
     "  --max-volume V      upper bound on the volume of each tetrahedron (cubic units).\n"
-    "  --quality Q         upper bound on the radius-edge ratio, >= 1 (default 2; 1.2 to 2).\n"
+    "  --quality Q         upper bound on the radius-edge ratio, >= 1.1 (default 2; 1.2 to 2).\n"
+    "                      TetGen's refinement is proven to end for 2; below 1.1 it need not.\n"
+    "  --max-points N      at most N points added to the surface's (default 2000000, about\n"
+    "                      1.1 KB of memory each); a mesh that needs more is an error.\n"
     "  -q, --quiet         no summary on stdout.\n"
     "\n"
     "The surface is validated first (finite coordinates, non-degenerate polygons, closed).\n"
     "Exit codes: 0 success; 1 internal error; 2 bad command line; 3 invalid surface, or TetGen\n"
-    "failed on it; 5 output cannot be written. No partial output is left behind.\n";
+    "failed on it, or the mesh needs more than --max-points; 5 output cannot be written. No\n"
+    "partial output is left behind.\n";
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -104,7 +109,14 @@ stvd::tetgen::SurfaceMesh readSurfaceQuietly(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  stvd::files::removeStagedOutputsOnTerminationSignals("stvd tetrahedralize");
+  // `stvd tetrahedralize` runs this program with this first argument: it
+  // reports an interruption itself, once this process has ended.
+  const bool parentReports = argc > 1 && std::string(argv[1]) == "--interruptions-reported-by-parent";
+  stvd::files::removeStagedOutputsOnTerminationSignals(parentReports ? "" : "stvd tetrahedralize");
+  if (parentReports) {
+    --argc;
+    ++argv;
+  }
   std::string input, output;
   stvd::tetgen::TetrahedralizeOptions options;
   bool quiet = false;
@@ -125,7 +137,13 @@ int main(int argc, char** argv) {
         if (!(*options.maxVolume > 0.0)) throw UsageError("--max-volume must be positive");
       } else if (a == "--quality") {
         options.quality = number(a, value());
-        if (!(options.quality >= 1.0)) throw UsageError("--quality must be at least 1");
+        if (!(options.quality >= stvd::tetgen::kMinimumQuality))
+          throw UsageError("--quality must be at least 1.1 (below it TetGen's refinement need not end)");
+      } else if (a == "--max-points") {
+        const double n = number(a, value());
+        if (!(n >= 1.0 && n <= 2147483647.0 && n == std::floor(n)))
+          throw UsageError("--max-points must be a whole number from 1 to 2147483647");
+        options.maxAddedPoints = static_cast<std::size_t>(n);
       } else if (a == "-q" || a == "--quiet") {
         quiet = true;
       } else if (!a.empty() && a[0] == '-') {

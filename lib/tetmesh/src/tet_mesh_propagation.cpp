@@ -3,11 +3,12 @@
 #include <optional>
 #include <utility>
 
-#include "stvd/cell_mesh_domain.hpp"
-#include "stvd/front_end_errors.hpp"
-#include "stvd/metric_field.hpp"
-#include "stvd/steiner_propagation.hpp"
-#include "stvd/tetrahedral_cells.hpp"
+#include "stvd/cell_mesh/cell_mesh_domain.hpp"
+#include "stvd/cell_mesh/cell_mesh_lanthier.hpp"
+#include "stvd/cell_mesh/tetrahedral_cells.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/metric/metric_field.hpp"
 #include "stvd/tetmesh/vertex_order.hpp"
 
 namespace stvd::tetmesh {
@@ -63,12 +64,12 @@ TetMeshPropagation propagateOverTetrahedra(const std::vector<Vec3d>& points,
       throw InputError(meshName + ": " + e.what());
     }
     out.edgeCount = cells->edges().size();
-    SteinerOptions steiner;
+    LanthierOptions steiner;
     steiner.steinerPoints = choice.steinerPoints;
     steiner.maxDistance = maxDistance;
     steiner.progress = std::move(progress);
     try {
-      result = steinerPropagate(*cells, metric, orderedSources, steiner);
+      result = lanthierPropagate(*cells, metric, orderedSources, steiner);
     } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
       throw OptionError(meshName + ": --method lanthier: " + e.what());
     }

@@ -1,4 +1,6 @@
 // Reader of TetGen's .node, .ele and .face files.
+#include <sys/stat.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -7,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "stvd/system/files/regular_file.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
 
 namespace stvd::tetmesh {
@@ -21,8 +24,14 @@ bool endsWith(const std::string& s, const std::string& suffix) {
 class TetGenFile {
  public:
   explicit TetGenFile(std::string path) : path_(std::move(path)) {
-    std::ifstream in(path_);
-    if (!in) throw TetMeshError(path_ + ": cannot open the file");
+    // A regular file only: a FIFO or a device named like a mesh file would
+    // block the reader or never end.
+    std::istringstream in;
+    try {
+      in.str(files::readRegularFile(path_));
+    } catch (const files::InputFileError& e) {
+      throw TetMeshError(path_ + ": cannot open the file" + (e.problem() == "no such file" ? "" : " (" + e.problem() + ")"));
+    }
     std::string line;
     std::size_t number = 0;
     while (std::getline(in, line)) {
@@ -197,7 +206,10 @@ void readFaces(const TetGenFile& f, TetMesh& mesh) {
   }
 }
 
-bool fileExists(const std::string& path) { return std::ifstream(path).good(); }
+bool fileExists(const std::string& path) {
+  struct stat status {};
+  return ::stat(path.c_str(), &status) == 0;  // a FIFO exists too, and is refused when read
+}
 
 }  // namespace
 

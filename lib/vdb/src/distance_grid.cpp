@@ -11,7 +11,7 @@
 #include <mutex>
 #include <stdexcept>
 
-#include "stvd/files/output_transaction.hpp"
+#include "stvd/system/files/output_transaction.hpp"
 
 namespace stvd::vdb {
 namespace {

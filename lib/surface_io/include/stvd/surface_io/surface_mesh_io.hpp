@@ -8,17 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "stvd/surface_domain.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/surface/surface_domain.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd::surface_io {
-
-/// A file that cannot be read as a surface; what() is one line naming the
-/// file and, where it applies, the line or element.
-class MeshFileError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 /// The scalar type a file stores coordinates in (PLY's types).
 enum class ScalarType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,12 +27,21 @@ struct SurfaceMesh {
   std::vector<std::vector<VertexId>> polygons;
 };
 
+/// The smallest radius-edge bound accepted (see tetrahedralize.cpp for why:
+/// below it TetGen's refinement need not end, and on a unit cube it does not).
+inline constexpr double kMinimumQuality = 1.1;
+
 struct TetrahedralizeOptions {
   /// Upper bound on the volume of every tetrahedron (TetGen -a), none when unset.
   std::optional<double> maxVolume;
-  /// Radius-edge ratio bound (TetGen -q), >= 1.0; TetGen's default is 2.0.
-  /// Quality refinement is always on; 1.2 to 2 are usual.
+  /// Radius-edge ratio bound (TetGen -q), >= kMinimumQuality; TetGen's
+  /// default is 2.0. Quality refinement is always on; 1.2 to 2 are usual.
   double quality = 2.0;
+  /// At most this many points added to the surface's (TetGen -S): about
+  /// 1.1 KB of TetGen's memory each, and six tetrahedra. A mesh that would
+  /// need more is an error (TetMeshError), before meshing when the volume
+  /// bound alone asks for more, otherwise when TetGen reaches the limit.
+  std::size_t maxAddedPoints = 2'000'000;
 };
 
 /// Reads a surface with TetGen's loaders: .off, .stl, .ply, .poly (a .poly
@@ -47,7 +57,8 @@ void validateSurface(const SurfaceMesh& surface, const std::string& source);
 
 /// Validates the surface, then tetrahedralizes its interior. The result is
 /// numbered from 0, in TetGen's orientation, with its boundary faces.
-/// Throws tetmesh::TetMeshError for invalid input or when TetGen fails,
+/// Throws tetmesh::TetMeshError for invalid input, when TetGen fails or
+/// when the mesh would need more points than options.maxAddedPoints,
 /// std::invalid_argument for bad options.
 tetmesh::TetMesh tetrahedralizeSurface(const SurfaceMesh& surface, const TetrahedralizeOptions& options,
                                        const std::string& source);

@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "stvd/grid_geometry.hpp"
 #include "stvd/tetmesh/tet_mesh.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
 
 namespace stvd::tetmesh {
 

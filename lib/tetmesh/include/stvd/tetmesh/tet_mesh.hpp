@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "stvd/errors.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd::tetmesh {
@@ -48,13 +49,6 @@ struct TetMesh {
 
 /// Signed volume det(b - a, c - a, d - a) / 6.
 double signedVolume(const Vec3d& a, const Vec3d& b, const Vec3d& c, const Vec3d& d);
-
-/// A file that cannot be read or used. what() is one line naming the file
-/// (and the line, where there is one) and the problem.
-class TetMeshError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 /// How strict the geometric checks are.
 struct TetMeshChecks {

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "stvd/propagation.hpp"
-#include "stvd/propagation_choice.hpp"
+#include "stvd/front_end/propagation_choice.hpp"
+#include "stvd/propagation/propagation.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd::tetmesh {

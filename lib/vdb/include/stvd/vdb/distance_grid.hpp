@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "stvd/files/output_transaction.hpp"
-#include "stvd/grid_geometry.hpp"
+#include "stvd/system/files/output_transaction.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
 
 namespace stvd::vdb {
 
@@ -26,7 +26,7 @@ struct DistanceGridOptions {
 /// its centre in RAS millimetres (the NIfTI/scanner convention; `geometry`
 /// is in LPS as the imaging adapter reads it). The grid carries the
 /// metadata "units" = "mm" and "world_frame" = "RAS". Written atomically
-/// (stvd/files/output_transaction.hpp) and read back before it is moved into
+/// (stvd/system/files/output_transaction.hpp) and read back before it is moved into
 /// place, since OpenVDB does not report a failed write. The file's UUID is
 /// derived from its content, so that the same grid always gives the same
 /// bytes. Throws std::runtime_error (files::OutputError when writing fails)

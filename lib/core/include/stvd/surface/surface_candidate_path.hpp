@@ -1,0 +1,109 @@
+// The path of an STVD candidate on a surface: the straight line across the
+// faces around the predecessor chain, used only when it exists on the
+// surface, and measured face by face. See docs/surfaces.md.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "stvd/propagation/candidate_path.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/surface/surface_domain.hpp"
+
+namespace stvd {
+
+/// On a surface the candidate i of neighbour w (chain c_0 = v, c_1, ...)
+/// is the straight line from w to c_{i-1} through the faces around the
+/// chain vertices c_0 .. c_{i-2} it passes: each of them on one side, the
+/// fan of faces between its two chain edges on that side unfolded with the
+/// faces' true corner angles (no scaling to a full turn). It exists when it
+/// crosses every edge of that strip of faces between its end points (a
+/// line through a convex polygon sequence: the range of directions from w
+/// that cross all edges passed so far, a funnel, must hold the direction to
+/// c_{i-1}); the line may cross the chain between two of its vertices,
+/// which changes the side. Where the funnel holds both sides of a chain
+/// vertex the walk follows both (at most kMaxSides at once) and keeps the
+/// shortest line that exists. So a vertex whose angles on both sides are at
+/// least pi is passed by no line close to it (the funnel cannot hold a fan
+/// wider than pi), and a shortcut through a saddle, where the old 1-ring
+/// rescaling squeezed the angles, is refused.
+///
+/// length(): the length of that line, measured piece by piece in the faces
+/// it crosses, each with its face's tensor (the mean of its corners'
+/// tensors, SurfaceDomain::faceTensors) restricted to the face: so every
+/// distance is d(c_{i-1}) plus the length of a path on the surface under
+/// the face-wise metric, never shorter than the exact geodesic (for the
+/// isotropic metric, the polyhedral distance). Under a constant isotropic
+/// metric the line's length is its unfolded length, computed directly.
+///
+/// measuresWhileChecking(): one walk along the chain finds the lines of all
+/// the candidates of a neighbour, and measuring them after it costs little,
+/// so the propagation measures every candidate when it screens a neighbour
+/// and keeps the shortest, instead of deferring the screen's favourite (on
+/// surfaces the screen, the paper's rule on the rescaled unfolding, ranks
+/// candidates badly where the surface is curved; docs/surfaces.md).
+/// A polygon enters a fan as the triangle of its corner at the fan's
+/// centre (a convex polygon holds it), so lines are refused that a
+/// polygon would hold further from the chain.
+class SurfaceCandidatePath {
+ public:
+  /// Lines are checked and measured for ChainMeasure::Segment only: the
+  /// chain rules measure the chain unfolded with rescaled angles, which a
+  /// real line does not repair, and stay as the paper defines them.
+  SurfaceCandidatePath(const SurfaceDomain& surface, const RiemannianMetric& metric,
+                       const PropagationOptions& options);
+
+  static constexpr bool measuresPaths() { return true; }
+  /// A line's length depends on the chain it was unfolded along: a pending
+  /// candidate is measured through beginChain() and length().
+  static constexpr bool usesPlacedChain() { return true; }
+
+  void beginChain(const VertexId* chain, int count, const Vec3f*) {
+    chain_ = chain;
+    count_ = count;
+    if (!checksLines_) return;
+    // Where each chain vertex has its neighbours along the chain, for
+    // every line walked past it.
+    for (int j = 0; j + 1 < count; ++j) {
+      if (j > 0) previousEntry_[j] = surface_.ringIndex(chain[j], chain[j - 1]);
+      nextEntry_[j] = surface_.ringIndex(chain[j], chain[j + 1]);
+    }
+  }
+  bool mayRefuse() const { return checksLines_; }
+  bool accepts(int i, VertexId w);
+  float length(int i, VertexId w, Vec3f e);
+  bool measuresWhileChecking() const { return checksLines_; }
+
+  /// Most sides followed at once; a walk that would need more keeps the
+  /// first ones (refusing a line is always safe, it only costs accuracy).
+  static constexpr int kMaxSides = 16;
+
+ private:
+  struct Walk;
+  /// The lines from w to every chain vertex c_1 .. c_{count-1} that exist:
+  /// bit i of `valid` for candidate i, its unfolded length, the sides it
+  /// passes the chain vertices on (bit j: c_j counter-clockwise) and where
+  /// c_{i-1} lies in the plane of the walk. One walk along the chain finds
+  /// them all, and the propagation asks for the candidates of one neighbour
+  /// one after the other, so the last walk is kept.
+  struct Lines {
+    VertexId v = kNoVertex, w = kNoVertex;
+    int count = 0;
+    std::uint32_t valid = 0;
+    double length[kMaxMemoryDepth + 1];
+    std::uint32_t sides[kMaxMemoryDepth + 1];
+    double targetX[kMaxMemoryDepth + 1], targetY[kMaxMemoryDepth + 1];
+  };
+  const Lines& lines(VertexId w);
+  void trace(VertexId w, Lines& lines) const;
+  Lines lines_;
+  const SurfaceDomain& surface_;
+  bool checksLines_;
+  std::vector<SymTensor3> faceTensor_;
+  float isotropicScale_ = 0.f;  // sqrt(s) when every tensor is s I, else 0
+  const VertexId* chain_ = nullptr;
+  int count_ = 0;
+  std::uint32_t previousEntry_[kMaxMemoryDepth], nextEntry_[kMaxMemoryDepth];
+};
+
+}  // namespace stvd

@@ -1,0 +1,191 @@
+// Lanthier's method over any cell structure (private to the library):
+// Dijkstra over the implicit graph of the Steiner points, whose neighbours a
+// cell layout (voxel_grid/voxel_grid_steiner_cells.hpp,
+// cell_mesh/tetrahedral_steiner_cells.hpp, surface/surface_steiner_cells.hpp)
+// generates cell by cell, and the checks every domain's entry point makes.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/metric/metric_field.hpp"
+#include "stvd/propagation/detail/front_queue.hpp"
+
+namespace stvd::detail {
+
+/// The boundary points of one cell, seen from one of them (`self`).
+/// Positions are relative to a point of the cell (float is enough: a cell
+/// is small). Point l has id idBase + idOffset[l].
+struct SteinerCellView {
+  const VertexId* corners;
+  int cornerCount;
+  int pointCount;
+  SteinerPointId idBase;
+  const SteinerPointId* idOffset;
+  const Vec3f* position;
+  Vec3f self;
+};
+
+/// Dijkstra over the implicit Steiner graph of `cells`.
+template <class Cells, class Norm>
+class LanthierDijkstra {
+ public:
+  LanthierDijkstra(Cells& cells, const MetricField<Norm>& metric, VertexId vertexCount,
+                  VertexId domainVertexCount, const LanthierOptions& options)
+      : cells_(cells),
+        metric_(metric),
+        options_(options),
+        vertexCount_(vertexCount),
+        domainVertexCount_(domainVertexCount),
+        distance_(cells.pointCount(), kUnreachable),
+        queue_(cells.pointCount()),
+        length_(cells.maxCellPoints()),
+        corner_(cells.maxCellCorners()) {}
+
+  LanthierResult run(const std::vector<VertexId>& sources) {
+    for (const VertexId s : sources) {
+      const SteinerPointId p = cells_.pointOfVertex(s);
+      distance_[p] = 0.0;
+      queue_.pushOrDecrease(p, 0.0);
+    }
+    std::vector<std::uint8_t> isTarget;
+    std::size_t remainingTargets = 0;
+    if (!options_.targets.empty()) {
+      isTarget.assign(vertexCount_, 0);
+      for (const VertexId t : options_.targets) {
+        remainingTargets += isTarget[t] == 0 ? 1 : 0;
+        isTarget[t] = 1;
+      }
+    }
+
+    LanthierResult result;
+    constexpr std::uint64_t kProgressInterval = 1u << 16;
+    // Progress counts original vertices: they are finalised interleaved with
+    // the Steiner points in distance order, and unlike the points they all
+    // lie in the domain.
+    PropagationProgress progress;
+    progress.domainVertices = domainVertexCount_;
+    std::uint64_t finalizedPoints = 0;
+    while (!queue_.empty()) {
+      if (queue_.minKey() > options_.maxDistance) {
+        result.termination = Termination::MaxDistanceReached;
+        break;
+      }
+      const SteinerPointId u = queue_.popMin();
+      ++finalizedPoints;
+      const VertexId v = cells_.vertexOfPoint(u);
+      if (v != kNoVertex) {
+        ++result.finalizedVertices;
+        if (!isTarget.empty() && isTarget[v] && --remainingTargets == 0) {
+          result.termination = Termination::TargetsReached;
+          break;
+        }
+      }
+      if (options_.progress && finalizedPoints % kProgressInterval == 0) {
+        peakBytes_ = std::max(peakBytes_, stateBytes());
+        progress.finalizedVertices = result.finalizedVertices;
+        progress.frontDistance = distance_[u];
+        if (!options_.progress(progress)) {
+          result.termination = Termination::Cancelled;
+          break;
+        }
+      }
+      relax(u);
+    }
+    peakBytes_ = std::max(peakBytes_, stateBytes());
+
+    result.relaxedEdges = relaxed_;
+    result.peakStateBytes = peakBytes_ + isTarget.capacity();
+    result.graphPoints = cells_.pointCount();
+    result.distance.assign(vertexCount_, kUnreachable);
+    result.predecessor.assign(vertexCount_, kNoVertex);
+    for (VertexId w = 0; w < vertexCount_; ++w) {
+      const SteinerPointId p = cells_.pointOfVertex(w);  // kNoVertex: a voxel outside the domain
+      if (p != kNoVertex && queue_.isFinal(p)) result.distance[w] = distance_[p];
+    }
+    if (options_.keepPointDistances) {
+      // Only final points carry a distance.
+      for (std::uint64_t p = 0; p < distance_.size(); ++p)
+        if (!queue_.isFinal(static_cast<SteinerPointId>(p))) distance_[p] = kUnreachable;
+      result.pointDistance = std::move(distance_);
+    }
+    return result;
+  }
+
+ private:
+  std::uint64_t stateBytes() const {
+    return distance_.capacity() * sizeof(double) + queue_.capacityBytes() + length_.capacity() * sizeof(float) +
+           corner_.capacity() * sizeof(corner_[0]);
+  }
+
+  // Every boundary point q of every cell around u gets du + ||x(q) - x(u)||
+  // under the cell's norm. Final points need no test: their distance is at
+  // most du, and no length is negative.
+  STVD_HOT_LOOP void relax(SteinerPointId u) {
+    const double du = distance_[u];
+    float* length = length_.data();
+    cells_.forEachCellAround(u, [&](const SteinerCellView& cell) {
+      // A polygon face may have any number of corners: the scratch is sized
+      // for the largest cell once. A grid's cells are mostly cubes, whose
+      // norm takes a loop of constant length.
+      const typename Norm::VertexParams** corner = corner_.data();
+      auto cellNorm = [&](int count) STVD_ALWAYS_INLINE_LAMBDA {
+        for (int c = 0; c < count; ++c) corner[c] = &metric_[cell.corners[c]];
+        return CellNormRule<Norm>::params(corner, count);
+      };
+      const typename Norm::EdgeParams g = cell.cornerCount == 8 ? cellNorm(8) : cellNorm(cell.cornerCount);
+      const Vec3f* x = cell.position;
+      const Vec3f self = cell.self;
+      const int n = cell.pointCount;
+      STVD_SIMD_LOOP
+      for (int l = 0; l < n; ++l) length[l] = Norm::length(g, x[l].x - self.x, x[l].y - self.y, x[l].z - self.z);
+      for (int l = 0; l < n; ++l) {
+        const SteinerPointId q = cell.idBase + cell.idOffset[l];
+        const double candidate = du + static_cast<double>(length[l]);
+        if (candidate < distance_[q]) {
+          distance_[q] = candidate;
+          queue_.pushOrDecrease(q, candidate);
+        }
+      }
+      relaxed_ += static_cast<std::uint64_t>(n);
+    });
+  }
+
+  Cells& cells_;
+  const MetricField<Norm>& metric_;
+  const LanthierOptions& options_;
+  VertexId vertexCount_, domainVertexCount_;
+  std::vector<double> distance_;
+  FrontQueue queue_;
+  std::vector<float> length_;
+  std::vector<const typename Norm::VertexParams*> corner_;
+  std::uint64_t relaxed_ = 0;
+  std::uint64_t peakBytes_ = 0;
+};
+
+template <class DomainLike, class Norm>
+void validate(const DomainLike& domain, VertexId vertexCount, const MetricField<Norm>& metric,
+              const std::vector<VertexId>& sources, const LanthierOptions& options) {
+  if (metric.size() != vertexCount)
+    throw std::invalid_argument("metric has " + std::to_string(metric.size()) + " vertices but the domain has " +
+                                std::to_string(vertexCount));
+  if (sources.empty()) throw std::invalid_argument("no source vertex given");
+  for (const VertexId s : sources)
+    if (!domain.contains(s))
+      throw std::invalid_argument("source vertex " + std::to_string(s) + " lies outside the domain");
+  for (const VertexId t : options.targets)
+    if (!domain.contains(t))
+      throw std::invalid_argument("target vertex " + std::to_string(t) + " lies outside the domain");
+  if (options.steinerPoints < 1 || options.steinerPoints > kMaxSteinerPoints)
+    throw std::invalid_argument("number of Steiner points per edge M = " + std::to_string(options.steinerPoints) +
+                                " is outside 1.." + std::to_string(kMaxSteinerPoints));
+  if (std::isnan(options.maxDistance)) throw std::invalid_argument("maximum distance is NaN");
+}
+
+}  // namespace stvd::detail

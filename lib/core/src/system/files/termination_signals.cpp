@@ -1,0 +1,165 @@
+#include "stvd/system/files/termination_signals.hpp"
+
+#include <fcntl.h>
+#include <pthread.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <filesystem>
+#include <mutex>
+#include <thread>
+
+#include "process_registry.hpp"
+
+namespace stvd::files {
+namespace {
+
+const int kTerminationSignals[] = {SIGINT, SIGTERM, SIGHUP};
+
+std::string& programNameForMessages() {
+  static std::string name;
+  return name;
+}
+
+/// A duplicate of standard error made when the handling is installed: code
+/// that diverts standard error for a while (the image adapter collects the
+/// messages of the libraries it calls that way) must not swallow the line
+/// that says the run was interrupted.
+int& messageDescriptor() {
+  static int fd = STDERR_FILENO;
+  return fd;
+}
+
+/// The signals the waiting thread handles (blocked in every thread).
+sigset_t& handledSignals() {
+  static sigset_t handled = [] {
+    sigset_t none;
+    sigemptyset(&none);
+    return none;
+  }();
+  return handled;
+}
+
+/// With the registry locked: the children are told to stop and waited for
+/// (without reaping them: the thread that started a child still owns it),
+/// and the staging folders are removed. A child that takes its time (it
+/// removes what it staged, or finishes a commit) is waited for; a second
+/// termination signal meanwhile kills it at once.
+void cleanUp(detail::ProcessRegistry& registry, int signal) {
+  for (const pid_t child : registry.children) ::kill(child, signal);
+  const sigset_t handled = handledSignals();
+  for (const pid_t child : registry.children) {
+    for (;;) {
+      siginfo_t info{};
+      if (::waitid(P_PID, static_cast<id_t>(child), &info, WEXITED | WNOWAIT | WNOHANG) != 0) {
+        if (errno == EINTR) continue;
+        break;  // reaped by its owner meanwhile
+      }
+      if (info.si_pid == child) break;  // ended
+      const timespec tick{0, 20'000'000};
+      if (::sigtimedwait(&handled, nullptr, &tick) > 0)
+        for (const pid_t c : registry.children) ::kill(c, SIGKILL);
+    }
+  }
+  for (const std::string& folder : registry.stagingFolders) {
+    std::error_code ec;
+    std::filesystem::remove_all(folder, ec);
+  }
+  registry.stagingFolders.clear();
+}
+
+[[noreturn]] void endWithLockHeld(int signal, bool report) {
+  const std::string& program = programNameForMessages();
+  if (report && !program.empty()) {
+    const char* name = signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : signal == SIGHUP ? "SIGHUP" : "signal";
+    // On a terminal the line may follow a progress bar: it starts on a
+    // cleared line.
+    const int fd = messageDescriptor();
+    const std::string clear = ::isatty(fd) ? "\r" + std::string(79, ' ') + "\r" : "";
+    const std::string line = clear + program + ": interrupted (" + name + ")\n";
+    (void)!::write(fd, line.data(), line.size());
+  }
+  // The signal's default action ends the process; the parent sees "killed
+  // by the signal", which shells report as 128 + its number.
+  ::signal(signal, SIG_DFL);
+  sigset_t only;
+  sigemptyset(&only);
+  sigaddset(&only, signal);
+  ::pthread_sigmask(SIG_UNBLOCK, &only, nullptr);
+  ::raise(signal);
+  ::_exit(128 + signal);  // not reached
+}
+
+}  // namespace
+
+void handledTerminationSignals(sigset_t& signals) { signals = handledSignals(); }
+
+void removeStagedOutputsOnTerminationSignals(const std::string& programName) {
+  static std::once_flag once;
+  std::call_once(once, [&] {
+    programNameForMessages() = programName;
+    const int duplicate = ::fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 3);
+    if (duplicate >= 0) messageDescriptor() = duplicate;
+    sigset_t handled;
+    sigemptyset(&handled);
+    for (const int s : kTerminationSignals) {
+      struct sigaction current {};
+      if (::sigaction(s, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) continue;
+      sigaddset(&handled, s);
+    }
+    if (sigisemptyset(&handled)) return;
+    handledSignals() = handled;
+    ::pthread_sigmask(SIG_BLOCK, &handled, nullptr);
+    std::thread([handled] {
+      // Named, so that ps -L, a debugger and /proc/PID/task/*/comm show
+      // that the process has taken charge of the signals (the tests wait
+      // for it before they send one).
+      ::pthread_setname_np(::pthread_self(), "stvd-signals");
+      int signal = 0;
+      while (::sigwait(&handled, &signal) != 0) {
+      }
+      detail::ProcessRegistry& registry = detail::processRegistry();
+      registry.mutex.lock();  // held to the end: nothing is staged or committed meanwhile
+      cleanUp(registry, signal);
+      endWithLockHeld(signal, /*report=*/true);
+    }).detach();
+  });
+}
+
+void reportInterruptionsAs(const std::string& programName) {
+  detail::ProcessRegistry& registry = detail::processRegistry();
+  const std::lock_guard<std::mutex> lock(registry.mutex);  // the signal thread reads it with the lock held
+  programNameForMessages() = programName;
+}
+
+void endBySignal(int signal) {
+  detail::ProcessRegistry& registry = detail::processRegistry();
+  registry.mutex.lock();  // held to the end: nothing is staged or committed meanwhile
+  cleanUp(registry, signal);
+  endWithLockHeld(signal, /*report=*/true);
+}
+
+ChildProcessGuard::ChildProcessGuard(pid_t child) : child_(child) {
+  detail::ProcessRegistry& registry = detail::processRegistry();
+  const std::lock_guard<std::mutex> lock(registry.mutex);
+  if (child_ > 0) registry.children.push_back(child_);  // kill(-1) would reach every process
+}
+
+ChildProcessGuard::ChildProcessGuard(const std::function<pid_t()>& start) {
+  detail::ProcessRegistry& registry = detail::processRegistry();
+  const std::lock_guard<std::mutex> lock(registry.mutex);
+  child_ = start();
+  if (child_ > 0) registry.children.push_back(child_);
+}
+
+ChildProcessGuard::~ChildProcessGuard() {
+  detail::ProcessRegistry& registry = detail::processRegistry();
+  const std::lock_guard<std::mutex> lock(registry.mutex);
+  auto& children = registry.children;
+  children.erase(std::remove(children.begin(), children.end(), child_), children.end());
+}
+
+}  // namespace stvd::files
