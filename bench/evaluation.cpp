@@ -18,6 +18,10 @@
 //               STVD without source factoring (the source's reach that of
 //               any ancestor) and with its chain of edges alone (no
 //               any-angle ancestor, as before issue 33).
+//   options     the curved scene (gamma 20) at --size N under the options
+//               of the any-angle ancestors and k: the default, k = 8, 12,
+//               16, two and four ancestors, segment reaches of 12 and 24
+//               steps, all at once; and Dijkstra.
 //   plane       a flat plane under a constant anisotropic metric
 //               (eigenvalues 1 and 16, axes at 30 degrees), regular and
 //               Delaunay triangulations: the surface default (segment
@@ -295,6 +299,39 @@ void convergence(int repeats, int largest) {
   }
 }
 
+/// The options of the any-angle ancestors and k against each other on the
+/// curved scene at n^3 (issue 33's question whether longer memories or
+/// reaches bound the tails): the default, k = 8, 12, 16, two and four
+/// ancestors, segment reaches of 12 and 24 steps, and all of them at once.
+void options(int n, int repeats) {
+  const bench::Scene s = namedScene("curved", n);
+  struct Variant {
+    const char* name;
+    int k, ancestors, reach;  // reach 0: the default
+  };
+  const Variant variants[] = {{"STVD-default", 6, kDefaultAnyAngleAncestors, 0},
+                              {"STVD-k8", 8, kDefaultAnyAngleAncestors, 0},
+                              {"STVD-k12", 12, kDefaultAnyAngleAncestors, 0},
+                              {"STVD-k16", 16, kDefaultAnyAngleAncestors, 0},
+                              {"STVD-2-ancestors", 6, 2, 0},
+                              {"STVD-4-ancestors", 6, 4, 0},
+                              {"STVD-reach-12", 6, kDefaultAnyAngleAncestors, 12},
+                              {"STVD-reach-24", 6, kDefaultAnyAngleAncestors, 24},
+                              {"STVD-k12-4-ancestors-reach-24", 12, 4, 24}};
+  const Measured dijkstra = measure(s.domain, s.metric, s.source, dijkstraOptions(), repeats);
+  const test::RelativeErrors de = s.errorsOf(dijkstra.result);
+  row("options", "curved", s.maxAnisotropy, s.domain, "Dijkstra", 1, &de, dijkstra, farErrorsOf(s, dijkstra.result));
+  for (const Variant& v : variants) {
+    PropagationOptions o;
+    o.k = v.k;
+    o.anyAngleAncestors = v.ancestors;
+    if (v.reach > 0) o.segmentReach = v.reach;
+    const Measured m = measure(s.domain, s.metric, s.source, o, repeats);
+    const test::RelativeErrors e = s.errorsOf(m.result);
+    row("options", "curved", s.maxAnisotropy, s.domain, v.name, v.k, &e, m, farErrorsOf(s, m.result));
+  }
+}
+
 /// The flat plane of issue 33: n x n cells over [0, 10]^2, a constant
 /// metric with eigenvalues 1 and 16, the expensive axis at 30 degrees;
 /// "regular": a grid with one diagonal per cell; "delaunay": the points
@@ -505,7 +542,7 @@ std::vector<double> parseList(const char* text) {
 
 int usage() {
   std::fprintf(stderr,
-               "usage: stvd_evaluation sweep|refinement|convergence|plane|scale|mask|parallel|phantom [--size N] "
+               "usage: stvd_evaluation sweep|refinement|convergence|options|plane|scale|mask|parallel|phantom [--size N] "
                "[--gammas G1,G2,...] [--repeats R] [--steiner-max M] [--no-header] [--scene S --out PREFIX]\n");
   return 2;
 }
@@ -547,6 +584,7 @@ int main(int argc, char** argv) {
   if (experiment == "sweep") sweep(n, gammas, repeats, steinerMax);
   else if (experiment == "refinement") refinement(repeats);
   else if (experiment == "convergence") convergence(repeats, n);
+  else if (experiment == "options") options(n, repeats);
   else if (experiment == "scale") scale(n);
   else if (experiment == "mask") mask(n, repeats);
   else if (experiment == "parallel") return parallel(n, repeats) ? 0 : 3;
