@@ -27,6 +27,7 @@
 #include "stvd/voxel_grid/stencil.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 #include "stvd/system/files/output_destination.hpp"
 #include "stvd/imaging/seed_options.hpp"
 #include "stvd/imaging/tensor_input_options.hpp"
@@ -35,11 +36,11 @@
 #include "surface_distance_command.hpp"
 #include "tet_mesh_commands.hpp"
 
-#ifdef STVD_WITH_VDB_OUTPUT
-#include "stvd/vdb/distance_grid.hpp"
-#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 #include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 #include "stvd/front_end/memory_estimates.hpp"
+
+#ifdef STVD_WITH_VDB_OUTPUT
+#include "stvd/vdb/distance_grid.hpp"
 #endif
 
 namespace stvd::tool {
@@ -141,7 +142,6 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
     usageError(imaging::noSeedMessage(OptionNaming::Flags));
   checkPropagationChoice(o, /*lanthierAllowed=*/true);
-  imaging::checkTensorInputOptions(o.tensor);
   return o;
 }
 
