@@ -123,7 +123,6 @@ PathOptions parsePathOptions(int argc, char** argv) {
   if (o.targetVoxels.empty() && o.targetPoints.empty() && o.targetLabels.empty())
     usageError(imaging::noTargetMessage(OptionNaming::Flags));
   checkPropagationChoice(o, /*lanthierAllowed=*/false);
-  imaging::checkTensorInputOptions(o.tensor);
   return o;
 }
 

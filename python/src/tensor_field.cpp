@@ -36,9 +36,7 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
   if (maxAnisotropy) values.set(option("--max-anisotropy"), *maxAnisotropy);
   if (faThreshold) values.set(option("--fa-threshold"), *faThreshold);
   if (acceptImplausible) values.set(option("--accept-implausible-tensors"), true);
-  const imaging::TensorInputOptions options = imaging::tensorInputOptionsOf(values);
-  imaging::checkTensorInputOptions(options);
-  return options;
+  return imaging::tensorInputOptionsOf(values);
 }
 
 std::string scalarImageName(const py::handle& spec) {

@@ -430,5 +430,15 @@ TEST_F(ToolConnectivity, BadLabelsFailWithTheirExitCodeAndLeaveNoTable) {
   EXPECT_FALSE(std::filesystem::exists(path("table.tsv")));
 }
 
+TEST_F(ToolConnectivity, AnFaThresholdOnMetricTensorsIsRefusedAsByTheOtherCommands) {
+  const auto seeds = seedTable();
+  const std::string two = writeLabels({seeds.at("CC_body").index, seeds.at("CST_L").index}, "two.nii.gz");
+  const ToolRun run = connectivityRun(
+      {"--labels", two, "-o", path("table.tsv"), "--tensor-kind", "metric", "--fa-threshold", "0.2"});
+  EXPECT_EQ(run.exitCode, 2) << run.err;
+  EXPECT_NE(run.err.find("--fa-threshold applies to --tensor-kind diffusion only"), std::string::npos) << run.err;
+  EXPECT_FALSE(std::filesystem::exists(path("table.tsv")));
+}
+
 }  // namespace
 }  // namespace stvd::testing

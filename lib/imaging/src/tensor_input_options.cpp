@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "stvd/imaging/tensor_input.hpp"
 #include "stvd/imaging/tensor_plausibility.hpp"
 
 namespace stvd::imaging {
@@ -167,6 +168,9 @@ TensorInputOptions tensorInputOptionsOf(const OptionValues& values) {
   if (const auto cap = values.number("--max-anisotropy")) options.metric.maxAnisotropy = *cap;
   if (const auto threshold = values.number("--fa-threshold")) options.metric.faThreshold = *threshold;
   if (values.has("--accept-implausible-tensors")) options.acceptImplausible = true;
+  // The combinations are checked where the options are assembled, so that
+  // no front end (command or keyword call) can leave them out.
+  checkTensorInputOptions(options);
   return options;
 }
 
