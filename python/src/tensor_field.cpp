@@ -97,9 +97,11 @@ imaging::ScalarImage scalarImageOf(const py::handle& spec, const GridGeometry& g
   }
   const py::tuple given = spec.cast<py::tuple>();
   imaging::ScalarImage image;
-  image.geometry = arrayGeometry(given, shapeOf(given[0], name), grid, name);
+  // A masked array's masked voxels are 0: outside a mask, in no seed region.
+  const py::object data = splitMaskedArray(given[0]).values;
+  image.geometry = arrayGeometry(given, shapeOf(data, name), grid, name);
   imaging::requireSameGrid(image.geometry, grid, name, subject, referenceName);  // before a lazy array is read
-  image.values = voxelValues(numericArray(given[0], name));
+  image.values = voxelValues(numericArray(data, name));
   return image;
 }
 
@@ -112,9 +114,11 @@ imaging::LabelImage labelImageOf(const py::handle& spec, const GridGeometry& gri
   }
   const py::tuple given = spec.cast<py::tuple>();
   imaging::LabelImage image;
-  image.geometry = arrayGeometry(given, shapeOf(given[0], name), grid, name);
+  // A masked array's masked voxels are 0: in no region.
+  const py::object data = splitMaskedArray(given[0]).values;
+  image.geometry = arrayGeometry(given, shapeOf(data, name), grid, name);
   imaging::requireSameGrid(image.geometry, grid, name, subject, referenceName);  // before a lazy array is read
-  image.labels = voxelLabels(numericArray(given[0], name), name, image.geometry);
+  image.labels = voxelLabels(numericArray(data, name), name, image.geometry);
   return image;
 }
 
@@ -177,7 +181,10 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
                                             const std::optional<std::array<double, 3>>& zooms,
                                             const std::optional<bool>& niftiIntent, const std::string& name,
                                             imaging::TensorInputOptions options, const py::handle& mask) {
-  const py::array array = numericArray(tensors, name);
+  // A masked array: its values where they are not masked, and the voxels
+  // with a masked component outside the domain (as a mask= would leave them).
+  const MaskedSplit split = splitMaskedArray(tensors);
+  const py::array array = numericArray(split.values, name);
   requireFloatingPoint(array, name);
   const py::ssize_t ndim = array.ndim();
   const bool matrices = ndim == 5 && array.shape(3) == 3 && array.shape(4) == 3;
@@ -235,6 +242,16 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
     if (matrices) requireSymmetric(view.data, size, layout.voxelStride, row, last, name);
     field->input.read.volume.tensors = imaging::tensorsFromArray(view.data, size, layout, toLps);
   });
+  if (!split.masked.is_none()) {
+    py::tuple components(ndim - 3);
+    for (py::ssize_t d = 3; d < ndim; ++d) components[d - 3] = py::int_(d);
+    const std::vector<float> maskedVoxels = voxelValues(numericArray(split.masked.attr("any")(components), name));
+    imaging::TensorInput& input = field->input;
+    input.mask.assign(maskedVoxels.size(), 1);
+    for (std::size_t v = 0; v < maskedVoxels.size(); ++v)
+      if (maskedVoxels[v] != 0.f) input.mask[v] = 0;
+    input.maskDescription = "the mask of " + name + " (numpy.ma)";
+  }
   return finishField(std::move(field), mask);
 }
 
