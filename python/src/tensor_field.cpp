@@ -174,6 +174,9 @@ std::shared_ptr<TensorField> fieldFromFile(const std::string& path, imaging::Ten
     py::gil_scoped_release release;
     field->input = imaging::tensorInputOf(imaging::readTensorVolume(path, {options.order, options.frame}), path);
   }
+  field->inputKind = "file";
+  field->inputDescription = path;
+  field->layoutDescription = imaging::tensorFileLayoutName(field->input.read.info.layout);
   return finishField(std::move(field), mask);
 }
 
@@ -199,6 +202,14 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
   auto field = std::make_shared<TensorField>();
   field->name = name;
   field->options = options;
+  // An image's name is its file's (set by the package), or the default.
+  if (niftiIntent) {
+    field->inputKind = "NiBabel image";
+    field->inputDescription = name == "tensors" ? "NiBabel image (not from a file)" : "NiBabel image of " + name;
+  } else {
+    field->inputKind = "array";
+    field->inputDescription = "array of shape " + shapeText(array) + ", " + std::string(py::str(array.dtype()));
+  }
   imaging::TensorFileInfo& info = field->input.read.info;
   info.componentType = array.itemsize() == 4 ? "float" : "double";
   imaging::TensorComponentLayout layout;
@@ -211,6 +222,8 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
     info.order = imaging::TensorOrder::Fsl;  // the upper triangle, row by row
     const py::ssize_t row = array.strides(3) / item;
     layout.componentOffset = {0, last, 2 * last, row + last, row + 2 * last, 2 * row + 2 * last};
+    field->layoutDescription = "(X, Y, Z, 3, 3) array of symmetric matrices";
+    field->matrices = true;
   } else {
     if (!niftiIntent && !options.order)
       throw py::value_error(name + ": an array of six values per voxel does not say its component order; state it "
@@ -219,6 +232,8 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
                                                            : imaging::TensorFileLayout::NiftiSixVolumes;
     info.order = imaging::resolveTensorOrder(name, info.layout, options.order);
     for (int q = 0; q < 6; ++q) layout.componentOffset[q] = q * last;
+    field->layoutDescription = niftiIntent ? imaging::tensorFileLayoutName(info.layout)
+                                           : std::string(ndim == 5 ? "(X, Y, Z, 1, 6)" : "(X, Y, Z, 6)") + " array";
   }
   layout.order = info.order;
   info.frameWasStated = options.frame.has_value();

@@ -22,6 +22,15 @@ namespace py = pybind11;
 struct TensorField {
   /// How the input is named in messages: the path, or "tensors".
   std::string name;
+  /// What came in, for reports (tensor_info): "file", "NiBabel image" or
+  /// "array"; what it was ("the path", "NiBabel image of FILE", "array of
+  /// shape (112, 112, 32, 3, 3), float64"); and its layout as given (a
+  /// file's or image's as the tool names it, an array's by its shape).
+  std::string inputKind = "file";
+  std::string inputDescription;
+  std::string layoutDescription;
+  /// An (X, Y, Z, 3, 3) array: no component order.
+  bool matrices = false;
   imaging::TensorInputOptions options;
   imaging::TensorInput input;
   imaging::MetricVoxelCounts counts;

@@ -372,15 +372,27 @@ void bindVolumes(py::module_& m) {
       .def_property_readonly("tensor_info",
                              [](const TensorField& f) {
                                const imaging::TensorFileInfo& i = f.input.read.info;
+                               const imaging::MetricOptions& metric = f.options.metric;
                                py::dict d;
-                               d["layout"] = imaging::tensorFileLayoutName(i.layout);
-                               d["order"] = imaging::tensorOrderName(i.order);
+                               // What came in and how it was read, as given:
+                               // a QC page states these (stvd.report).
+                               d["input_kind"] = f.inputKind;
+                               d["input"] = f.inputDescription;
+                               d["layout"] = f.layoutDescription;
+                               // 3x3 matrices have no component order.
+                               d["order"] = f.matrices ? py::object(py::none())
+                                                     : py::object(py::str(imaging::tensorOrderName(i.order)));
+                               d["order_was_stated"] = f.options.order.has_value();
                                d["frame"] = imaging::tensorFrameName(i.frame);
                                d["frame_was_stated"] = i.frameWasStated;
                                d["mask"] = f.input.maskDescription;
-                               d["tensor_kind"] = imaging::tensorKindName(f.options.metric.kind);
-                               d["metric_formula"] = imaging::metricFormula(f.options.metric.kind,
-                                                                            f.options.metric.diffusionMetric);
+                               d["tensor_kind"] = imaging::tensorKindName(metric.kind);
+                               d["diffusion_metric"] = imaging::diffusionMetricName(metric.diffusionMetric);
+                               d["metric_formula"] = imaging::metricFormula(metric.kind, metric.diffusionMetric);
+                               const std::optional<double> cap = imaging::anisotropyCap(metric);
+                               d["max_anisotropy"] = cap ? py::object(py::float_(*cap)) : py::object(py::none());
+                               d["fa_threshold"] = metric.faThreshold ? py::object(py::float_(*metric.faThreshold))
+                                                                      : py::object(py::none());
                                return d;
                              })
       .def(

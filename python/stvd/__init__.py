@@ -279,7 +279,9 @@ class Connectivity:
     path), ``straight_mm`` and ``connectivity`` (path_mm / geodesic_mm, the
     measure of Astola, Florack and ter Haar Romeny). NaN on the diagonal and
     where b is not reachable from a. ``labels_left_out``: regions without a
-    voxel in the domain; ``threads``: how many ran."""
+    voxel in the domain; ``threads``: how many ran; ``tensor_info`` and
+    ``voxel_counts``: how the tensors were read and the domain, as on a
+    ``stvd.Propagation``."""
 
     def __init__(self, values):
         for key, value in values.items():
@@ -322,6 +324,10 @@ def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tenso
     with progress_reporter(progress) as reporter:
         values = field.connectivity(spec, threads=threads, progress=reporter.callback,
                                     memory_check=bool(memory_check), **options)
+    # How the tensors were given and read, and the domain: what a QC page of
+    # this result states (stvd.report.write_report).
+    values["tensor_info"] = dict(field.tensor_info)
+    values["voxel_counts"] = dict(field.voxel_counts)
     return Connectivity(values)
 
 

@@ -155,7 +155,7 @@ def reviewer_warnings(content):
             f"{repaired:,} of {_count(voxels.get('domain')):,} domain voxels had their tensors repaired "
             f"({_count(voxels.get('repaired_non_positive')):,} with a non-positive eigenvalue, "
             f"{_count(voxels.get('repaired_anisotropy')):,} beyond the eigenvalue-ratio cap of "
-            f"{page.number_text(parameters.get('max_anisotropy'), 0)}).")
+            f"{_cap_text(parameters.get('max_anisotropy'))}).")
     if _count(voxels.get("no_positive_eigenvalue")):
         warnings.append(f"{_count(voxels['no_positive_eigenvalue']):,} voxels have no positive eigenvalue and are "
                         "outside the domain.")
@@ -189,9 +189,26 @@ def reviewer_warnings(content):
     if layout or order or frame:
         stated = parameters.get("tensor_frame_stated")
         how = "" if stated is None else (" (stated)" if stated else " (the default for this layout: check it)")
-        notes.insert(0, f"Tensors read as {layout or '?'}, component order {order or '?'}, in the {frame or '?'} "
-                        f"frame{how}; metric {parameters.get('metric_formula', '?')}.")
+        if order is None and "3, 3" in str(layout):
+            order_text = "none (3x3 matrices)"
+        else:
+            order_stated = parameters.get("tensor_order_stated")
+            order_text = (order or "?") + ("" if order_stated is None else " (stated)" if order_stated else
+                                           " (from the layout)")
+        cap = ""
+        if "max_anisotropy" in parameters:
+            cap = f"; eigenvalue-ratio cap {_cap_text(parameters['max_anisotropy'])}"
+        notes.insert(0, f"Tensors read as {layout or '?'}, component order {order_text}, in the {frame or '?'} "
+                        f"frame{how}; metric {parameters.get('metric_formula', '?')}{cap}.")
     return warnings, notes
+
+
+def _cap_text(cap):
+    """The eigenvalue-ratio cap as a run had it: a number, or none (metric
+    tensors are taken as given; the tool's statistics write NaN, JSON null)."""
+    if cap is None or (isinstance(cap, float) and cap != cap):
+        return "none (tensors taken as given)"
+    return page.number_text(float(cap), 0)
 
 
 def key_figures(content):
@@ -590,6 +607,16 @@ def write_run_report(output, statistics, *, distance=None, paths=None, paths_tab
 # From Python objects
 
 
+def _tensor_parameters(info):
+    """How the tensors of a run from Python were given and read, as its
+    field recorded it (``tensor_info``): the page states what the run had."""
+    return {"tensor_input": info["input_kind"], "tensor_layout": info["layout"], "tensor_order": info["order"],
+            "tensor_order_stated": info["order_was_stated"], "tensor_frame": info["frame"],
+            "tensor_frame_stated": info["frame_was_stated"], "tensor_kind": info["tensor_kind"],
+            "diffusion_metric": info["diffusion_metric"], "metric_formula": info["metric_formula"],
+            "max_anisotropy": info["max_anisotropy"], "fa_threshold": info["fa_threshold"], "mask": info["mask"]}
+
+
 def _statistics_of_propagation(result, kind, command_line, name):
     counts = dict(result.voxel_counts)
     info = result.tensor_info
@@ -598,10 +625,8 @@ def _statistics_of_propagation(result, kind, command_line, name):
     statistics = {
         "command": kind, "stvd_version": __version__, "command_line": command_line, "input": name,
         "parameters": {"method": result.method, "k": result.k, "chain_measure": result.chain_measure,
-                       "stencil": result.stencil, "tensor_layout": info["layout"], "tensor_order": info["order"],
-                       "tensor_frame": info["frame"], "tensor_frame_stated": info["frame_was_stated"],
-                       "tensor_kind": info["tensor_kind"], "metric_formula": info["metric_formula"],
-                       "mask": info["mask"]},
+                       "stencil": result.stencil, "domain_connectivity": int(result.domain_connectivity),
+                       **_tensor_parameters(info)},
         "seeds": [{"voxel": [int(c) for c in seed]} for seed in np.asarray(result.seeds)[:100]],
         "seed_count": int(len(result.seeds)),
         "label_seeds_left_out": int(result.label_seeds_left_out),
@@ -655,17 +680,21 @@ def write_report(output, result=None, *, paths=None, connectivity=None, labels=N
 
     if result is not None:
         field = result._result.field
-        name = _input_name(tensors) if tensors is not None else field.name
-        statistics = _statistics_of_propagation(result, kind, command_line, name)
-    else:
-        field = tensor_field(tensors, None, None, {})
-        name = _input_name(tensors)
         info = field.tensor_info
-        statistics = {"command": kind, "stvd_version": __version__, "command_line": command_line, "input": name,
-                      "parameters": {"tensor_layout": info["layout"], "tensor_order": info["order"],
-                                     "tensor_frame": info["frame"], "tensor_frame_stated": info["frame_was_stated"],
-                                     "metric_formula": info["metric_formula"]},
-                      "voxels": dict(field.voxel_counts)}
+        statistics = _statistics_of_propagation(result, kind, command_line, info["input"])
+    else:
+        # The grid and FA from the tensors, read as the connectivity run read
+        # them; what the page states about the run is that run's record.
+        info = getattr(connectivity, "tensor_info", None)
+        options = {} if info is None else {"accept_implausible_tensors": True,
+                                           "tensor_order": info["order"] if info["order_was_stated"] else None,
+                                           "tensor_frame": info["frame"] if info["frame_was_stated"] else None,
+                                           "tensor_kind": info["tensor_kind"]}
+        field = tensor_field(tensors, None, None, options)
+        info = info or field.tensor_info
+        statistics = {"command": kind, "stvd_version": __version__, "command_line": command_line,
+                      "input": info["input"], "parameters": _tensor_parameters(info),
+                      "voxels": dict(getattr(connectivity, "voxel_counts", None) or field.voxel_counts)}
     affine, shape = field.affine, field.shape
     if fa is not None:
         fa_data, fa_source = _array_on_grid(fa, "fa", affine, shape).astype(np.float64), "given"
@@ -693,7 +722,9 @@ def write_report(output, result=None, *, paths=None, connectivity=None, labels=N
                                  "left_out": int(getattr(connectivity, "labels_left_out", 0))}
         if labels is not None:
             content.regions = _array_on_grid(labels, "labels", affine, shape).astype(np.int64)
-    subject = subject or _subject_of(name)
+    # Named after the tensors' file; a run on an array is just "run".
+    subject = subject or _subject_of(field.name if field.tensor_info["input_kind"] == "file" or
+                                     field.name != "tensors" else None)
     text, summary = _render(content, subject, convention)
     _write(outputs, output, text)
     return summary

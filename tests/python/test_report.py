@@ -15,7 +15,7 @@ import pytest
 
 import stvd
 import stvd.report
-from conftest import CC_BODY, CST_L, DIPY_5D, MASK, TOOL, run_tool
+from conftest import CC_BODY, CST_L, DIPY_5D, FSL_6, MASK, TOOL, run_tool
 
 FIGURE = re.compile(r"<figure class=\"slice\" data-plane=\"(\w+)\" data-left=\"(\w)\" data-right=\"(\w)\" "
                     r"data-top=\"(\w)\" data-bottom=\"(\w)\">.*?<img src=\"data:image/png;base64,([^\"]+)\"")
@@ -165,6 +165,66 @@ def test_python_objects_give_the_page_of_the_tool(tmp_path):
     tool_summary = stvd.report.cohort_entries_from_folder(tool)[0]
     for key in ("domain_voxels", "repaired_voxels", "reached_percent", "max_distance_mm", "median_distance_mm"):
         assert summary["figures"][key] == tool_summary["figures"][key], key
+
+
+def _note(text):
+    """The page's note on how the tensors were read."""
+    found = re.search(r"Tensors read as [^<]*", text)
+    assert found, "no note on the tensors"
+    return found.group(0)
+
+
+def test_a_page_states_what_the_run_had_from_python_and_from_the_tool(tmp_path):
+    # From Python, a DIPY (3, 3) array was described as "NIfTI six-volume,
+    # component order fsl", its input as `tensors`, and every cap as "n/a".
+    image = nib.load(DIPY_5D)
+    lower = np.asanyarray(image.dataobj)[:, :, :, 0, :]
+    xx, xy, yy, xz, yz, zz = (lower[..., q] for q in range(6))
+    matrices = np.stack([np.stack([xx, xy, xz], -1), np.stack([xy, yy, yz], -1), np.stack([xz, yz, zz], -1)], -2)
+    result = stvd.propagate(matrices, CC_BODY, affine=image.affine, max_anisotropy=50, mask=MASK)
+    stvd.report.write_report(tmp_path / "matrices.html", result, command_line="test")
+    text = (tmp_path / "matrices.html").read_text()
+    assert _note(text) == ("Tensors read as (X, Y, Z, 3, 3) array of symmetric matrices, component order none (3x3 "
+                           "matrices), in the voxel frame (the default for this layout: check it); metric G = (D/MD)^-1; "
+                           "eigenvalue-ratio cap 50.")
+    assert "Input <code>array of shape (112, 112, 32, 3, 3), float32</code>" in text
+    assert "beyond the eigenvalue-ratio cap of 50)" in text
+    assert "n/a" not in text and "six-volume" not in text
+    assert "stvd distance: run" in text  # not named after `tensors`
+
+    # Six components in a stated order, metric tensors (no cap).
+    result = stvd.propagate(lower, CC_BODY, affine=image.affine, tensor_order="lower", tensor_frame="voxel",
+                            accept_implausible_tensors=True, tensor_kind="metric")
+    stvd.report.write_report(tmp_path / "six.html", result, command_line="test")
+    note = _note((tmp_path / "six.html").read_text())
+    assert note.startswith("Tensors read as (X, Y, Z, 6) array, component order lower (stated), in the voxel frame "
+                           "(stated)")
+    assert note.endswith("eigenvalue-ratio cap none (tensors taken as given).")
+
+    # A NiBabel image: its layout, the order its intent fixes, its file.
+    result = stvd.propagate(image, CC_BODY, max_anisotropy=30)
+    stvd.report.write_report(tmp_path / "image.html", result, command_line="test")
+    text = (tmp_path / "image.html").read_text()
+    assert _note(text).startswith("Tensors read as NIfTI 5D SYMMATRIX, component order lower (from the layout)")
+    assert _note(text).endswith("eigenvalue-ratio cap 30.")
+    assert f"Input <code>NiBabel image of {DIPY_5D}</code>" in text
+
+    # A connectivity page: the run's own reading (a six-volume file needs its
+    # order; the page re-read it without and failed), not a new one.
+    regions = np.zeros(image.shape[:3], np.int16)
+    for label, (i, j, k) in ((3, CC_BODY), (5, CST_L)):
+        regions[i - 1:i + 2, j - 1:j + 2, k - 1:k + 2] = label
+    table = stvd.connectivity(FSL_6, regions, tensor_order="fsl", max_anisotropy=40, threads=1)
+    stvd.report.write_report(tmp_path / "connectivity.html", connectivity=table, tensors=FSL_6, command_line="test")
+    text = (tmp_path / "connectivity.html").read_text()
+    assert _note(text).startswith("Tensors read as NIfTI six-volume, component order fsl (stated), in the voxel frame")
+    assert _note(text).endswith("eigenvalue-ratio cap 40.")
+    assert f"Input <code>{FSL_6}</code>" in text
+
+    # The tool's page: the cap it ran with.
+    text = distance_report(tmp_path, DIPY_5D, CC_BODY, "--max-anisotropy", "20")
+    assert _note(text).endswith("eigenvalue-ratio cap 20.")
+    assert "beyond the eigenvalue-ratio cap of 20)" in text
 
 
 def test_cohort_index_from_entries_and_from_a_folder(tmp_path):
