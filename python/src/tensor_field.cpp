@@ -25,7 +25,8 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
                                           const std::optional<std::string>& kind,
                                           const std::optional<std::string>& diffusionMetric,
                                           const std::optional<double>& maxAnisotropy,
-                                          const std::optional<double>& faThreshold, bool acceptImplausible) {
+                                          const std::optional<double>& faThreshold, bool acceptImplausible,
+                                          bool acceptMisaligned) {
   // Checked by the options' declarations, with messages in keyword names.
   OptionValues values(OptionNaming::Keywords);
   const auto option = [](const char* flag) -> const OptionDeclaration& { return imaging::tensorInputOption(flag); };
@@ -36,6 +37,7 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
   if (maxAnisotropy) values.set(option("--max-anisotropy"), *maxAnisotropy);
   if (faThreshold) values.set(option("--fa-threshold"), *faThreshold);
   if (acceptImplausible) values.set(option("--accept-implausible-tensors"), true);
+  if (acceptMisaligned) values.set(option("--accept-misaligned-tensors"), true);
   const imaging::TensorInputOptions options = imaging::tensorInputOptionsOf(values);
   imaging::checkTensorInputOptions(options);
   return options;
@@ -155,7 +157,8 @@ std::shared_ptr<TensorField> finishField(std::shared_ptr<TensorField> field, con
     imaging::addMask(field->input, scalarImageOf(mask, field->geometry(), "the mask is", field->name),
                      scalarImageName(mask), field->name);
   py::gil_scoped_release release;
-  imaging::MetricFromTensors built = imaging::buildCheckedMetric(field->name, field->input, field->options);
+  imaging::MetricFromTensors built =
+      imaging::buildCheckedMetric(field->name, field->input, field->options, &field->frameCheck);
   imaging::requireNonEmptyDomain(field->name, built.counts, !field->input.mask.empty(), field->options.metric);
   field->counts = built.counts;
   field->inDomain = std::move(built.inDomain);

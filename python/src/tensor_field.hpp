@@ -34,6 +34,8 @@ struct TensorField {
   imaging::TensorInputOptions options;
   imaging::TensorInput input;
   imaging::MetricVoxelCounts counts;
+  /// Whether the tensors' frame matches the image axes (tensor_frame_check.hpp).
+  imaging::TensorFrameCheck frameCheck;
   std::vector<std::uint8_t> inDomain;
   RiemannianMetric metric;
 
@@ -53,7 +55,8 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
                                           const std::optional<std::string>& kind,
                                           const std::optional<std::string>& diffusionMetric,
                                           const std::optional<double>& maxAnisotropy,
-                                          const std::optional<double>& faThreshold, bool acceptImplausible = false);
+                                          const std::optional<double>& faThreshold, bool acceptImplausible = false,
+                                          bool acceptMisaligned = false);
 
 /// A scalar image given from Python: a path (read through ITK), or a tuple
 /// (array, affine or None, zooms or None, name); the array may be a lazy

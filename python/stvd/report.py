@@ -686,7 +686,7 @@ def write_report(output, result=None, *, paths=None, connectivity=None, labels=N
         # The grid and FA from the tensors, read as the connectivity run read
         # them; what the page states about the run is that run's record.
         info = getattr(connectivity, "tensor_info", None)
-        options = {} if info is None else {"accept_implausible_tensors": True,
+        options = {} if info is None else {"accept_implausible_tensors": True, "accept_misaligned_tensors": True,
                                            "tensor_order": info["order"] if info["order_was_stated"] else None,
                                            "tensor_frame": info["frame"] if info["frame_was_stated"] else None,
                                            "tensor_kind": info["tensor_kind"]}
