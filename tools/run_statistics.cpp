@@ -42,6 +42,7 @@ void writeParameters(std::ostringstream& j, const RunStatistics& run) {
   j << "    \"tensor_frame_stated\": " << (info.frameWasStated ? "true" : "false") << ",\n";
   j << "    \"mask\": " << jsonString(tensor.maskPath) << ",\n";
   if (!run.labels.empty()) j << "    \"labels\": " << jsonString(run.labels) << ",\n";
+  if (!run.targetLabels.empty()) j << "    \"target_labels\": " << jsonString(run.targetLabels) << ",\n";
   j << "    \"seed_labels\": " << jsonString(run.seedLabels);
   if (run.withUnreachableValue) j << ",\n    \"unreachable_value\": " << jsonNumber(run.unreachableValue);
   j << "\n  },\n";
