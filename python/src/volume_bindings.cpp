@@ -302,9 +302,8 @@ py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py:
 /// The frame check as Python sees it (stvd.check_tensor_frame, tensor_info).
 py::dict frameCheckDict(const imaging::TensorFrameCheck& c) {
   py::dict d;
-  d["verdict"] = c.reason.rfind("not checked", 0) == 0 ? std::string("not checked")
-                                                         : imaging::tensorFrameVerdictName(c.verdict);
-  d["summary"] = c.reason.rfind("not checked", 0) == 0 ? c.reason : imaging::tensorFrameCheckSummary(c);
+  d["verdict"] = imaging::tensorFrameVerdictName(c.verdict);
+  d["summary"] = imaging::tensorFrameCheckSummary(c);
   d["seeds"] = c.seeds;
   d["best"] = imaging::axisTransformText(c.best);
   d["best_words"] = imaging::axisTransformWords(c.best);

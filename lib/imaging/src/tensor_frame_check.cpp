@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "stvd/front_end/number_text.hpp"
 #include "stvd/imaging/tensor_frames.hpp"
@@ -244,6 +245,7 @@ std::string tensorFrameVerdictName(TensorFrameVerdict verdict) {
     case TensorFrameVerdict::Consistent: return "consistent";
     case TensorFrameVerdict::Mismatch: return "mismatch";
     case TensorFrameVerdict::Inconclusive: return "inconclusive";
+    case TensorFrameVerdict::NotChecked: return "not checked";
   }
   return "?";
 }
@@ -302,6 +304,8 @@ std::string tensorFrameCheckSummary(const TensorFrameCheck& c) {
              " times the " + millimetres(c.readMeanMm) + " as read)" + seeds;
     case TensorFrameVerdict::Inconclusive:
       return "inconclusive: " + c.reason + (c.seeds ? seeds : "");
+    case TensorFrameVerdict::NotChecked:
+      return "not checked: " + c.reason;
   }
   return "?";
 }

@@ -84,7 +84,8 @@ MetricFromTensors buildCheckedMetric(const std::string& inputName, const TensorI
     if (check.verdict == TensorFrameVerdict::Mismatch && !options.acceptMisaligned)
       throw InputError(misalignedTensorsMessage(inputName, check, options));
   } else {
-    check.reason = "not checked: metric tensors";
+    check.verdict = TensorFrameVerdict::NotChecked;
+    check.reason = "metric tensors";
   }
   if (frameCheck) *frameCheck = std::move(check);
   return built;

@@ -74,8 +74,10 @@ enum class TensorFrameVerdict {
   Consistent,    ///< the frame as read fits best
   Mismatch,      ///< another frame fits clearly better
   Inconclusive,  ///< too few high-FA voxels, or no frame fits clearly better
+  NotChecked,    ///< not run (metric tensors: their principal direction is the costly one)
 };
-std::string tensorFrameVerdictName(TensorFrameVerdict verdict);  // "consistent", "mismatch", "inconclusive"
+/// "consistent", "mismatch", "inconclusive", "not checked".
+std::string tensorFrameVerdictName(TensorFrameVerdict verdict);
 
 struct TensorFrameTrial {
   AxisTransform transform;

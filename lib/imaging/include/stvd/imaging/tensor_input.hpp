@@ -91,8 +91,7 @@ void addMask(TensorInput& input, const ScalarImage& mask, const std::string& mas
 /// tensor_frame_check.hpp, over the domain), InputError naming the
 /// transform that fits, unless options.acceptMisaligned. An inconclusive
 /// check never stops a run. `frameCheck`, when given, receives the check
-/// (verdict Inconclusive with a reason when it was not run: metric
-/// tensors).
+/// (verdict NotChecked for metric tensors).
 MetricFromTensors buildCheckedMetric(const std::string& inputName, const TensorInput& input,
                                      const TensorInputOptions& options, TensorFrameCheck* frameCheck = nullptr);
 
