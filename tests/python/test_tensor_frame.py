@@ -33,6 +33,15 @@ def test_the_shipped_brain_fits_as_read_from_a_file_an_image_and_an_array():
         assert len(check["mean_length_mm"]) == 24 and check["seeds"] == 2000
 
 
+def test_a_wrong_tensor_frame_that_flips_an_axis_is_detected():
+    # DIPY's voxel-frame components read as RAS (world) ones: for this LAS
+    # brain the same as flipping i (up to its 5.7 degrees of obliquity).
+    check = stvd.check_tensor_frame(DIPY_5D, tensor_frame="world")
+    assert check["verdict"] == "mismatch" and check["best"] == "(-i, j, k)", check["summary"]
+    with pytest.raises(ValueError, match="flipped along i"):
+        stvd.distance(DIPY_5D, CC_BODY, tensor_frame="world")
+
+
 def test_as_closest_canonical_is_detected_and_the_flip_named(canonical):
     # Before: accepted, and distances off by a median 3.6 %, up to 74 %.
     with pytest.raises(ValueError) as caught:
