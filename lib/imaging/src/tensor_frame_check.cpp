@@ -274,7 +274,9 @@ TensorFrameCheck checkTensorFrame(const std::vector<SymTensor3>& tensorsLps, con
   }
   check.readMeanMm = check.trials.front().meanLengthMm;
   std::stable_sort(check.trials.begin(), check.trials.end(),
-                   [](const TensorFrameTrial& a, const TensorFrameTrial& b) { return a.meanLengthMm > b.meanLengthMm; });
+                   [](const TensorFrameTrial& a, const TensorFrameTrial& b) {
+                     return a.meanLengthMm > b.meanLengthMm;
+                   });
   check.best = check.trials[0].transform;
   check.bestMeanMm = check.trials[0].meanLengthMm;
   check.ratio = check.readMeanMm > 0.0 ? check.bestMeanMm / check.readMeanMm : INFINITY;
