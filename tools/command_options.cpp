@@ -109,8 +109,8 @@ const char* const kHelpOrder[] = {
     "--target-point", "--targets", "--labels", "--threads", "--method", "--steiner", "--k", "--chain-measure",
     "--stencil", "--domain-connectivity", "--max-distance", "--no-memory-check", "--tensor-order",
     "--tensor-frame", "--mask", "--tensor-kind", "--diffusion-metric", "--max-anisotropy", "--fa-threshold",
-    "--accept-implausible-tensors", "--metric", "--anisotropy", "--tensors", "--tensor-attribute",
-    "--outside-image", "--step", "--smooth", "--no-refine", "--discrete", "--output", "--reference", "--tsv",
+    "--accept-implausible-tensors", "--accept-misaligned-tensors", "--metric", "--anisotropy", "--tensors",
+    "--tensor-attribute", "--outside-image", "--step", "--smooth", "--no-refine", "--discrete", "--output", "--reference", "--tsv",
     "--matrix", "--matrix-index", "--unreachable-value", "--stats", "--report", "--voxel", "--quiet", "--help"};
 
 std::vector<OptionDeclaration> allDeclarations() {

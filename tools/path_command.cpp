@@ -252,6 +252,7 @@ int runPath(int argc, char** argv) {
   RunStatistics run = volumeRunStatistics("path", commandLineText(argc, argv), o, input, built.counts);
   run.outputs = {{"paths", o.output}, {"paths_table", o.tsvPath}};
   run.seedLabels = o.seedLabels;
+  run.targetLabels = o.targetLabels;
   run.seeds = &seeds;
   run.labelSeedsLeftOut = leftOut;
   run.result = &result;

@@ -34,12 +34,15 @@ void writeParameters(std::ostringstream& j, const RunStatistics& run) {
     << jsonString(imaging::metricFormula(tensor.metric.kind, tensor.metric.diffusionMetric)) << ",\n";
   j << "    \"max_anisotropy\": " << jsonNumber(imaging::anisotropyCap(tensor.metric).value_or(NAN)) << ",\n";
   j << "    \"fa_threshold\": " << jsonNumber(tensor.metric.faThreshold.value_or(NAN)) << ",\n";
+  j << "    \"tensor_input\": \"file\",\n";
   j << "    \"tensor_layout\": " << jsonString(imaging::tensorFileLayoutName(info.layout)) << ",\n";
   j << "    \"tensor_order\": " << jsonString(imaging::tensorOrderName(info.order)) << ",\n";
+  j << "    \"tensor_order_stated\": " << (tensor.order ? "true" : "false") << ",\n";
   j << "    \"tensor_frame\": " << jsonString(imaging::tensorFrameName(info.frame)) << ",\n";
   j << "    \"tensor_frame_stated\": " << (info.frameWasStated ? "true" : "false") << ",\n";
   j << "    \"mask\": " << jsonString(tensor.maskPath) << ",\n";
   if (!run.labels.empty()) j << "    \"labels\": " << jsonString(run.labels) << ",\n";
+  if (!run.targetLabels.empty()) j << "    \"target_labels\": " << jsonString(run.targetLabels) << ",\n";
   j << "    \"seed_labels\": " << jsonString(run.seedLabels);
   if (run.withUnreachableValue) j << ",\n    \"unreachable_value\": " << jsonNumber(run.unreachableValue);
   j << "\n  },\n";

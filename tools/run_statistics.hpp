@@ -34,6 +34,7 @@ struct RunStatistics {
   imaging::MetricVoxelCounts counts;
   std::string seedLabels;  ///< --seeds
   std::string labels;      ///< --labels of connectivity
+  std::string targetLabels;  ///< --targets of path (label regions)
   bool withUnreachableValue = false;
   float unreachableValue = 0.f;
   const std::vector<Seed>* seeds = nullptr;

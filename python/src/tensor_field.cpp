@@ -25,7 +25,8 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
                                           const std::optional<std::string>& kind,
                                           const std::optional<std::string>& diffusionMetric,
                                           const std::optional<double>& maxAnisotropy,
-                                          const std::optional<double>& faThreshold, bool acceptImplausible) {
+                                          const std::optional<double>& faThreshold, bool acceptImplausible,
+                                          bool acceptMisaligned) {
   // Checked by the options' declarations, with messages in keyword names.
   OptionValues values(OptionNaming::Keywords);
   const auto option = [](const char* flag) -> const OptionDeclaration& { return imaging::tensorInputOption(flag); };
@@ -36,6 +37,7 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
   if (maxAnisotropy) values.set(option("--max-anisotropy"), *maxAnisotropy);
   if (faThreshold) values.set(option("--fa-threshold"), *faThreshold);
   if (acceptImplausible) values.set(option("--accept-implausible-tensors"), true);
+  if (acceptMisaligned) values.set(option("--accept-misaligned-tensors"), true);
   return imaging::tensorInputOptionsOf(values);
 }
 
@@ -95,9 +97,11 @@ imaging::ScalarImage scalarImageOf(const py::handle& spec, const GridGeometry& g
   }
   const py::tuple given = spec.cast<py::tuple>();
   imaging::ScalarImage image;
-  image.geometry = arrayGeometry(given, shapeOf(given[0], name), grid, name);
+  // A masked array's masked voxels are 0: outside a mask, in no seed region.
+  const py::object data = splitMaskedArray(given[0]).values;
+  image.geometry = arrayGeometry(given, shapeOf(data, name), grid, name);
   imaging::requireSameGrid(image.geometry, grid, name, subject, referenceName);  // before a lazy array is read
-  image.values = voxelValues(numericArray(given[0], name));
+  image.values = voxelValues(numericArray(data, name));
   return image;
 }
 
@@ -110,9 +114,11 @@ imaging::LabelImage labelImageOf(const py::handle& spec, const GridGeometry& gri
   }
   const py::tuple given = spec.cast<py::tuple>();
   imaging::LabelImage image;
-  image.geometry = arrayGeometry(given, shapeOf(given[0], name), grid, name);
+  // A masked array's masked voxels are 0: in no region.
+  const py::object data = splitMaskedArray(given[0]).values;
+  image.geometry = arrayGeometry(given, shapeOf(data, name), grid, name);
   imaging::requireSameGrid(image.geometry, grid, name, subject, referenceName);  // before a lazy array is read
-  image.labels = voxelLabels(numericArray(given[0], name), name, image.geometry);
+  image.labels = voxelLabels(numericArray(data, name), name, image.geometry);
   return image;
 }
 
@@ -149,7 +155,8 @@ std::shared_ptr<TensorField> finishField(std::shared_ptr<TensorField> field, con
     imaging::addMask(field->input, scalarImageOf(mask, field->geometry(), "the mask is", field->name),
                      scalarImageName(mask), field->name);
   py::gil_scoped_release release;
-  imaging::MetricFromTensors built = imaging::buildCheckedMetric(field->name, field->input, field->options);
+  imaging::MetricFromTensors built =
+      imaging::buildCheckedMetric(field->name, field->input, field->options, &field->frameCheck);
   imaging::requireNonEmptyDomain(field->name, built.counts, !field->input.mask.empty(), field->options.metric);
   field->counts = built.counts;
   field->inDomain = std::move(built.inDomain);
@@ -168,6 +175,9 @@ std::shared_ptr<TensorField> fieldFromFile(const std::string& path, imaging::Ten
     py::gil_scoped_release release;
     field->input = imaging::tensorInputOf(imaging::readTensorVolume(path, {options.order, options.frame}), path);
   }
+  field->inputKind = "file";
+  field->inputDescription = path;
+  field->layoutDescription = imaging::tensorFileLayoutName(field->input.read.info.layout);
   return finishField(std::move(field), mask);
 }
 
@@ -175,7 +185,10 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
                                             const std::optional<std::array<double, 3>>& zooms,
                                             const std::optional<bool>& niftiIntent, const std::string& name,
                                             imaging::TensorInputOptions options, const py::handle& mask) {
-  const py::array array = numericArray(tensors, name);
+  // A masked array: its values where they are not masked, and the voxels
+  // with a masked component outside the domain (as a mask= would leave them).
+  const MaskedSplit split = splitMaskedArray(tensors);
+  const py::array array = numericArray(split.values, name);
   requireFloatingPoint(array, name);
   const py::ssize_t ndim = array.ndim();
   const bool matrices = ndim == 5 && array.shape(3) == 3 && array.shape(4) == 3;
@@ -190,6 +203,14 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
   auto field = std::make_shared<TensorField>();
   field->name = name;
   field->options = options;
+  // An image's name is its file's (set by the package), or the default.
+  if (niftiIntent) {
+    field->inputKind = "NiBabel image";
+    field->inputDescription = name == "tensors" ? "NiBabel image (not from a file)" : "NiBabel image of " + name;
+  } else {
+    field->inputKind = "array";
+    field->inputDescription = "array of shape " + shapeText(array) + ", " + std::string(py::str(array.dtype()));
+  }
   imaging::TensorFileInfo& info = field->input.read.info;
   info.componentType = array.itemsize() == 4 ? "float" : "double";
   imaging::TensorComponentLayout layout;
@@ -202,6 +223,8 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
     info.order = imaging::TensorOrder::Fsl;  // the upper triangle, row by row
     const py::ssize_t row = array.strides(3) / item;
     layout.componentOffset = {0, last, 2 * last, row + last, row + 2 * last, 2 * row + 2 * last};
+    field->layoutDescription = "(X, Y, Z, 3, 3) array of symmetric matrices";
+    field->matrices = true;
   } else {
     if (!niftiIntent && !options.order)
       throw py::value_error(name + ": an array of six values per voxel does not say its component order; state it "
@@ -210,6 +233,8 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
                                                            : imaging::TensorFileLayout::NiftiSixVolumes;
     info.order = imaging::resolveTensorOrder(name, info.layout, options.order);
     for (int q = 0; q < 6; ++q) layout.componentOffset[q] = q * last;
+    field->layoutDescription = niftiIntent ? imaging::tensorFileLayoutName(info.layout)
+                                           : std::string(ndim == 5 ? "(X, Y, Z, 1, 6)" : "(X, Y, Z, 6)") + " array";
   }
   layout.order = info.order;
   info.frameWasStated = options.frame.has_value();
@@ -233,6 +258,16 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
     if (matrices) requireSymmetric(view.data, size, layout.voxelStride, row, last, name);
     field->input.read.volume.tensors = imaging::tensorsFromArray(view.data, size, layout, toLps);
   });
+  if (!split.masked.is_none()) {
+    py::tuple components(ndim - 3);
+    for (py::ssize_t d = 3; d < ndim; ++d) components[d - 3] = py::int_(d);
+    const std::vector<float> maskedVoxels = voxelValues(numericArray(split.masked.attr("any")(components), name));
+    imaging::TensorInput& input = field->input;
+    input.mask.assign(maskedVoxels.size(), 1);
+    for (std::size_t v = 0; v < maskedVoxels.size(); ++v)
+      if (maskedVoxels[v] != 0.f) input.mask[v] = 0;
+    input.maskDescription = "the mask of " + name + " (numpy.ma)";
+  }
   return finishField(std::move(field), mask);
 }
 

@@ -299,6 +299,23 @@ py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py:
   return d;
 }
 
+/// The frame check as Python sees it (stvd.check_tensor_frame, tensor_info).
+py::dict frameCheckDict(const imaging::TensorFrameCheck& c) {
+  py::dict d;
+  d["verdict"] = imaging::tensorFrameVerdictName(c.verdict);
+  d["summary"] = imaging::tensorFrameCheckSummary(c);
+  d["seeds"] = c.seeds;
+  d["best"] = imaging::axisTransformText(c.best);
+  d["best_words"] = imaging::axisTransformWords(c.best);
+  d["ratio"] = c.ratio;
+  d["margin"] = c.margin;
+  py::list trials;
+  for (const imaging::TensorFrameTrial& t : c.trials)
+    trials.append(py::make_tuple(imaging::axisTransformText(t.transform), t.meanLengthMm));
+  d["mean_length_mm"] = trials;
+  return d;
+}
+
 }  // namespace
 
 void bindVolumes(py::module_& m) {
@@ -309,16 +326,17 @@ void bindVolumes(py::module_& m) {
           [](const std::string& path, const py::object& mask, const std::optional<std::string>& order, const std::optional<std::string>& frame,
              const std::optional<std::string>& kind, const std::optional<std::string>& diffusionMetric,
              const std::optional<double>& maxAnisotropy, const std::optional<double>& faThreshold,
-             bool acceptImplausible) {
-            return fieldFromFile(
-                path, tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold, acceptImplausible),
-                mask);
+             bool acceptImplausible, bool acceptMisaligned) {
+            return fieldFromFile(path,
+                                 tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold,
+                                               acceptImplausible, acceptMisaligned),
+                                 mask);
           },
           py::arg("path"), py::arg("mask") = py::none(),
           py::arg("tensor_order") = py::none(), py::arg("tensor_frame") = py::none(),
           py::arg("tensor_kind") = py::none(), py::arg("diffusion_metric") = py::none(),
           py::arg("max_anisotropy") = py::none(), py::arg("fa_threshold") = py::none(),
-          py::arg("accept_implausible_tensors") = false)
+          py::arg("accept_implausible_tensors") = false, py::arg("accept_misaligned_tensors") = false)
       .def_static(
           "from_array",
           [](const py::object& tensors, const py::object& affine, const std::optional<std::array<double, 3>>& zooms,
@@ -326,18 +344,18 @@ void bindVolumes(py::module_& m) {
              const std::optional<std::string>& order,
              const std::optional<std::string>& frame, const std::optional<std::string>& kind,
              const std::optional<std::string>& diffusionMetric, const std::optional<double>& maxAnisotropy,
-             const std::optional<double>& faThreshold, bool acceptImplausible) {
-            return fieldFromArray(
-                tensors, affine, zooms, niftiIntent, name,
-                tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold, acceptImplausible),
-                mask);
+             const std::optional<double>& faThreshold, bool acceptImplausible, bool acceptMisaligned) {
+            return fieldFromArray(tensors, affine, zooms, niftiIntent, name,
+                                  tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold,
+                                                acceptImplausible, acceptMisaligned),
+                                  mask);
           },
           py::arg("tensors"), py::arg("affine"), py::arg("zooms") = py::none(), py::arg("nifti_intent") = py::none(),
           py::arg("name") = "tensors", py::arg("mask") = py::none(),
           py::arg("tensor_order") = py::none(), py::arg("tensor_frame") = py::none(),
           py::arg("tensor_kind") = py::none(), py::arg("diffusion_metric") = py::none(),
           py::arg("max_anisotropy") = py::none(), py::arg("fa_threshold") = py::none(),
-          py::arg("accept_implausible_tensors") = false)
+          py::arg("accept_implausible_tensors") = false, py::arg("accept_misaligned_tensors") = false)
       .def_property_readonly("name", [](const TensorField& f) { return f.name; })
       .def_property_readonly("shape", [](const TensorField& f) { return py::tuple(py::cast(gridShape(f.geometry()))); })
       .def_property_readonly("affine", [](const TensorField& f) { return affineArray(f.geometry()); },
@@ -372,15 +390,28 @@ void bindVolumes(py::module_& m) {
       .def_property_readonly("tensor_info",
                              [](const TensorField& f) {
                                const imaging::TensorFileInfo& i = f.input.read.info;
+                               const imaging::MetricOptions& metric = f.options.metric;
                                py::dict d;
-                               d["layout"] = imaging::tensorFileLayoutName(i.layout);
-                               d["order"] = imaging::tensorOrderName(i.order);
+                               // What came in and how it was read, as given:
+                               // a QC page states these (stvd.report).
+                               d["input_kind"] = f.inputKind;
+                               d["input"] = f.inputDescription;
+                               d["layout"] = f.layoutDescription;
+                               // 3x3 matrices have no component order.
+                               d["order"] = f.matrices ? py::object(py::none())
+                                                     : py::object(py::str(imaging::tensorOrderName(i.order)));
+                               d["order_was_stated"] = f.options.order.has_value();
                                d["frame"] = imaging::tensorFrameName(i.frame);
                                d["frame_was_stated"] = i.frameWasStated;
                                d["mask"] = f.input.maskDescription;
-                               d["tensor_kind"] = imaging::tensorKindName(f.options.metric.kind);
-                               d["metric_formula"] = imaging::metricFormula(f.options.metric.kind,
-                                                                            f.options.metric.diffusionMetric);
+                               d["tensor_kind"] = imaging::tensorKindName(metric.kind);
+                               d["diffusion_metric"] = imaging::diffusionMetricName(metric.diffusionMetric);
+                               d["metric_formula"] = imaging::metricFormula(metric.kind, metric.diffusionMetric);
+                               const std::optional<double> cap = imaging::anisotropyCap(metric);
+                               d["max_anisotropy"] = cap ? py::object(py::float_(*cap)) : py::object(py::none());
+                               d["fa_threshold"] = metric.faThreshold ? py::object(py::float_(*metric.faThreshold))
+                                                                      : py::object(py::none());
+                               d["frame_check"] = frameCheckDict(f.frameCheck);
                                return d;
                              })
       .def(

@@ -23,8 +23,8 @@ __version__ = _core.__version__
 NO_VERTEX = _core.NO_VERTEX
 
 __all__ = ["defaults", "distance", "propagate", "Propagation", "trace_paths", "Paths", "tractogram",
-           "connectivity", "Connectivity", "tet_mesh_distance", "surface_distance", "NO_VERTEX", "OutputFiles",
-           "FileConflictError", "OutputError"]
+           "connectivity", "Connectivity", "check_tensor_frame", "tet_mesh_distance", "surface_distance",
+           "NO_VERTEX", "OutputFiles", "FileConflictError", "OutputError"]
 
 
 class _Defaults:
@@ -35,7 +35,8 @@ class _Defaults:
     same measure), stencil, domain_connectivity (volumes), tensor_kind,
     diffusion_metric, max_anisotropy (None: diffusion tensors capped at
     diffusion_max_anisotropy, a metric taken as given),
-    accept_implausible_tensors, memory_check, lps, unreachable_value,
+    accept_implausible_tensors, accept_misaligned_tensors, memory_check, lps,
+    unreachable_value,
     metric (surfaces), step, smooth, refine, discrete (paths), max_k,
     max_steiner. The values are the library's option declarations, the ones
     the ``stvd`` tool parses and prints its help with
@@ -74,10 +75,11 @@ def _connectivity(value):
 
 
 def _tensor_options(tensor_order, tensor_frame, tensor_kind, diffusion_metric, max_anisotropy, fa_threshold,
-                    accept_implausible_tensors=False):
+                    accept_implausible_tensors=False, accept_misaligned_tensors=False):
     return dict(tensor_order=tensor_order, tensor_frame=tensor_frame, tensor_kind=tensor_kind,
                 diffusion_metric=diffusion_metric, max_anisotropy=max_anisotropy, fa_threshold=fa_threshold,
-                accept_implausible_tensors=bool(accept_implausible_tensors))
+                accept_implausible_tensors=bool(accept_implausible_tensors),
+                accept_misaligned_tensors=bool(accept_misaligned_tensors))
 
 
 class Propagation:
@@ -183,14 +185,15 @@ def _image_template(tensors, field):
 def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=None, lps=False, mask=None,
               tensor_order=None, tensor_frame=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None,
               fa_threshold=None, method=None, k=None, chain_measure=None, stencil=None, steiner=None,
-              max_distance=None, progress=None, accept_implausible_tensors=False, domain_connectivity=None,
-              memory_check=True):
+              max_distance=None, progress=None, accept_implausible_tensors=False, accept_misaligned_tensors=False,
+              domain_connectivity=None, memory_check=True):
     """Propagates the geodesic distance from seeds over a tensor volume and
     returns the whole result (``stvd.Propagation``): distances, predecessors
     and statistics. The arguments are those of ``stvd.distance``."""
     field = tensor_field(tensors, affine, mask, _tensor_options(tensor_order, tensor_frame, tensor_kind,
                                                                 diffusion_metric, max_anisotropy, fa_threshold,
-                                                                accept_implausible_tensors))
+                                                                accept_implausible_tensors,
+                                                                accept_misaligned_tensors))
     labels = scalar_image_spec(seed_labels, "seed_labels")
     with progress_reporter(progress) as reporter:
         result = field.propagate(voxel_list(seeds, "seeds"), point_list(seed_points, "seed_points"), bool(lps),
@@ -209,7 +212,7 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
              tensor_order=None, tensor_frame=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None,
              fa_threshold=None, method=None, k=None, chain_measure=None, stencil=None, steiner=None,
              max_distance=None, unreachable_value=None, progress=None, accept_implausible_tensors=False,
-             domain_connectivity=None, memory_check=True):
+             accept_misaligned_tensors=False, domain_connectivity=None, memory_check=True):
     """The anisotropic geodesic distance (millimetres) from seeds over a
     diffusion or metric tensor volume, as ``stvd distance`` computes it.
 
@@ -224,8 +227,12 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
         ``seed_labels=``: every non-zero voxel of a label image (path, image
         or array on the tensors' grid) inside the domain.
     mask, fa_threshold, tensor_frame, tensor_kind, diffusion_metric,
-        max_anisotropy, accept_implausible_tensors: the domain and the
-        metric, as the tool's options.
+        max_anisotropy, accept_implausible_tensors, accept_misaligned_tensors:
+        the domain and the metric, as the tool's options (diffusion tensors
+        whose principal directions follow the tracts clearly better with
+        their components flipped or permuted along the image axes raise
+        ValueError unless ``accept_misaligned_tensors``; see
+        ``stvd.check_tensor_frame``).
     method, k, chain_measure, stencil, steiner, max_distance,
         domain_connectivity: the propagation, as the tool's options
         (``domain_connectivity`` 6, 18 or 26: which domain voxels touch when
@@ -248,6 +255,7 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
                        method=method, k=k, chain_measure=chain_measure, stencil=stencil, steiner=steiner,
                        max_distance=max_distance, progress=progress,
                        accept_implausible_tensors=accept_implausible_tensors,
+                       accept_misaligned_tensors=accept_misaligned_tensors,
                        domain_connectivity=domain_connectivity, memory_check=memory_check)
     return result.distance_map(unreachable_value)
 
@@ -279,7 +287,9 @@ class Connectivity:
     path), ``straight_mm`` and ``connectivity`` (path_mm / geodesic_mm, the
     measure of Astola, Florack and ter Haar Romeny). NaN on the diagonal and
     where b is not reachable from a. ``labels_left_out``: regions without a
-    voxel in the domain; ``threads``: how many ran."""
+    voxel in the domain; ``threads``: how many ran; ``tensor_info`` and
+    ``voxel_counts``: how the tensors were read and the domain, as on a
+    ``stvd.Propagation``."""
 
     def __init__(self, values):
         for key, value in values.items():
@@ -292,7 +302,7 @@ class Connectivity:
 def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tensor_order=None, tensor_frame=None,
                  tensor_kind=None, diffusion_metric=None, max_anisotropy=None, fa_threshold=None, method=None, k=None,
                  chain_measure=None, stencil=None, progress=None, accept_implausible_tensors=False,
-                 domain_connectivity=None, memory_check=True):
+                 accept_misaligned_tensors=False, domain_connectivity=None, memory_check=True):
     """Region-to-region connectivity as ``stvd connectivity`` computes it: one
     propagation from each region of ``labels`` (a path, image or array on the
     tensors' grid; each distinct non-zero integer is a region), ``threads`` at
@@ -302,7 +312,7 @@ def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tenso
     ``threads`` propagations at once must fit). Returns
     ``stvd.Connectivity``."""
     if isinstance(tensors, Propagation):
-        if accept_implausible_tensors or any(
+        if accept_implausible_tensors or accept_misaligned_tensors or any(
                 v is not None for v in (affine, mask, tensor_order, tensor_frame, tensor_kind, diffusion_metric,
                                         max_anisotropy, fa_threshold, method, k, chain_measure, stencil,
                                         domain_connectivity)):
@@ -315,14 +325,42 @@ def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tenso
     else:
         field = tensor_field(tensors, affine, mask, _tensor_options(tensor_order, tensor_frame, tensor_kind,
                                                                     diffusion_metric, max_anisotropy, fa_threshold,
-                                                                    accept_implausible_tensors))
+                                                                    accept_implausible_tensors,
+                                                                    accept_misaligned_tensors))
         options = dict(method=method, k=k, chain_measure=chain_measure, stencil=stencil,
                        domain_connectivity=_connectivity(domain_connectivity))
     spec = scalar_image_spec(labels, "labels")
     with progress_reporter(progress) as reporter:
         values = field.connectivity(spec, threads=threads, progress=reporter.callback,
                                     memory_check=bool(memory_check), **options)
+    # How the tensors were given and read, and the domain: what a QC page of
+    # this result states (stvd.report.write_report).
+    values["tensor_info"] = dict(field.tensor_info)
+    values["voxel_counts"] = dict(field.voxel_counts)
     return Connectivity(values)
+
+
+def check_tensor_frame(tensors, *, affine=None, mask=None, tensor_order=None, tensor_frame=None):
+    """Whether the tensors' components are in the frame of the image axes, as
+    ``stvd info`` checks it and every run of diffusion tensors does before
+    it starts: deterministic streamlines of the principal eigenvector from
+    the same high-FA voxels, under each of the 24 distinguishable flips and
+    permutations of the components along the voxel axes i, j, k; the frame
+    as read should give the longest ones. ``tensors``, ``affine``, ``mask``,
+    ``tensor_order`` and ``tensor_frame`` as for ``stvd.distance``.
+
+    Returns a dict: ``verdict`` ('consistent', 'mismatch' or
+    'inconclusive'), ``summary`` (one line), ``best`` (the best frame as the
+    corrected components' axes, e.g. ``'(-i, j, k)'``: flip the components
+    along i), ``best_words``, ``ratio`` (its mean streamline over the one
+    read), ``margin`` (the best's over the runner-up's), ``seeds`` and
+    ``mean_length_mm`` (every frame and its mean, best first). A run whose
+    verdict is 'mismatch' raises ValueError unless
+    ``accept_misaligned_tensors=True``; an inconclusive check (few high-FA
+    voxels, no clear winner) never stops one."""
+    field = tensor_field(tensors, affine, mask, _tensor_options(tensor_order, tensor_frame, None, None, None, None,
+                                                                accept_misaligned_tensors=True))
+    return field.tensor_info["frame_check"]
 
 
 def _distances(values, unreachable_value):

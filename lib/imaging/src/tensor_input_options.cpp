@@ -140,6 +140,19 @@ std::vector<OptionDeclaration> declarations() {
                 " % of the tensors are not positive definite, which a wrong --tensor-order gives (otherwise exit "
                 "3; stvd info tries each order).";
   table.push_back(accept);
+
+  OptionDeclaration misaligned;
+  misaligned.flag = "--accept-misaligned-tensors";
+  misaligned.keyword = "accept_misaligned_tensors";
+  misaligned.keywordCommands = kVolumeCommands;
+  misaligned.type = OptionType::Switch;
+  misaligned.group = OptionGroup::Metric;
+  misaligned.commands = readers;
+  misaligned.help =
+      "go on although the tensors' principal directions follow the tracts clearly better with their components "
+      "flipped or permuted along the image axes, which an image reoriented without rotating its tensors gives "
+      "(otherwise exit 3; stvd info shows every frame).";
+  table.push_back(misaligned);
   return table;
 }
 
@@ -168,6 +181,7 @@ TensorInputOptions tensorInputOptionsOf(const OptionValues& values) {
   if (const auto cap = values.number("--max-anisotropy")) options.metric.maxAnisotropy = *cap;
   if (const auto threshold = values.number("--fa-threshold")) options.metric.faThreshold = *threshold;
   if (values.has("--accept-implausible-tensors")) options.acceptImplausible = true;
+  if (values.has("--accept-misaligned-tensors")) options.acceptMisaligned = true;
   // The combinations are checked where the options are assembled, so that
   // no front end (command or keyword call) can leave them out.
   checkTensorInputOptions(options);

@@ -22,6 +22,7 @@
 #include "stvd/imaging/streamline_io.hpp"
 #include "stvd/imaging/symmetric_eigen.hpp"
 #include "stvd/imaging/tensor_arrays.hpp"
+#include "stvd/imaging/tensor_frame_check.hpp"
 #include "stvd/imaging/tensor_frames.hpp"
 #include "stvd/imaging/tensor_input.hpp"
 #include "stvd/imaging/tensor_input_options.hpp"

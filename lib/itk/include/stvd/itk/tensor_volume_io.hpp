@@ -11,7 +11,7 @@
 namespace stvd::imaging {
 
 /// Reads a tensor volume from a .nii, .nii.gz, .nrrd, .nhdr, .mif, .mif.gz
-/// or .mih file (MRtrix: X Y Z 6, order mrtrix unless stated) and brings
+/// or .mih file (MRtrix: X Y Z 6 or X Y Z 1 6, order mrtrix unless stated) and brings
 /// its tensors into the LPS frame. The header is checked before the file's
 /// data are read (see docs/reliability.md). A tensor with a NaN or infinite
 /// component in the file is NaN in every component, whatever the format
