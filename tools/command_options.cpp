@@ -48,8 +48,9 @@ std::vector<OptionDeclaration> toolDeclarations() {
       {kSurfaceDistanceCommand,
        ".ply (binary: the mesh, its coordinates in the input's type, with a float vertex property distance; "
        "unreached inf),\n.vtk (legacy POLYDATA, POINT_DATA distance; unreached -1) or\n.csv (rows "
-       "vertex,distance; unreached inf). It must not be an input; written with the statistics into a staging "
-       "folder next to it and moved into place when both are complete."},
+       "vertex,distance; unreached inf),\n.shape.gii or .func.gii (GIfTI, float32; unreached NaN) or a FreeSurfer "
+       "curv file (.curv, lh.NAME, rh.NAME; float32, unreached NaN). It must not be an input; written with the "
+       "statistics into a staging folder next to it and moved into place when both are complete."},
       {kTetMeshDistanceCommand,
        ".vtk (legacy VTK), .vtu (VTK XML) or .csv (vertex,distance with the input's vertex numbers). VTK files "
        "hold the mesh with the point arrays \"distance\" and \"vertex_number\". Written atomically.\nOr .nii, "

@@ -25,6 +25,7 @@
 #include "stvd/imaging/seed_options.hpp"
 #include "stvd/front_end/mesh_options.hpp"
 #include "stvd/front_end/propagation_choice_options.hpp"
+#include "stvd/surface_io/cortical_surface_files.hpp"
 #include "stvd/surface_io/surface_mesh_io.hpp"
 #include "stvd/surface/surface_metrics.hpp"
 #include "stvd/surface/surface_propagation.hpp"
@@ -37,13 +38,15 @@ namespace stvd::tool {
 namespace {
 
 const char* kSurfaceDistanceHelp =
-    "Usage: stvd distance MESH -o OUTPUT --seed-vertex N|--seed-point X,Y,Z [options]\n"
+    "Usage: stvd distance MESH -o OUTPUT --seed-vertex N|--seed-point X,Y,Z|--seeds FILE [options]\n"
     "\n"
     "Geodesic distance over a polygon surface (2-manifold, orientable; boundaries and several\n"
     "components allowed). MESH is .obj, .off, .ply (ASCII or binary; triangles or general\n"
-    "polygons, used without triangulation) or .stl (ASCII or binary; corners with the same\n"
-    "coordinates are welded into one vertex, and the summary says how many). Distances are in the\n"
-    "units of the mesh coordinates.\n";
+    "polygons, used without triangulation), .stl (ASCII or binary; corners with the same\n"
+    "coordinates are welded into one vertex, and the summary says how many), a GIfTI surface\n"
+    "(.surf.gii) or a FreeSurfer surface (lh.pial, rh.white, ...; coordinates in tkr-RAS, the\n"
+    "summary gives the transform to scanner RAS). Distances are in the units of the mesh\n"
+    "coordinates (millimetres for GIfTI and FreeSurfer).\n";
 
 /// The propagation's options with the library's defaults, and the
 /// surface's own.
@@ -51,6 +54,8 @@ struct SurfaceOptions : PropagationChoice {
   std::string input, output, metric, statsPath;
   std::vector<long long> seeds;
   std::vector<std::array<double, 3>> seedPoints;
+  std::string seedsFile, maskFile;
+  std::vector<std::string> seedRegions;
   bool seedAtPoint = false;
   double anisotropy = 0.0;
   bool anisotropyGiven = false;
@@ -72,6 +77,9 @@ SurfaceOptions parse(int argc, char** argv) {
   }
   o.seedPoints = imaging::pointsOf(v, "--seed-point");
   o.seedAtPoint = v.text("--seed-at") == "point";
+  o.seedsFile = v.text("--seeds").value_or("");
+  o.maskFile = v.text("--mask").value_or("");
+  for (const OptionValue& given : v.all("--seed-region")) o.seedRegions.push_back(std::get<std::string>(given));
   o.maxDistance = v.number("--max-distance").value_or(o.maxDistance);
   o.statsPath = v.text("--stats").value_or("");
   o.metric = v.text("--metric").value_or(optionDefaultText(toolOption("--metric"), kSurfaceDistanceCommand));
@@ -79,12 +87,28 @@ SurfaceOptions parse(int argc, char** argv) {
   o.anisotropy = v.number("--anisotropy").value_or(0.0);
   o.quiet = v.has("--quiet");
   if (o.input.empty()) usageError("no input mesh given");
-  if (!surface_io::isSurfaceMeshPath(o.input))
-    usageError(o.input + ": --seed-vertex needs a surface mesh input (.obj, .off, .ply or .stl)");
-  if (o.output.empty()) usageError("no output given (-o FILE.ply, .vtk or .csv)");
+  if (!surface_io::isSurfaceMeshPath(o.input) && !surface_io::isFreeSurferSurfaceFile(o.input))
+    usageError(o.input + ": --seed-vertex needs a surface mesh input (.obj, .off, .ply, .stl, .surf.gii or a "
+                         "FreeSurfer surface)");
+  if (o.output.empty()) usageError("no output given (-o FILE.ply, .vtk, .csv, .shape.gii, .func.gii or .curv)");
   if (!surface_io::isSurfaceOutputPath(o.output))
-    usageError(o.output + ": a surface distance is written as .ply, .vtk or .csv");
-  if (o.seeds.empty() && o.seedPoints.empty()) usageError("no seed given (--seed-vertex N or --seed-point X,Y,Z)");
+    usageError(o.output + ": a surface distance is written as .ply, .vtk, .csv, .shape.gii, .func.gii or a "
+                          "FreeSurfer curv file (.curv, lh.NAME, rh.NAME)");
+  if (o.seeds.empty() && o.seedPoints.empty() && o.seedsFile.empty())
+    usageError("no seed given (--seed-vertex N, --seed-point X,Y,Z or --seeds FILE)");
+  const bool namedRegions = !o.seedsFile.empty() && surface_io::isVertexRegionsPath(o.seedsFile) &&
+                            o.seedsFile.size() > 6 && o.seedsFile.compare(o.seedsFile.size() - 6, 6, ".label") != 0;
+  if (!o.seedRegions.empty() && !namedRegions)
+    usageError("--seed-region selects regions of a --seeds annotation (.annot) or GIfTI label file (.label.gii)");
+  if (namedRegions && o.seedRegions.empty())
+    usageError(o.seedsFile + ": name the seed regions with --seed-region NAME");
+  if (!o.seedsFile.empty() && !surface_io::isVertexRegionsPath(o.seedsFile) &&
+      !surface_io::isVertexValuesPath(o.seedsFile))
+    usageError(o.seedsFile + ": --seeds takes a .label, .annot, .label.gii, .func.gii, .shape.gii, .mgh, .mgz or "
+                             "curv file");
+  if (!o.maskFile.empty() && !surface_io::isVertexRegionsPath(o.maskFile) &&
+      !surface_io::isVertexValuesPath(o.maskFile))
+    usageError(o.maskFile + ": --mask takes a .func.gii, .shape.gii, .label.gii, .label, .mgh, .mgz or curv file");
   if (o.seedAtPoint && o.seedPoints.empty()) usageError("--seed-at applies to --seed-point");
   checkSurfaceMetricChoice(o.metric, o.anisotropyGiven, OptionNaming::Flags);
   checkMeshPropagationChoice(o, "face edge", 4);
@@ -94,19 +118,62 @@ SurfaceOptions parse(int argc, char** argv) {
 /// The seeds as vertices of the mesh the propagation runs on, with the
 /// points inserted by --seed-at point.
 struct SurfaceSeeds {
+  /// The seeds given one by one first (givenAs holds their description),
+  /// then those of --seeds.
   std::vector<VertexId> vertices;
   std::vector<std::string> givenAs;  // for the summary and --stats
+  /// --seeds: the file's seed vertices, by region (or one entry).
+  std::vector<std::pair<std::string, std::size_t>> fromFile;
+  /// --mask: the faces kept and left out.
+  std::size_t maskedOutFaces = 0, maskVertices = 0;
   /// Per inserted vertex (in order), the vertices it interpolates.
   std::vector<std::vector<std::pair<VertexId, double>>> inserted;
   /// For each face of the mesh, the face of the file it comes from.
   std::vector<std::size_t> faceOrigin;
 };
 
+/// Per vertex, whether a --seeds or --mask file marks it: a region file's
+/// vertices in any region other than 0, or a non-zero value.
+std::vector<std::uint8_t> markedVertices(const std::string& path, std::size_t vertexCount) {
+  std::vector<std::uint8_t> marked(vertexCount, 0);
+  if (surface_io::isVertexRegionsPath(path)) {
+    const surface_io::VertexRegions regions = surface_io::readVertexRegions(path, vertexCount);
+    for (std::size_t v = 0; v < vertexCount; ++v)
+      marked[v] = regions.key[v] != surface_io::VertexRegions::kNoRegion && regions.key[v] != 0;
+  } else {
+    const std::vector<double> values = surface_io::readVertexValues(path, vertexCount);
+    for (std::size_t v = 0; v < vertexCount; ++v) {
+      if (std::isnan(values[v])) throw surface_io::MeshFileError(path + ": vertex " + std::to_string(v) + " is NaN");
+      marked[v] = values[v] != 0.0;
+    }
+  }
+  return marked;
+}
+
 SurfaceSeeds resolveSeeds(const SurfaceOptions& o, surface_io::SurfaceMesh& mesh) {
   SurfaceSeeds seeds;
-  seeds.faceOrigin.resize(mesh.faces.faceCount());
-  for (std::size_t f = 0; f < seeds.faceOrigin.size(); ++f) seeds.faceOrigin[f] = f;
   const std::size_t fileVertices = mesh.points.size();
+  if (!o.maskFile.empty()) {
+    // Only the faces with every corner inside: the paths stay on them.
+    const std::vector<std::uint8_t> inside = markedVertices(o.maskFile, fileVertices);
+    PolygonList kept;
+    for (std::size_t f = 0; f < mesh.faces.faceCount(); ++f) {
+      const auto b = mesh.faces.faceVertex.begin() + mesh.faces.faceStart[f];
+      const auto e = mesh.faces.faceVertex.begin() + mesh.faces.faceStart[f + 1];
+      if (std::all_of(b, e, [&](VertexId v) { return inside[v] != 0; })) {
+        kept.add(b, e);
+        seeds.faceOrigin.push_back(f);
+      }
+    }
+    seeds.maskedOutFaces = mesh.faces.faceCount() - kept.faceCount();
+    seeds.maskVertices = static_cast<std::size_t>(std::count(inside.begin(), inside.end(), 1));
+    if (kept.faceCount() == 0)
+      throw ToolError(kExitDomain, o.maskFile + ": no face has all its corners inside the mask");
+    mesh.faces = std::move(kept);
+  } else {
+    seeds.faceOrigin.resize(mesh.faces.faceCount());
+    for (std::size_t f = 0; f < seeds.faceOrigin.size(); ++f) seeds.faceOrigin[f] = f;
+  }
   for (const long long s : o.seeds) {
     if (s >= static_cast<long long>(fileVertices))
       throw ToolError(kExitDomain, o.input + ": seed vertex " + std::to_string(s) + " does not exist (the mesh has " +
@@ -137,6 +204,40 @@ SurfaceSeeds resolveSeeds(const SurfaceOptions& o, surface_io::SurfaceMesh& mesh
                                  : "on vertex " + std::to_string(v)) +
                             " at distance " + fixed(closest.distance, 4) + " from the point");
   }
+  if (!o.seedsFile.empty()) {
+    if (o.seedRegions.empty()) {
+      const std::vector<std::uint8_t> marked = markedVertices(o.seedsFile, fileVertices);
+      std::size_t count = 0;
+      for (std::size_t v = 0; v < fileVertices; ++v)
+        if (marked[v]) {
+          seeds.vertices.push_back(static_cast<VertexId>(v));
+          ++count;
+        }
+      if (count == 0) throw ToolError(kExitDomain, o.seedsFile + ": no seed vertex (no vertex is marked)");
+      seeds.fromFile.emplace_back("", count);
+    } else {
+      const surface_io::VertexRegions regions = surface_io::readVertexRegions(o.seedsFile, fileVertices);
+      for (const std::string& name : o.seedRegions) {
+        std::vector<VertexId> vertices;
+        try {
+          vertices = surface_io::regionVertices(regions, name, o.seedsFile);
+        } catch (const surface_io::MeshFileError& e) {
+          throw ToolError(kExitDomain, e.what());
+        }
+        seeds.vertices.insert(seeds.vertices.end(), vertices.begin(), vertices.end());
+        seeds.fromFile.emplace_back(name, vertices.size());
+      }
+    }
+  }
+  if (!o.maskFile.empty()) {
+    // A seed off every kept face would seed nothing but itself.
+    std::vector<std::uint8_t> used(mesh.points.size(), 0);
+    for (const VertexId v : mesh.faces.faceVertex) used[v] = 1;
+    for (const VertexId v : seeds.vertices)
+      if (!used[v])
+        throw ToolError(kExitDomain, o.maskFile + ": seed vertex " + std::to_string(v) +
+                                         " is outside the mask (on no face whose corners are all inside)");
+  }
   return seeds;
 }
 
@@ -150,7 +251,26 @@ RiemannianMetric buildMetric(const SurfaceOptions& o, const SurfaceDomain& surfa
   const std::size_t fileRows =
       perFace ? *std::max_element(seeds.faceOrigin.begin(), seeds.faceOrigin.end()) + 1
               : surface.vertexCount() - seeds.inserted.size();
-  auto table = surface_io::readVertexTable(file, field ? 3 : 6, fileRows, perFace ? "face" : "vertex");
+  const bool scale = o.metric.rfind("scale:", 0) == 0;
+  std::vector<std::vector<double>> table;
+  if (scale) {
+    // A step near a vertex costs `s` times its length: the tensor s² I.
+    std::vector<double> values;
+    if (surface_io::isVertexValuesPath(file)) {
+      values = surface_io::readVertexValues(file, fileRows);
+    } else {
+      for (const auto& row : surface_io::readVertexTable(file, 1, fileRows)) values.push_back(row[0]);
+    }
+    for (std::size_t v = 0; v < values.size(); ++v) {
+      const double x = values[v];
+      if (!(x > 0.0) || !std::isfinite(x))
+        throw surface_io::MeshFileError(file + ": vertex " + std::to_string(v) + ": the scale " + std::to_string(x) +
+                                        " is not a positive number");
+      table.push_back({x * x, 0.0, 0.0, x * x, 0.0, x * x});
+    }
+  } else {
+    table = surface_io::readVertexTable(file, field ? 3 : 6, fileRows, perFace ? "face" : "vertex");
+  }
   if (perFace) {
     std::vector<std::vector<double>> perMeshFace;
     for (const std::size_t origin : seeds.faceOrigin) perMeshFace.push_back(table[origin]);
@@ -227,9 +347,36 @@ std::string surfaceStatsJson(const SurfaceOptions& o, const surface_io::SurfaceM
     << ", \"components\": " << run.components << ", \"welded_vertices\": " << file.weldedVertices
     << ", \"degenerate_facets\": " << file.degenerateFacets
     << ", \"coordinate_type\": " << jsonString(surface_io::plyTypeName(file.coordinateType))
-    << ", \"inserted_vertices\": " << run.seeds->inserted.size() << "},\n";
+    << ", \"inserted_vertices\": " << run.seeds->inserted.size() << ", \"format\": " << jsonString(file.format)
+    << ", \"anatomical_structure\": " << jsonString(file.anatomicalStructure)
+    << ", \"coordinate_space\": " << jsonString(file.coordinates.space) << ", \"transformed_space\": "
+    << (file.coordinates.hasTransform ? jsonString(file.coordinates.transformedSpace) : std::string("null"))
+    << ", \"transform\": ";
+  if (file.coordinates.hasTransform) {
+    j << "[";
+    for (int i = 0; i < 16; ++i) j << (i ? ", " : "") << jsonNumber(file.coordinates.transform[i]);
+    j << "]";
+  } else {
+    j << "null";
+  }
+  j << ", \"mask\": " << (o.maskFile.empty() ? std::string("null")
+                                               : "{\"file\": " + jsonString(o.maskFile) + ", \"vertices_inside\": " +
+                                                     std::to_string(run.seeds->maskVertices) +
+                                                     ", \"faces_left_out\": " +
+                                                     std::to_string(run.seeds->maskedOutFaces) + "}")
+    << "},\n";
+  j << "  \"seed_file\": ";
+  if (o.seedsFile.empty()) {
+    j << "null,\n";
+  } else {
+    j << "{\"file\": " << jsonString(o.seedsFile) << ", \"regions\": [";
+    for (std::size_t r = 0; r < run.seeds->fromFile.size(); ++r)
+      j << (r ? ", " : "") << "{\"name\": " << jsonString(run.seeds->fromFile[r].first)
+        << ", \"vertices\": " << run.seeds->fromFile[r].second << "}";
+    j << "]},\n";
+  }
   j << "  \"seeds\": [";
-  for (std::size_t s = 0; s < run.seeds->vertices.size(); ++s)
+  for (std::size_t s = 0; s < run.seeds->givenAs.size(); ++s)
     j << (s ? ", " : "") << "{\"vertex\": " << run.seeds->vertices[s]
       << ", \"given_as\": " << jsonString(run.seeds->givenAs[s]) << "}";
   j << "],\n";
@@ -259,6 +406,9 @@ std::string surfaceOptionsHelp() {
          "Metric:\n" +
          optionHelp(surface, {OptionGroup::SurfaceMetric}) +
          "\n"
+         "Domain:\n" +
+         optionHelp(surface, {OptionGroup::TensorFile}) +
+         "\n"
          "Propagation:\n" +
          optionHelp(surface, {OptionGroup::Propagation}) +
          "\n"
@@ -279,7 +429,7 @@ bool isSurfaceDistanceCall(int argc, char** argv) {
     if (a == "--seed-vertex" || a.rfind("--seed-vertex=", 0) == 0) return true;
     const std::string previous = argv[i - 1];
     if (!a.empty() && a[0] != '-' && previous != "-o" && previous != "--output" &&
-        surface_io::isSurfaceMeshPath(a))
+        (surface_io::isSurfaceMeshPath(a) || surface_io::isFreeSurferSurfaceFile(a)))
       return true;
   }
   return false;
@@ -299,6 +449,8 @@ int runSurfaceDistance(int argc, char** argv) {
   RunFiles files;
   files.inputFile("surface mesh", o.input);
   if (o.metric.find(':') != std::string::npos) files.inputFile("metric file", o.metric.substr(o.metric.find(':') + 1));
+  if (!o.seedsFile.empty()) files.inputFile("seed file", o.seedsFile);
+  if (!o.maskFile.empty()) files.inputFile("mask", o.maskFile);
   files.outputFile("distance output", o.output);
   files.outputFile("statistics file", o.statsPath);
   files.check();
@@ -398,6 +550,24 @@ int runSurfaceDistance(int argc, char** argv) {
     if (std::isfinite(o.maxDistance)) std::cout << ", stopping at " << fixed(o.maxDistance, 4);
     for (const std::string& s : seeds.givenAs)
       if (s.rfind("point", 0) == 0) std::cout << "; seed " << s;
+    for (const auto& [region, count] : seeds.fromFile)
+      std::cout << "; seeds: " << (region.empty() ? std::string() : "region " + region + " of ") << o.seedsFile
+                << " (" << withThousands(count) << " vertices)";
+    if (!o.maskFile.empty())
+      std::cout << "; mask " << o.maskFile << ": " << withThousands(seeds.maskVertices) << " vertices inside, "
+                << withThousands(seeds.maskedOutFaces) << " faces left out";
+    if (!file.coordinates.space.empty()) {
+      std::cout << "; coordinates in " << file.coordinates.space;
+      if (file.coordinates.hasTransform) {
+        const auto& t = file.coordinates.transform;
+        const bool translation = t[0] == 1 && t[1] == 0 && t[2] == 0 && t[4] == 0 && t[5] == 1 && t[6] == 0 &&
+                                 t[8] == 0 && t[9] == 0 && t[10] == 1;
+        std::cout << " (" << file.coordinates.transformedSpace << " = "
+                  << (translation ? "these + (" + fixed(t[3], 3) + ", " + fixed(t[7], 3) + ", " + fixed(t[11], 3) + ")"
+                                  : std::string("the file's affine transform of these, in --stats"))
+                  << ")";
+      }
+    }
     std::cout << ". Farthest reached distance " << fixed(farthest, 4) << "; " << withThousands(unreached)
               << " vertices unreachable";
     if (unreached && otherComponents)

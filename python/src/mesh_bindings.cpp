@@ -199,10 +199,11 @@ RiemannianMetric surfaceMetric(const SurfaceDomain& surface, const std::string& 
   given.set(*findOption(meshOptionDeclarations(), "--metric"), kind);
   if (anisotropy) given.set(*findOption(meshOptionDeclarations(), "--anisotropy"), *anisotropy);
   checkSurfaceMetricChoice(kind, anisotropy.has_value(), OptionNaming::Keywords);
-  const bool withValues = kind == "field" || kind == "tensors" || kind == "face-tensors";
+  const bool withValues = kind == "field" || kind == "tensors" || kind == "face-tensors" || kind == "scale";
   if (withValues == values.is_none())
     throw py::value_error(withValues ? "metric='" + kind + "' needs metric_values"
-                                     : "metric_values applies to the field, tensors and face-tensors metrics only");
+                                     : "metric_values applies to the field, tensors, face-tensors and scale metrics "
+                                       "only");
   if (kind == "isotropic") return isotropicSurfaceMetric(surface);
   if (kind == "curvature") return curvatureMetric(surface, *anisotropy);
   if (kind == "field") {
@@ -211,6 +212,22 @@ RiemannianMetric surfaceMetric(const SurfaceDomain& surface, const std::string& 
       throw py::value_error("metric_values: " + std::to_string(directions.size()) + " directions for " +
                             std::to_string(surface.vertexCount()) + " vertices");
     return vectorFieldMetric(surface, directions, 1.0, *anisotropy);
+  }
+  if (kind == "scale") {
+    // A step near a vertex costs its value times its length: s² I.
+    const auto scales = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(values);
+    if (!scales || scales.ndim() != 1 || static_cast<std::size_t>(scales.shape(0)) != surface.vertexCount())
+      throw py::value_error("metric_values: metric='scale' takes one number per vertex (" +
+                            std::to_string(surface.vertexCount()) + ")");
+    std::vector<SymTensor3> tensors;
+    for (py::ssize_t v = 0; v < scales.shape(0); ++v) {
+      const double s = scales.at(v);
+      if (!(s > 0.0) || !std::isfinite(s))
+        throw py::value_error("metric_values: vertex " + std::to_string(v) + ": the scale is not a positive number");
+      const float s2 = static_cast<float>(s * s);
+      tensors.push_back({s2, 0.f, 0.f, s2, 0.f, s2});
+    }
+    return surfaceMetricFromWorldTensors(surface, tensors);
   }
   const bool perFace = kind == "face-tensors";
   const std::vector<SymTensor3> tensors =

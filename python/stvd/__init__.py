@@ -11,6 +11,8 @@ options by these keywords (``k must be between 1 and 16``). The library
 works without the GIL, so threads run in parallel. See docs/python.md.
 """
 
+import os
+
 import numpy as np
 
 from . import _core
@@ -24,7 +26,8 @@ NO_VERTEX = _core.NO_VERTEX
 
 __all__ = ["defaults", "distance", "propagate", "Propagation", "trace_paths", "Paths", "tractogram",
            "connectivity", "Connectivity", "tet_mesh_distance", "surface_distance", "NO_VERTEX", "OutputFiles",
-           "FileConflictError", "OutputError"]
+           "FileConflictError", "OutputError", "read_surface", "read_surface_values", "read_surface_regions",
+           "region_vertices", "write_surface_values"]
 
 
 class _Defaults:
@@ -362,7 +365,9 @@ def surface_distance(vertices, faces, seeds, *, metric="isotropic", metric_value
     ``'isotropic'``, ``'curvature'`` (with ``anisotropy``), ``'field'`` (a
     direction per vertex in ``metric_values``, with ``anisotropy``),
     ``'tensors'`` or ``'face-tensors'`` (world tensors per vertex or face in
-    ``metric_values``: (N, 6) in ``tensor_order`` or (N, 3, 3)).
+    ``metric_values``: (N, 6) in ``tensor_order`` or (N, 3, 3)), ``'scale'``
+    (a positive number per vertex in ``metric_values``: a step near the
+    vertex costs that much times its length).
     ``memory_check`` as in ``stvd.distance``. Returns float64 distances per
     vertex (``unreachable_value`` where not reached)."""
     with progress_reporter(progress) as reporter:
@@ -373,3 +378,62 @@ def surface_distance(vertices, faces, seeds, *, metric="isotropic", metric_value
             memory_check=bool(memory_check))
         reporter.finish(values["finalized_vertices"])
     return _distances(values, unreachable_value)
+
+
+def read_surface(path):
+    """A surface file as ``stvd distance`` reads it: .obj, .off, .ply, .stl,
+    a GIfTI surface (.surf.gii) or a FreeSurfer surface (lh.pial, ...).
+    Returns a dict: ``vertices`` (N, 3) float64 as the file stores them,
+    ``faces`` (F, 3) int64 (a list of polygons when not all are
+    triangles), ``format``, ``coordinate_space`` ('tkr-RAS', 'scanner RAS'
+    or GIfTI's DataSpace; '' when the file says nothing), ``transform``
+    (4 x 4 to ``transformed_space``, e.g. FreeSurfer's tkr-RAS to scanner
+    RAS from the volume geometry; None when the file gives none) and
+    ``anatomical_structure`` (GIfTI's AnatomicalStructurePrimary,
+    CortexLeft/CortexRight for lh.*/rh.*)."""
+    return _core.read_surface(os.fspath(path))
+
+
+def read_surface_values(path, vertex_count):
+    """One number per vertex from a GIfTI func/shape file (its first data
+    array), a FreeSurfer curv file or an .mgh/.mgz file: float64 (N,).
+    ValueError when the file holds another count than ``vertex_count``."""
+    return _core.read_surface_values(os.fspath(path), int(vertex_count))
+
+
+def read_surface_regions(path, vertex_count):
+    """Regions of the vertices from a FreeSurfer annotation (.annot), label
+    (.label: its vertices are region 1) or GIfTI label file (.label.gii).
+    Returns ``(keys, names)``: int32 (N,) keys (-1: in no region of an
+    annotation or label) and a dict key -> name."""
+    return _core.read_surface_regions(os.fspath(path), int(vertex_count))
+
+
+def region_vertices(path, vertex_count, *names):
+    """The vertices (sorted int64) of the regions ``names`` of a region file
+    (read_surface_regions); ValueError naming the file's regions when one
+    is not there."""
+    keys, table = read_surface_regions(path, vertex_count)
+    wanted = []
+    for name in names:
+        found = [k for k, n in table.items() if n == name]
+        if not found:
+            raise ValueError(f"{os.fspath(path)}: no region named {name!r} (the file names "
+                             f"{', '.join(table.values()) or 'none'})")
+        wanted.append(found[0])
+    return np.flatnonzero(np.isin(keys, wanted)).astype(np.int64)
+
+
+def write_surface_values(path, values, *, name="geodesic distance", anatomical_structure="", face_count=0):
+    """Writes one value per vertex (float32) as a GIfTI shape/func file
+    (.shape.gii: NIFTI_INTENT_SHAPE; .func.gii or .gii: NIFTI_INTENT_NONE) or
+    a FreeSurfer curv file (.curv, lh.NAME, rh.NAME; ``face_count`` goes into
+    its header), as ``stvd distance`` writes them. Non-finite values are
+    written as NaN, which viewers leave uncoloured. Staged and renamed: a
+    failed write leaves no file."""
+    values = np.asarray(values, dtype=np.float64).ravel()
+    values = np.where(np.isfinite(values), values, np.nan)
+    path = os.fspath(path)
+    with OutputFiles({"surface values": path}) as outputs:
+        outputs.write(path, lambda staging: _core.write_surface_values(
+            staging, values, str(name), str(anatomical_structure), int(face_count)))

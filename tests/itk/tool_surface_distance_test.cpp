@@ -297,7 +297,7 @@ TEST_F(ToolSurfaceBadInput, SeedVertexOutsideTheMesh) {
 TEST_F(ToolSurfaceBadInput, CommandLineMistakes) {
   expectFailure({path("ok.obj"), "-o", path("out/d.csv")}, kUsage, "no seed given");
   expectFailure({path("ok.obj"), "--seed-vertex", "0", "-o", path("out/d.nii.gz")}, kUsage,
-                "written as .ply, .vtk or .csv");
+                "written as .ply, .vtk, .csv, .shape.gii, .func.gii or a FreeSurfer curv file");
   expectFailure({path("ok.obj"), "--seed-vertex", "0", "--metric", "curvature", "-o",
                  path("out/d.csv")},
                 kUsage, "needs --anisotropy");
