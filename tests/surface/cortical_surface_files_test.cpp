@@ -263,7 +263,8 @@ TEST_F(CorticalFiles, PerVertexValuesFromCurvMghMgzAndGifti) {
     const std::vector<double> read = readVertexValues(write(name, bytes), 5);
     ASSERT_EQ(read.size(), 5u);
     for (std::size_t v = 0; v < 5; ++v) EXPECT_EQ(read[v], values[v]);
-    EXPECT_NE(errorOf([&] { readVertexValues((folder_ / name).string(), 6); }).find("for a surface of 6 vertices"),
+    const std::string path = (folder_ / name).string();  // a structured binding cannot be captured (C++17)
+    EXPECT_NE(errorOf([&] { readVertexValues(path, 6); }).find("for a surface of 6 vertices"),
               std::string::npos);
   }
 }
