@@ -20,6 +20,7 @@
 #include "stvd/system/files/output_transaction.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/surface/manifold_sheets.hpp"
 #include "stvd/surface/surface_domain.hpp"
 #include "option_help.hpp"
 #include "stvd/imaging/seed_options.hpp"
@@ -241,7 +242,8 @@ SurfaceSeeds resolveSeeds(const SurfaceOptions& o, surface_io::SurfaceMesh& mesh
   return seeds;
 }
 
-RiemannianMetric buildMetric(const SurfaceOptions& o, const SurfaceDomain& surface, const SurfaceSeeds& seeds) {
+RiemannianMetric buildMetric(const SurfaceOptions& o, const SurfaceDomain& surface, const SurfaceSeeds& seeds,
+                             const ManifoldSheets& sheets) {
   if (o.metric == "isotropic") return isotropicSurfaceMetric(surface);
   if (o.metric == "curvature") return curvatureMetric(surface, o.anisotropy);
   const bool field = o.metric.rfind("field:", 0) == 0;
@@ -250,7 +252,7 @@ RiemannianMetric buildMetric(const SurfaceOptions& o, const SurfaceDomain& surfa
   // The file has a row per vertex or face of the file's mesh.
   const std::size_t fileRows =
       perFace ? *std::max_element(seeds.faceOrigin.begin(), seeds.faceOrigin.end()) + 1
-              : surface.vertexCount() - seeds.inserted.size();
+              : sheets.inputVertexCount - seeds.inserted.size();
   const bool scale = o.metric.rfind("scale:", 0) == 0;
   std::vector<std::vector<double>> table;
   if (scale) {
@@ -292,6 +294,9 @@ RiemannianMetric buildMetric(const SurfaceOptions& o, const SurfaceDomain& surfa
       }
       table.push_back(row);
     }
+    // The copies made by splitting a non-manifold mesh: their vertex's row.
+    for (std::size_t v = sheets.inputVertexCount; v < sheets.original.size(); ++v)
+      table.push_back(table[sheets.original[v]]);
   }
   if (field) {
     std::vector<Vec3d> directions;
@@ -319,6 +324,8 @@ std::string methodName(const SurfaceOptions& o) {
 struct SurfaceRun {
   std::size_t components = 0;
   const SurfaceSeeds* seeds = nullptr;
+  const ManifoldSheets* sheets = nullptr;
+  int propagations = 1;
   const PropagationResult* result = nullptr;
   std::vector<double> distance;  // the file's vertices
   double read = 0, metric = 0, propagate = 0, write = 0, total = 0;
@@ -385,6 +392,11 @@ std::string surfaceStatsJson(const SurfaceOptions& o, const surface_io::SurfaceM
     << (reached.empty() ? "null" : jsonNumber(reached.front()))
     << ", \"median\": " << (reached.empty() ? "null" : jsonNumber(reached[reached.size() / 2]))
     << ", \"max\": " << (reached.empty() ? "null" : jsonNumber(reached.back())) << "},\n";
+  j << "  \"non_manifold\": {\"edges_with_more_than_two_faces\": " << run.sheets->nonManifoldEdges
+    << ", \"faces_cut_off_at_them\": " << run.sheets->detachedFaces
+    << ", \"vertices_split\": " << run.sheets->splitVertices
+    << ", \"vertex_copies_added\": " << run.sheets->addedVertices
+    << ", \"propagations\": " << run.propagations << "},\n";
   j << "  \"propagation\": {\"finalized_vertices\": " << run.result->finalizedVertices
     << ", \"relaxed_edges\": " << run.result->relaxedEdges << "},\n";
   j << "  \"seconds\": {\"read\": " << jsonNumber(run.read) << ", \"metric\": " << jsonNumber(run.metric)
@@ -460,14 +472,18 @@ int runSurfaceDistance(int argc, char** argv) {
   std::optional<SurfaceDomain> surface;
   std::optional<RiemannianMetric> metric;
   SurfaceSeeds seeds;
+  ManifoldSheets sheets;
   try {
     file = surface_io::readSurfaceMesh(o.input);
     mesh = file;
     seeds = resolveSeeds(o, mesh);
     run.read = since(phase);
     phase = Clock::now();
-    surface.emplace(mesh.points, mesh.faces);
-    metric.emplace(buildMetric(o, *surface, seeds));
+    // Non-manifold edges and vertices are split into manifold sheets, which
+    // the propagation joins again at the split vertices.
+    sheets = splitIntoManifoldSheets(mesh.points, mesh.faces);
+    surface.emplace(sheets.points, sheets.faces);
+    metric.emplace(buildMetric(o, *surface, seeds, sheets));
   } catch (const SurfaceError& e) {
     throw ToolError(kExitInput, o.input + ": " + e.what());
   } catch (const surface_io::MeshFileError& e) {
@@ -476,7 +492,14 @@ int runSurfaceDistance(int argc, char** argv) {
     throw ToolError(kExitInput, o.input + ": " + e.what());
   }
   run.metric = since(phase);
-  std::vector<VertexId> sources = seeds.vertices;
+  std::vector<VertexId> sources;
+  for (const VertexId v : seeds.vertices) {
+    if (!sheets.changed()) {
+      sources.push_back(v);
+      continue;
+    }
+    for (const VertexId c : sheets.copiesOf(v)) sources.push_back(c);
+  }
   std::sort(sources.begin(), sources.end());
   sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
   {
@@ -487,6 +510,11 @@ int runSurfaceDistance(int argc, char** argv) {
 
   phase = Clock::now();
   PropagationResult result;
+  if (o.lanthier && sheets.changed())
+    throw ToolError(kExitUsage, o.input + ": --method lanthier does not run on a non-manifold mesh (" +
+                                    std::to_string(sheets.nonManifoldEdges) + " edges shared by more than two faces, " +
+                                    std::to_string(sheets.splitVertices) +
+                                    " vertices split into sheets); use --method stvd or dijkstra");
   if (o.lanthier) {
     LanthierOptions steiner;
     steiner.steinerPoints = o.steinerPoints;
@@ -499,7 +527,7 @@ int runSurfaceDistance(int argc, char** argv) {
   } else {
     PropagationOptions options = propagationOptions(o);
     options.maxDistance = o.maxDistance;
-    result = propagate(*surface, *metric, sources, options);
+    result = propagateOverSheets(*surface, *metric, sheets, sources, options, &run.propagations);
   }
   run.propagate = since(phase);
   // The outputs list the file's vertices: inserted seed points are left out.
@@ -515,6 +543,7 @@ int runSurfaceDistance(int argc, char** argv) {
     run.write = since(phase);
     run.total = since(start);
     run.seeds = &seeds;
+    run.sheets = &sheets;
     run.result = &result;
     run.components = surface->componentCount();
     if (!o.statsPath.empty()) {
@@ -568,6 +597,12 @@ int runSurfaceDistance(int argc, char** argv) {
                   << ")";
       }
     }
+    if (sheets.changed())
+      std::cout << "; non-manifold: " << withThousands(sheets.nonManifoldEdges)
+                << " edge(s) shared by more than two faces (" << withThousands(sheets.detachedFaces)
+                << " face(s) cut off there), " << withThousands(sheets.splitVertices)
+                << " vertex(es) split into manifold sheets (" << withThousands(sheets.addedVertices)
+                << " copies), joined again at those vertices (" << run.propagations << " propagations)";
     std::cout << ". Farthest reached distance " << fixed(farthest, 4) << "; " << withThousands(unreached)
               << " vertices unreachable";
     if (unreached && otherComponents)

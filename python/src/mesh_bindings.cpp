@@ -24,6 +24,7 @@
 #include "stvd/front_end/propagation_choice.hpp"
 #include "stvd/front_end/propagation_choice_options.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/surface/manifold_sheets.hpp"
 #include "stvd/surface/surface_domain.hpp"
 #include "stvd/surface/surface_metrics.hpp"
 #include "stvd/tetmesh/tet_mesh_propagation.hpp"
@@ -192,8 +193,18 @@ py::dict tetMeshPropagate(const py::object& pointsObject, const py::object& tets
   return d;
 }
 
-RiemannianMetric surfaceMetric(const SurfaceDomain& surface, const std::string& kind, const py::object& values,
-                               const std::optional<double>& anisotropy, const std::optional<std::string>& order) {
+/// Per-vertex rows for the input's vertices, extended to the copies a
+/// non-manifold split made (each takes its vertex's row).
+template <class T>
+std::vector<T> withCopies(std::vector<T> rows, const ManifoldSheets& sheets) {
+  if (rows.size() == sheets.inputVertexCount)
+    for (std::size_t v = sheets.inputVertexCount; v < sheets.original.size(); ++v) rows.push_back(rows[sheets.original[v]]);
+  return rows;
+}
+
+RiemannianMetric surfaceMetric(const SurfaceDomain& surface, const ManifoldSheets& sheets, const std::string& kind,
+                               const py::object& values, const std::optional<double>& anisotropy,
+                               const std::optional<std::string>& order) {
   // Checked by the options' declarations, with messages in keyword names.
   OptionValues given(OptionNaming::Keywords);
   given.set(*findOption(meshOptionDeclarations(), "--metric"), kind);
@@ -207,18 +218,18 @@ RiemannianMetric surfaceMetric(const SurfaceDomain& surface, const std::string& 
   if (kind == "isotropic") return isotropicSurfaceMetric(surface);
   if (kind == "curvature") return curvatureMetric(surface, *anisotropy);
   if (kind == "field") {
-    const std::vector<Vec3d> directions = pointRows(values, "metric_values");
+    const std::vector<Vec3d> directions = withCopies(pointRows(values, "metric_values"), sheets);
     if (directions.size() != surface.vertexCount())
       throw py::value_error("metric_values: " + std::to_string(directions.size()) + " directions for " +
-                            std::to_string(surface.vertexCount()) + " vertices");
+                            std::to_string(sheets.inputVertexCount) + " vertices");
     return vectorFieldMetric(surface, directions, 1.0, *anisotropy);
   }
   if (kind == "scale") {
     // A step near a vertex costs its value times its length: s² I.
     const auto scales = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(values);
-    if (!scales || scales.ndim() != 1 || static_cast<std::size_t>(scales.shape(0)) != surface.vertexCount())
+    if (!scales || scales.ndim() != 1 || static_cast<std::size_t>(scales.shape(0)) != sheets.inputVertexCount)
       throw py::value_error("metric_values: metric='scale' takes one number per vertex (" +
-                            std::to_string(surface.vertexCount()) + ")");
+                            std::to_string(sheets.inputVertexCount) + ")");
     std::vector<SymTensor3> tensors;
     for (py::ssize_t v = 0; v < scales.shape(0); ++v) {
       const double s = scales.at(v);
@@ -227,12 +238,13 @@ RiemannianMetric surfaceMetric(const SurfaceDomain& surface, const std::string& 
       const float s2 = static_cast<float>(s * s);
       tensors.push_back({s2, 0.f, 0.f, s2, 0.f, s2});
     }
-    return surfaceMetricFromWorldTensors(surface, tensors);
+    return surfaceMetricFromWorldTensors(surface, withCopies(std::move(tensors), sheets));
   }
   const bool perFace = kind == "face-tensors";
-  const std::vector<SymTensor3> tensors =
-      rowTensors(values, perFace ? surface.faceCount() : surface.vertexCount(), order, "metric_values",
+  std::vector<SymTensor3> tensors =
+      rowTensors(values, perFace ? surface.faceCount() : sheets.inputVertexCount, order, "metric_values",
                  perFace ? "face" : "vertex");
+  if (!perFace) tensors = withCopies(std::move(tensors), sheets);
   return perFace ? surfaceMetricFromFaceTensors(surface, tensors) : surfaceMetricFromWorldTensors(surface, tensors);
 }
 
@@ -250,21 +262,30 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
   PolygonList faces;
   for (const auto& row : indexRows(facesObject, 0, "faces")) faces.add(row.begin(), row.end());
   std::optional<SurfaceDomain> surface;
+  // Non-manifold edges and vertices are split into manifold sheets, joined
+  // again at the split vertices by the propagation (as the tool does).
+  ManifoldSheets sheets;
   try {
     py::gil_scoped_release release;
-    surface.emplace(std::move(points), faces);
-  } catch (const SurfaceError& e) {  // not an orientable 2-manifold
+    sheets = splitIntoManifoldSheets(points, faces);
+    surface.emplace(sheets.points, sheets.faces);
+  } catch (const SurfaceError& e) {  // not an orientable surface
     throw py::value_error("surface: " + std::string(e.what()));
   }
   checkMemory("vertices", surfaceRunMemoryEstimate(choice, surface->vertexCount(), faces.faceVertex.size()),
               text::withThousands(surface->vertexCount()) + " vertices", memoryCheck);
-  const RiemannianMetric metric = surfaceMetric(*surface, metricKind, metricValues, anisotropy, order);
-  const std::vector<std::uint8_t> all(surface->vertexCount(), 1);
+  const RiemannianMetric metric = surfaceMetric(*surface, sheets, metricKind, metricValues, anisotropy, order);
   ProgressRelay relay(progress);
   PropagationResult result;
   {
     py::gil_scoped_release release;
-    const std::vector<VertexId> sources = seedVertices(seeds, all, "vertices");
+    std::vector<VertexId> sources;
+    for (const VertexId v : seedVertices(seeds, std::vector<std::uint8_t>(sheets.inputVertexCount, 1), "vertices"))
+      for (const VertexId c : sheets.copiesOf(v)) sources.push_back(c);
+    if (choice.lanthier && sheets.changed())
+      throw OptionError("vertices: " +
+                        optionWithValue(propagationOption("--method"), "lanthier", OptionNaming::Keywords) +
+                        " does not run on a non-manifold mesh; use method='stvd' or 'dijkstra'");
     if (choice.lanthier) {
       LanthierOptions steiner;
       steiner.steinerPoints = choice.steinerPoints;
@@ -281,12 +302,19 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
       PropagationOptions options = propagationOptions(choice);
       options.maxDistance = limit;
       options.progress = relay.hook();
-      result = propagate(*surface, metric, sources, options);
+      result = propagateOverSheets(*surface, metric, sheets, sources, options);
     }
   }
   relay.rethrowIfFailed();
+  // The input's vertices: the copies made by the split hold the same values.
+  result.distance.resize(sheets.inputVertexCount);
+  result.predecessor.resize(sheets.inputVertexCount);
+  for (VertexId& p : result.predecessor)
+    if (p != kNoVertex) p = sheets.original[p];
   py::dict d = resultDict(result);
   d["component_count"] = surface->componentCount();
+  d["split_vertices"] = sheets.splitVertices;
+  d["non_manifold_edges"] = sheets.nonManifoldEdges;
   return d;
 }
 
