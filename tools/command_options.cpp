@@ -68,6 +68,16 @@ std::vector<OptionDeclaration> toolDeclarations() {
   table.push_back(outputOption("--matrix-index", "FILE.csv", kConnectivityCommand,
                                "the same matrix of the connectivity index; 0 on the diagonal and where B is not "
                                "reachable."));
+  table.push_back(outputOption(
+      "--region-matrix", "FILE.csv", kSurfaceDistanceCommand,
+      "with --seeds REGIONS (.annot, .label.gii): the matrix of geodesic distances between the regions (those "
+      "of --seed-region, else every named region with vertices), one propagation per region on --threads: row A, "
+      "column B the shortest distance from A to a vertex of B, the region names in a '# labels:' header line, 0 on "
+      "the diagonal, inf where B is not reached. -o then holds each vertex's distance to its nearest region."));
+  table.push_back(outputOption(
+      "--nearest-region", "FILE", kSurfaceDistanceCommand,
+      "with --seeds REGIONS: the key of each vertex's nearest region (.shape.gii, .func.gii or FreeSurfer curv; -1 "
+      "where no region reaches), the regions as for --region-matrix; -o then holds the distance to it."));
   OptionDeclaration stats =
       outputOption("--stats", "FILE.json", kVolumeCommands | kSurfaceDistanceCommand,
                    "parameters, counts, seconds per phase and peak memory as JSON.");
@@ -112,7 +122,7 @@ const char* const kHelpOrder[] = {
     "--tensor-frame", "--mask", "--tensor-kind", "--diffusion-metric", "--max-anisotropy", "--fa-threshold",
     "--accept-implausible-tensors", "--metric", "--anisotropy", "--tensors", "--tensor-attribute",
     "--outside-image", "--step", "--smooth", "--no-refine", "--discrete", "--output", "--reference", "--tsv",
-    "--matrix", "--matrix-index", "--unreachable-value", "--stats", "--report", "--voxel", "--quiet", "--help"};
+    "--matrix", "--matrix-index", "--region-matrix", "--nearest-region", "--unreachable-value", "--stats", "--report", "--voxel", "--quiet", "--help"};
 
 std::vector<OptionDeclaration> allDeclarations() {
   std::vector<OptionDeclaration> all;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <iostream>
 #include <limits>
 #include <sstream>
@@ -20,7 +21,9 @@
 #include "stvd/system/files/output_transaction.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/front_end/region_connectivity_options.hpp"
 #include "stvd/surface/manifold_sheets.hpp"
+#include "stvd/surface/surface_region_distances.hpp"
 #include "stvd/surface/surface_domain.hpp"
 #include "option_help.hpp"
 #include "stvd/imaging/seed_options.hpp"
@@ -56,6 +59,11 @@ struct SurfaceOptions : PropagationChoice {
   std::vector<long long> seeds;
   std::vector<std::array<double, 3>> seedPoints;
   std::string seedsFile, maskFile;
+  /// Region mode (--region-matrix, --nearest-region): one propagation per
+  /// region of --seeds.
+  std::string regionMatrix, nearestRegion;
+  unsigned threads = 0;
+  bool regionMode() const { return !regionMatrix.empty() || !nearestRegion.empty(); }
   std::vector<std::string> seedRegions;
   bool seedAtPoint = false;
   double anisotropy = 0.0;
@@ -80,6 +88,9 @@ SurfaceOptions parse(int argc, char** argv) {
   o.seedAtPoint = v.text("--seed-at") == "point";
   o.seedsFile = v.text("--seeds").value_or("");
   o.maskFile = v.text("--mask").value_or("");
+  o.regionMatrix = v.text("--region-matrix").value_or("");
+  o.nearestRegion = v.text("--nearest-region").value_or("");
+  o.threads = regionThreadsOf(v);
   for (const OptionValue& given : v.all("--seed-region")) o.seedRegions.push_back(std::get<std::string>(given));
   o.maxDistance = v.number("--max-distance").value_or(o.maxDistance);
   o.statsPath = v.text("--stats").value_or("");
@@ -101,8 +112,20 @@ SurfaceOptions parse(int argc, char** argv) {
                             o.seedsFile.size() > 6 && o.seedsFile.compare(o.seedsFile.size() - 6, 6, ".label") != 0;
   if (!o.seedRegions.empty() && !namedRegions)
     usageError("--seed-region selects regions of a --seeds annotation (.annot) or GIfTI label file (.label.gii)");
-  if (namedRegions && o.seedRegions.empty())
+  if (namedRegions && o.seedRegions.empty() && !o.regionMode())
     usageError(o.seedsFile + ": name the seed regions with --seed-region NAME");
+  if (o.regionMode()) {
+    if (o.seedsFile.empty() || !surface_io::isVertexRegionsPath(o.seedsFile))
+      usageError("--region-matrix and --nearest-region need --seeds REGIONS (.annot, .label.gii or .label)");
+    if (!o.seeds.empty() || !o.seedPoints.empty())
+      usageError("--region-matrix and --nearest-region measure from the regions of --seeds, not from --seed-vertex "
+                 "or --seed-point");
+    if (o.lanthier) usageError("--region-matrix and --nearest-region run with --method stvd or dijkstra");
+    if (!o.nearestRegion.empty() &&
+        surface_io::vertexValuesFormatOf(o.nearestRegion) == surface_io::VertexValuesFormat::None)
+      usageError(o.nearestRegion + ": --nearest-region is written as .shape.gii, .func.gii or FreeSurfer curv");
+  }
+  if (v.has("--threads") && !o.regionMode()) usageError("--threads applies to --region-matrix and --nearest-region");
   if (!o.seedsFile.empty() && !surface_io::isVertexRegionsPath(o.seedsFile) &&
       !surface_io::isVertexValuesPath(o.seedsFile))
     usageError(o.seedsFile + ": --seeds takes a .label, .annot, .label.gii, .func.gii, .shape.gii, .mgh, .mgz or "
@@ -125,6 +148,10 @@ struct SurfaceSeeds {
   std::vector<std::string> givenAs;  // for the summary and --stats
   /// --seeds: the file's seed vertices, by region (or one entry).
   std::vector<std::pair<std::string, std::size_t>> fromFile;
+  /// Region mode: the regions (their vertices, names and keys).
+  std::vector<std::vector<VertexId>> regions;
+  std::vector<std::string> regionNames;
+  std::vector<std::int32_t> regionKeys;
   /// --mask: the faces kept and left out.
   std::size_t maskedOutFaces = 0, maskVertices = 0;
   /// Per inserted vertex (in order), the vertices it interpolates.
@@ -205,7 +232,27 @@ SurfaceSeeds resolveSeeds(const SurfaceOptions& o, surface_io::SurfaceMesh& mesh
                                  : "on vertex " + std::to_string(v)) +
                             " at distance " + fixed(closest.distance, 4) + " from the point");
   }
-  if (!o.seedsFile.empty()) {
+  if (o.regionMode()) {
+    // Each region apart: those named, else every named region with vertices.
+    const surface_io::VertexRegions regions = surface_io::readVertexRegions(o.seedsFile, fileVertices);
+    std::vector<std::string> names = o.seedRegions;
+    if (names.empty())
+      for (const auto& [key, name] : regions.name)
+        if (std::count(regions.key.begin(), regions.key.end(), key) > 0) names.push_back(name);
+    if (names.empty()) throw ToolError(kExitDomain, o.seedsFile + ": no region has a vertex");
+    for (const std::string& name : names) {
+      try {
+        seeds.regions.push_back(surface_io::regionVertices(regions, name, o.seedsFile));
+      } catch (const surface_io::MeshFileError& e) {
+        throw ToolError(kExitDomain, e.what());
+      }
+      for (const auto& [key, n] : regions.name)
+        if (n == name) seeds.regionKeys.push_back(key);
+      seeds.regionNames.push_back(name);
+      seeds.fromFile.emplace_back(name, seeds.regions.back().size());
+      seeds.vertices.insert(seeds.vertices.end(), seeds.regions.back().begin(), seeds.regions.back().end());
+    }
+  } else if (!o.seedsFile.empty()) {
     if (o.seedRegions.empty()) {
       const std::vector<std::uint8_t> marked = markedVertices(o.seedsFile, fileVertices);
       std::size_t count = 0;
@@ -312,6 +359,32 @@ RiemannianMetric buildMetric(const SurfaceOptions& o, const SurfaceDomain& surfa
   } catch (const std::invalid_argument& e) {
     throw surface_io::MeshFileError(file + ": " + e.what());
   }
+}
+
+/// The region matrix as CSV, as `stvd connectivity --matrix` writes it:
+/// '#' header lines (the region names in order), then row a, column b.
+std::string regionMatrixCsv(const SurfaceSeeds& seeds, const SurfaceRegionDistances& r) {
+  const std::size_t n = seeds.regionNames.size();
+  std::ostringstream csv;
+  csv << "# stvd distance --region-matrix: geodesic distance from the region of the row to the nearest vertex of "
+         "the region of the column\n# labels: ";
+  for (std::size_t a = 0; a < n; ++a) {
+    std::string name = seeds.regionNames[a];
+    for (char& c : name)
+      if (c == ',' || c == '\n' || c == '\r') c = ' ';
+    csv << (a ? "," : "") << name;
+  }
+  csv << "\n" << std::setprecision(9);
+  for (std::size_t a = 0; a < n; ++a) {
+    for (std::size_t b = 0; b < n; ++b) {
+      const double d = r.matrix[a * n + b];
+      csv << (b ? "," : "");
+      if (std::isfinite(d)) csv << d;
+      else csv << "inf";
+    }
+    csv << "\n";
+  }
+  return csv.str();
 }
 
 std::string methodName(const SurfaceOptions& o) {
@@ -465,6 +538,8 @@ int runSurfaceDistance(int argc, char** argv) {
   if (!o.maskFile.empty()) files.inputFile("mask", o.maskFile);
   files.outputFile("distance output", o.output);
   files.outputFile("statistics file", o.statsPath);
+  files.outputFile("region matrix", o.regionMatrix);
+  files.outputFile("nearest-region map", o.nearestRegion);
   files.check();
   SurfaceRun run;
   Clock::time_point phase = Clock::now();
@@ -510,6 +585,7 @@ int runSurfaceDistance(int argc, char** argv) {
 
   phase = Clock::now();
   PropagationResult result;
+  SurfaceRegionDistances regionResult;
   if (o.lanthier && sheets.changed())
     throw ToolError(kExitUsage, o.input + ": --method lanthier does not run on a non-manifold mesh (" +
                                     std::to_string(sheets.nonManifoldEdges) + " edges shared by more than two faces, " +
@@ -524,6 +600,12 @@ int runSurfaceDistance(int argc, char** argv) {
     } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
       throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
     }
+  } else if (o.regionMode()) {
+    PropagationOptions options = propagationOptions(o);
+    options.maxDistance = o.maxDistance;
+    regionResult = surfaceRegionDistances(*surface, *metric, sheets, seeds.regions, options, o.threads);
+    result.distance = regionResult.nearestDistance;
+    for (const double d : result.distance) result.finalizedVertices += std::isfinite(d) ? 1 : 0;
   } else {
     PropagationOptions options = propagationOptions(o);
     options.maxDistance = o.maxDistance;
@@ -540,6 +622,19 @@ int runSurfaceDistance(int argc, char** argv) {
     outputs.write(o.output, [&](const std::string& staging) {
       surface_io::writeSurfaceDistances(staging, o.output, file, run.distance);
     });
+    if (!o.regionMatrix.empty()) {
+      const std::string csv = regionMatrixCsv(seeds, regionResult);
+      outputs.write(o.regionMatrix, [&](const std::string& staging) { files::writeFileContents(staging, csv); });
+    }
+    if (!o.nearestRegion.empty()) {
+      std::vector<double> keys(file.points.size(), -1.0);
+      for (std::size_t v = 0; v < keys.size(); ++v)
+        if (regionResult.nearestRegion[v] != SurfaceRegionDistances::kNoRegion)
+          keys[v] = seeds.regionKeys[regionResult.nearestRegion[v]];
+      outputs.write(o.nearestRegion, [&](const std::string& staging) {
+        surface_io::writeVertexValues(staging, o.nearestRegion, file, keys, "nearest region");
+      });
+    }
     run.write = since(phase);
     run.total = since(start);
     run.seeds = &seeds;
@@ -597,6 +692,8 @@ int runSurfaceDistance(int argc, char** argv) {
                   << ")";
       }
     }
+    if (o.regionMode())
+      std::cout << "; distances to the nearest of " << seeds.regions.size() << " region(s), one propagation each";
     if (sheets.changed())
       std::cout << "; non-manifold: " << withThousands(sheets.nonManifoldEdges)
                 << " edge(s) shared by more than two faces (" << withThousands(sheets.detachedFaces)
@@ -610,7 +707,9 @@ int runSurfaceDistance(int argc, char** argv) {
                 << (std::isfinite(o.maxDistance) ? ", or beyond the distance limit" : "") << ")";
     else if (unreached && std::isfinite(o.maxDistance))
       std::cout << " (beyond the distance limit)";
-    std::cout << ". Wrote " << o.output << (o.statsPath.empty() ? "" : " and " + o.statsPath) << " in "
+    std::cout << ". Wrote " << o.output << (o.regionMatrix.empty() ? "" : ", " + o.regionMatrix)
+              << (o.nearestRegion.empty() ? "" : ", " + o.nearestRegion)
+              << (o.statsPath.empty() ? "" : " and " + o.statsPath) << " in "
               << fixed(run.total, 2) << " s." << std::endl;
   }
   return kExitOk;

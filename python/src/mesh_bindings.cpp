@@ -25,6 +25,7 @@
 #include "stvd/front_end/propagation_choice_options.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/surface/manifold_sheets.hpp"
+#include "stvd/surface/surface_region_distances.hpp"
 #include "stvd/surface/surface_domain.hpp"
 #include "stvd/surface/surface_metrics.hpp"
 #include "stvd/tetmesh/tet_mesh_propagation.hpp"
@@ -318,9 +319,75 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
   return d;
 }
 
+/// Distances between regions and to the nearest region
+/// (surface_region_distances.hpp): one propagation per region, on
+/// `threads` threads.
+py::dict surfaceRegionDistancesPy(const py::object& verticesObject, const py::object& facesObject,
+                                  const std::vector<std::vector<long long>>& regions, const std::string& metricKind,
+                                  const py::object& metricValues, const std::optional<double>& anisotropy,
+                                  const std::optional<std::string>& order, const std::optional<std::string>& method,
+                                  const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
+                                  const std::optional<double>& maxDistance, unsigned threads, bool keepMaps,
+                                  bool memoryCheck) {
+  const PropagationChoice choice = choiceOf(method, k, chainMeasure, std::nullopt, std::nullopt);
+  checkMeshPropagationChoice(choice, "face edge", 4);
+  if (choice.lanthier) throw py::value_error("surface_region_distances runs with method='stvd' or 'dijkstra'");
+  if (regions.empty()) throw py::value_error("regions: no region given");
+  std::vector<Vec3d> points = pointRows(verticesObject, "vertices");
+  PolygonList faces;
+  for (const auto& row : indexRows(facesObject, 0, "faces")) faces.add(row.begin(), row.end());
+  std::optional<SurfaceDomain> surface;
+  ManifoldSheets sheets;
+  try {
+    py::gil_scoped_release release;
+    sheets = splitIntoManifoldSheets(points, faces);
+    surface.emplace(sheets.points, sheets.faces);
+  } catch (const SurfaceError& e) {
+    throw py::value_error("surface: " + std::string(e.what()));
+  }
+  checkMemory("vertices", surfaceRunMemoryEstimate(choice, surface->vertexCount(), faces.faceVertex.size()),
+              text::withThousands(surface->vertexCount()) + " vertices", memoryCheck);
+  const RiemannianMetric metric = surfaceMetric(*surface, sheets, metricKind, metricValues, anisotropy, order);
+  const std::vector<std::uint8_t> all(sheets.inputVertexCount, 1);
+  std::vector<std::vector<VertexId>> sets;
+  for (std::size_t a = 0; a < regions.size(); ++a) {
+    if (regions[a].empty()) throw py::value_error("regions: region " + std::to_string(a) + " has no vertex");
+    sets.push_back(seedVertices(regions[a], all, "vertices"));
+  }
+  SurfaceRegionDistances r;
+  {
+    py::gil_scoped_release release;
+    PropagationOptions options = propagationOptions(choice);
+    options.maxDistance = maxDistanceOf(maxDistance);
+    r = surfaceRegionDistances(*surface, metric, sheets, sets, options, threads, keepMaps);
+  }
+  const std::size_t n = sets.size();
+  py::array_t<double> matrix({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(n)});
+  std::copy(r.matrix.begin(), r.matrix.end(), matrix.mutable_data());
+  std::vector<std::int64_t> nearest(r.nearestRegion.size());
+  for (std::size_t v = 0; v < nearest.size(); ++v)
+    nearest[v] = r.nearestRegion[v] == SurfaceRegionDistances::kNoRegion ? -1 : static_cast<std::int64_t>(r.nearestRegion[v]);
+  py::dict d;
+  d["matrix"] = matrix;
+  d["nearest_region"] = py::array_t<std::int64_t>(nearest.size(), nearest.data());
+  d["nearest_distance"] = py::array_t<double>(r.nearestDistance.size(), r.nearestDistance.data());
+  if (keepMaps) {
+    py::array_t<double> maps({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(sheets.inputVertexCount)});
+    for (std::size_t a = 0; a < n; ++a)
+      std::copy(r.maps[a].begin(), r.maps[a].end(), maps.mutable_data() + a * sheets.inputVertexCount);
+    d["maps"] = maps;
+  }
+  return d;
+}
+
 }  // namespace
 
 void bindMeshes(py::module_& m) {
+  m.def("surface_region_distances", &surfaceRegionDistancesPy, py::arg("vertices"), py::arg("faces"),
+        py::arg("regions"), py::arg("metric") = "isotropic", py::arg("metric_values") = py::none(),
+        py::arg("anisotropy") = py::none(), py::arg("tensor_order") = py::none(), py::arg("method") = py::none(),
+        py::arg("k") = py::none(), py::arg("chain_measure") = py::none(), py::arg("max_distance") = py::none(),
+        py::arg("threads") = 0u, py::arg("keep_maps") = false, py::arg("memory_check") = true);
   m.def("tet_mesh_propagate", &tetMeshPropagate, py::arg("points"), py::arg("tetrahedra"), py::arg("seeds"),
         py::arg("tensors") = py::none(), py::arg("tensor_order") = py::none(), py::arg("tensor_kind") = py::none(),
         py::arg("diffusion_metric") = py::none(), py::arg("max_anisotropy") = py::none(),

@@ -27,7 +27,7 @@ NO_VERTEX = _core.NO_VERTEX
 __all__ = ["defaults", "distance", "propagate", "Propagation", "trace_paths", "Paths", "tractogram",
            "connectivity", "Connectivity", "tet_mesh_distance", "surface_distance", "NO_VERTEX", "OutputFiles",
            "FileConflictError", "OutputError", "read_surface", "read_surface_values", "read_surface_regions",
-           "region_vertices", "write_surface_values"]
+           "region_vertices", "write_surface_values", "surface_region_distances"]
 
 
 class _Defaults:
@@ -437,3 +437,32 @@ def write_surface_values(path, values, *, name="geodesic distance", anatomical_s
     with OutputFiles({"surface values": path}) as outputs:
         outputs.write(path, lambda staging: _core.write_surface_values(
             staging, values, str(name), str(anatomical_structure), int(face_count)))
+
+
+def surface_region_distances(vertices, faces, regions, *, metric="isotropic", metric_values=None, anisotropy=None,
+                             tensor_order=None, method=None, k=None, chain_measure=None, max_distance=None,
+                             threads=None, keep_maps=False, unreachable_value=None, memory_check=True):
+    """Geodesic distances between the regions of a surface and from every
+    vertex to its nearest region, as ``stvd distance --region-matrix`` and
+    ``--nearest-region`` compute them: one propagation per region (all the
+    region's vertices are its sources), ``threads`` at once (None: one per
+    core; the results do not depend on it). ``regions``: a list of vertex
+    index arrays, one per region (``region_vertices`` reads them from an
+    annotation or label file). The other keywords as in
+    ``surface_distance``. Returns a dict: ``matrix`` (R, R), row a, column b
+    the shortest distance from region a to a vertex of region b (0 on the
+    diagonal); ``nearest_region`` (N,) int64, the index of each vertex's
+    nearest region (-1: none reaches it; ties: the lower index);
+    ``nearest_distance`` (N,); and with ``keep_maps`` ``maps`` (R, N), each
+    region's distance map. Unreached distances are ``unreachable_value``
+    (default inf)."""
+    result = _core.surface_region_distances(
+        vertices, faces, [index_list(r, "regions") for r in regions], metric=metric, metric_values=metric_values,
+        anisotropy=anisotropy, tensor_order=tensor_order, method=method, k=k, chain_measure=chain_measure,
+        max_distance=max_distance, threads=0 if threads is None else int(threads), keep_maps=bool(keep_maps),
+        memory_check=bool(memory_check))
+    if unreachable_value is not None:
+        for key in ("matrix", "nearest_distance", "maps"):
+            if key in result:
+                result[key] = np.where(np.isfinite(result[key]), result[key], unreachable_value)
+    return result

@@ -245,3 +245,40 @@ def test_bad_cortical_inputs_are_one_line_errors(files, tmp_path):
     message = tool_message("distance", truncated, "--seed-vertex", "0", "-o", tmp_path / "d.shape.gii")
     assert str(truncated) in message and "ends in the" in message
     assert not list(tmp_path.glob("d.*"))
+
+
+def test_region_matrix_and_nearest_region(files, tmp_path):
+    """Distances between the annotation's regions and from every vertex to
+    the nearest one: each row is its region's own propagation, the nearest
+    region the one with the shortest distance; the same from the package
+    and whatever the thread count."""
+    coords, faces = nib.freesurfer.read_geometry(files["pial"])
+    coords = coords.astype(np.float64)
+    names = ["unknown", "precentral", "lingual"]
+    regions = [np.flatnonzero(REGION == key) for key in range(3)]
+    maps = [stvd.surface_distance(coords, faces, r) for r in regions]
+    expected = np.array([[0.0 if a == b else maps[a][regions[b]].min() for b in range(3)] for a in range(3)])
+    nearest = np.argmin(np.vstack(maps), axis=0)
+    matrix_file, nearest_file, output = tmp_path / "m.csv", tmp_path / "lh.nearest.shape.gii", tmp_path / "d.curv"
+    for threads in ("1", "2"):
+        process = run_tool("distance", files["pial"], "--seeds", files["annot"], "--region-matrix", matrix_file,
+                           "--nearest-region", nearest_file, "--threads", threads, "-o", output)
+        assert "distances to the nearest of 3 region(s)" in process.stdout
+        lines = matrix_file.read_text().splitlines()
+        assert lines[1] == "# labels: " + ",".join(names)
+        np.testing.assert_allclose(np.loadtxt(matrix_file, delimiter=","), expected, rtol=1e-8)
+        keys = nib.load(nearest_file).darrays[0].data
+        np.testing.assert_array_equal(keys, nearest.astype(np.float32))
+        np.testing.assert_array_equal(nib.freesurfer.read_morph_data(output),
+                                      np.vstack(maps).min(axis=0).astype(np.float32))
+    result = stvd.surface_region_distances(coords, faces, regions, threads=2, keep_maps=True)
+    np.testing.assert_array_equal(result["matrix"], expected)
+    np.testing.assert_array_equal(result["nearest_region"], nearest)
+    np.testing.assert_array_equal(result["maps"], np.vstack(maps))
+    # Two named regions only.
+    run_tool("distance", files["pial"], "--seeds", files["annot"], "--seed-region", "lingual", "--seed-region",
+             "precentral", "--region-matrix", matrix_file, "-o", output, "-q")
+    np.testing.assert_allclose(np.loadtxt(matrix_file, delimiter=","), expected[np.ix_([2, 1], [2, 1])], rtol=1e-8)
+    message = tool_message("distance", files["pial"], "--seed-vertex", "0", "--region-matrix", matrix_file, "-o",
+                           output)
+    assert "--region-matrix and --nearest-region need --seeds REGIONS" in message
