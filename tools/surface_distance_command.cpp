@@ -556,8 +556,7 @@ int runSurfaceDistance(int argc, char** argv) {
     phase = Clock::now();
     // Non-manifold edges and vertices are split into manifold sheets, which
     // the propagation joins again at the split vertices.
-    sheets = splitIntoManifoldSheets(mesh.points, mesh.faces);
-    surface.emplace(sheets.points, sheets.faces);
+    surface.emplace(surfaceOfSheets(mesh.points, mesh.faces, sheets));
     metric.emplace(buildMetric(o, *surface, seeds, sheets));
   } catch (const SurfaceError& e) {
     throw ToolError(kExitInput, o.input + ": " + e.what());

@@ -268,8 +268,7 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
   ManifoldSheets sheets;
   try {
     py::gil_scoped_release release;
-    sheets = splitIntoManifoldSheets(points, faces);
-    surface.emplace(sheets.points, sheets.faces);
+    surface.emplace(surfaceOfSheets(points, faces, sheets));
   } catch (const SurfaceError& e) {  // not an orientable surface
     throw py::value_error("surface: " + std::string(e.what()));
   }
@@ -340,8 +339,7 @@ py::dict surfaceRegionDistancesPy(const py::object& verticesObject, const py::ob
   ManifoldSheets sheets;
   try {
     py::gil_scoped_release release;
-    sheets = splitIntoManifoldSheets(points, faces);
-    surface.emplace(sheets.points, sheets.faces);
+    surface.emplace(surfaceOfSheets(points, faces, sheets));
   } catch (const SurfaceError& e) {
     throw py::value_error("surface: " + std::string(e.what()));
   }

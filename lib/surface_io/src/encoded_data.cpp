@@ -15,25 +15,29 @@ bool decodeBase64(const std::string& text, std::string& bytes) {
     for (int i = 0; i < 64; ++i) t[static_cast<unsigned char>(alphabet[i])] = static_cast<signed char>(i);
     return t;
   }();
-  bytes.clear();
-  bytes.reserve(text.size() / 4 * 3);
+  bytes.assign(text.size() / 4 * 3 + 3, '\0');
+  std::size_t out = 0;
   std::uint32_t buffer = 0;
   int bits = 0, padding = 0;
   for (const char c : text) {
+    const signed char v = table[static_cast<unsigned char>(c)];
+    if (v >= 0 && padding == 0) {
+      buffer = (buffer << 6) | static_cast<std::uint32_t>(v);
+      bits += 6;
+      if (bits >= 8) {
+        bits -= 8;
+        bytes[out++] = static_cast<char>((buffer >> bits) & 0xFF);
+      }
+      continue;
+    }
     if (c == ' ' || c == '\n' || c == '\r' || c == '\t') continue;
     if (c == '=') {
       ++padding;
       continue;
     }
-    const signed char v = table[static_cast<unsigned char>(c)];
-    if (v < 0 || padding > 0) return false;  // a character outside the alphabet, or data after '='
-    buffer = (buffer << 6) | static_cast<std::uint32_t>(v);
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      bytes += static_cast<char>((buffer >> bits) & 0xFF);
-    }
+    return false;  // a character outside the alphabet, or data after '='
   }
+  bytes.resize(out);
   return padding <= 2 && bits < 6;
 }
 

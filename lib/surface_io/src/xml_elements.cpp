@@ -29,10 +29,23 @@ class Parser {
   const std::string& s_;
   const std::string& path_;
   std::size_t i_ = 0;
+  // Lines counted up to `counted_`: the parser only moves forward, so each
+  // byte is counted once (counting from the start at every element made
+  // a 4 MB surface's few elements cost as much as its data).
+  std::size_t counted_ = 0, line_ = 1;
 
-  [[noreturn]] void fail(const std::string& problem) const {
-    const std::size_t line = 1 + static_cast<std::size_t>(std::count(s_.begin(), s_.begin() + std::min(i_, s_.size()), '\n'));
-    throw MeshFileError(path_ + ": line " + std::to_string(line) + ": XML: " + problem);
+  std::size_t lineAt(std::size_t position) {
+    position = std::min(position, s_.size());
+    if (position < counted_) {
+      counted_ = 0;
+      line_ = 1;
+    }
+    line_ += static_cast<std::size_t>(std::count(s_.begin() + counted_, s_.begin() + position, '\n'));
+    counted_ = position;
+    return line_;
+  }
+  [[noreturn]] void fail(const std::string& problem) {
+    throw MeshFileError(path_ + ": line " + std::to_string(lineAt(i_)) + ": XML: " + problem);
   }
   bool startsWith(const char* t) const { return s_.compare(i_, std::strlen(t), t) == 0; }
   static bool space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
@@ -136,7 +149,7 @@ class Parser {
   XmlElement element(int depth) {
     if (depth >= kMaxDepth) fail("elements nested deeper than " + std::to_string(kMaxDepth) + " levels");
     XmlElement e;
-    e.line = 1 + static_cast<std::size_t>(std::count(s_.begin(), s_.begin() + i_, '\n'));
+    e.line = lineAt(i_);
     ++i_;  // '<'
     e.name = name();
     for (;;) {
@@ -163,8 +176,10 @@ class Parser {
       if (c == '&') {
         entity(e.text);
       } else if (c != '<') {
-        const std::size_t next = s_.find_first_of("<&", i_);
-        const std::size_t end = next == std::string::npos ? s_.size() : next;
+        // Character data up to the next markup or entity (a plain loop: a
+        // surface's arrays are megabytes of it).
+        std::size_t end = i_;
+        while (end < s_.size() && s_[end] != '<' && s_[end] != '&') ++end;
         e.text.append(s_, i_, end - i_);
         i_ = end;
       } else if (startsWith("<![CDATA[")) {

@@ -142,6 +142,21 @@ ManifoldSheets splitIntoManifoldSheets(const std::vector<Vec3d>& points, const P
   return out;
 }
 
+SurfaceDomain surfaceOfSheets(const std::vector<Vec3d>& points, const PolygonList& faces, ManifoldSheets& sheets) {
+  try {
+    SurfaceDomain surface(points, faces);
+    sheets = ManifoldSheets{};
+    sheets.inputVertexCount = points.size();
+    sheets.original.resize(points.size());
+    std::iota(sheets.original.begin(), sheets.original.end(), VertexId{0});
+    return surface;
+  } catch (const SurfaceError&) {
+    sheets = splitIntoManifoldSheets(points, faces);
+    if (!sheets.changed()) throw;
+  }
+  return SurfaceDomain(sheets.points, sheets.faces);
+}
+
 PropagationResult propagateOverSheets(const SurfaceDomain& surface, const RiemannianMetric& metric,
                                       const ManifoldSheets& sheets, const std::vector<VertexId>& sources,
                                       const PropagationOptions& options, int* runs) {

@@ -56,6 +56,14 @@ struct ManifoldSheets {
 /// left to SurfaceDomain, which flips faces per component.
 ManifoldSheets splitIntoManifoldSheets(const std::vector<Vec3d>& points, const PolygonList& faces);
 
+/// The surface of a mesh that may be non-manifold: the mesh as it is when
+/// SurfaceDomain takes it (`sheets` then unchanged, without copies of the
+/// points and faces: only `original` and `inputVertexCount` are set), else
+/// its manifold sheets. So a manifold mesh costs no split. Throws the
+/// SurfaceError of the mesh as given when splitting changes nothing, or
+/// that of the sheets (a Möbius strip stays one).
+SurfaceDomain surfaceOfSheets(const std::vector<Vec3d>& points, const PolygonList& faces, ManifoldSheets& sheets);
+
 /// Distances over the split surface from `sources` (vertices of the split
 /// mesh; pass every copy of a seed), with the copies of each input vertex
 /// joined: the propagation is repeated with the copies whose distance is
