@@ -27,7 +27,7 @@ NO_VERTEX = _core.NO_VERTEX
 __all__ = ["defaults", "distance", "propagate", "Propagation", "trace_paths", "Paths", "tractogram",
            "connectivity", "Connectivity", "tet_mesh_distance", "surface_distance", "NO_VERTEX", "OutputFiles",
            "FileConflictError", "OutputError", "read_surface", "read_surface_values", "read_surface_regions",
-           "region_vertices", "write_surface_values", "surface_region_distances"]
+           "region_vertices", "write_surface_values", "surface_region_distances", "SurfaceSolver"]
 
 
 class _Defaults:
@@ -466,3 +466,69 @@ def surface_region_distances(vertices, faces, regions, *, metric="isotropic", me
             if key in result:
                 result[key] = np.where(np.isfinite(result[key]), result[key], unreachable_value)
     return result
+
+
+class SurfaceSolver:
+    """A surface and its metric built once, then queried with many seed sets,
+    as potpourri3d's ``MeshHeatMethodDistanceSolver`` keeps its
+    precomputation (the surface's rings and frames, the metric, the split of
+    a non-manifold mesh)::
+
+        solver = stvd.SurfaceSolver(vertices, faces)
+        d = solver.distance([12])                      # as stvd.surface_distance(vertices, faces, [12])
+        maps = solver.distances([[12], [40, 41], [99]], threads=None)   # (3, N), on all cores
+        path = solver.paths([12], [500])[0]            # (M, 3) points from vertex 500 back to 12
+        regions = solver.region_distances([a, b, c])   # as stvd.surface_region_distances
+
+    The keywords of the constructor are those of ``surface_distance``
+    (``metric``, ``metric_values``, ``anisotropy``, ``tensor_order``,
+    ``method`` 'stvd' or 'dijkstra', ``k``, ``chain_measure``,
+    ``max_distance``, ``memory_check``). Every query gives exactly what
+    ``surface_distance`` gives for the same seeds, whatever ``threads`` is
+    (None: one per core). ``paths`` follows the propagation's predecessors
+    from each target to a seed: a path along the surface's edges whose
+    length is at least the distance (the distance itself is measured along
+    straighter lines across the faces); an unreached target gives an empty
+    path. Unreached distances are ``unreachable_value`` (default inf)."""
+
+    def __init__(self, vertices, faces, *, metric="isotropic", metric_values=None, anisotropy=None,
+                 tensor_order=None, method=None, k=None, chain_measure=None, max_distance=None,
+                 unreachable_value=None, memory_check=True):
+        self._solver = _core.SurfaceSolver(
+            vertices, faces, metric=metric, metric_values=metric_values, anisotropy=anisotropy,
+            tensor_order=tensor_order, method=method, k=k, chain_measure=chain_measure, max_distance=max_distance,
+            memory_check=bool(memory_check))
+        self._unreachable = unreachable_value
+
+    @property
+    def vertex_count(self):
+        return self._solver.vertex_count
+
+    def _out(self, values):
+        if self._unreachable is None:
+            return values
+        return np.where(np.isfinite(values), values, self._unreachable)
+
+    def distance(self, seeds):
+        """Float64 distances per vertex from the seed vertices."""
+        return self._out(self._solver.distance(index_list(seeds, "seeds")))
+
+    def distances(self, seed_sets, threads=None):
+        """One map per seed set, (S, N), ``threads`` propagations at once."""
+        sets = [index_list(s, "seed_sets") for s in seed_sets]
+        return self._out(self._solver.distances(sets, 0 if threads is None else int(threads)))
+
+    def paths(self, seeds, targets):
+        """For each target vertex, the (M, 3) points of its path back to the
+        seeds along the propagation's predecessors, target first."""
+        return self._solver.paths(index_list(seeds, "seeds"), index_list(targets, "targets"))
+
+    def region_distances(self, regions, threads=None, keep_maps=False):
+        """Distances between regions and to the nearest region, as
+        ``surface_region_distances``."""
+        result = self._solver.region_distances([index_list(r, "regions") for r in regions],
+                                               0 if threads is None else int(threads), bool(keep_maps))
+        for key in ("matrix", "nearest_distance", "maps"):
+            if key in result:
+                result[key] = self._out(result[key])
+        return result
