@@ -75,6 +75,12 @@ std::vector<OptionDeclaration> toolDeclarations() {
       "column B the shortest distance from A to a vertex of B, the region names in a '# labels:' header line, 0 on "
       "the diagonal, inf where B is not reached. -o then holds each vertex's distance to its nearest region."));
   table.push_back(outputOption(
+      "--region-maps", "PATTERN", kSurfaceDistanceCommand,
+      "with --seeds REGIONS: one distance map per region (the regions as for --region-matrix), each written to "
+      "PATTERN with {region} replaced by the region's name (letters, digits, '-', '_' and '.' kept, others '_'): "
+      ".shape.gii, .func.gii or FreeSurfer curv. The surface and metric are built once; the regions run in "
+      "parallel (--threads)."));
+  table.push_back(outputOption(
       "--nearest-region", "FILE", kSurfaceDistanceCommand,
       "with --seeds REGIONS: the key of each vertex's nearest region (.shape.gii, .func.gii or FreeSurfer curv; -1 "
       "where no region reaches), the regions as for --region-matrix; -o then holds the distance to it."));
@@ -122,7 +128,7 @@ const char* const kHelpOrder[] = {
     "--tensor-frame", "--mask", "--tensor-kind", "--diffusion-metric", "--max-anisotropy", "--fa-threshold",
     "--accept-implausible-tensors", "--metric", "--anisotropy", "--tensors", "--tensor-attribute",
     "--outside-image", "--step", "--smooth", "--no-refine", "--discrete", "--output", "--reference", "--tsv",
-    "--matrix", "--matrix-index", "--region-matrix", "--nearest-region", "--unreachable-value", "--stats", "--report", "--voxel", "--quiet", "--help"};
+    "--matrix", "--matrix-index", "--region-matrix", "--region-maps", "--nearest-region", "--unreachable-value", "--stats", "--report", "--voxel", "--quiet", "--help"};
 
 std::vector<OptionDeclaration> allDeclarations() {
   std::vector<OptionDeclaration> all;

@@ -2,6 +2,7 @@
 // polygon surface (docs/surfaces.md). Reached from runDistance when the
 // input is a surface mesh or --seed-vertex is given.
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -61,9 +62,9 @@ struct SurfaceOptions : PropagationChoice {
   std::string seedsFile, maskFile;
   /// Region mode (--region-matrix, --nearest-region): one propagation per
   /// region of --seeds.
-  std::string regionMatrix, nearestRegion;
+  std::string regionMatrix, nearestRegion, regionMaps;
   unsigned threads = 0;
-  bool regionMode() const { return !regionMatrix.empty() || !nearestRegion.empty(); }
+  bool regionMode() const { return !regionMatrix.empty() || !nearestRegion.empty() || !regionMaps.empty(); }
   std::vector<std::string> seedRegions;
   bool seedAtPoint = false;
   double anisotropy = 0.0;
@@ -90,6 +91,7 @@ SurfaceOptions parse(int argc, char** argv) {
   o.maskFile = v.text("--mask").value_or("");
   o.regionMatrix = v.text("--region-matrix").value_or("");
   o.nearestRegion = v.text("--nearest-region").value_or("");
+  o.regionMaps = v.text("--region-maps").value_or("");
   o.threads = regionThreadsOf(v);
   for (const OptionValue& given : v.all("--seed-region")) o.seedRegions.push_back(std::get<std::string>(given));
   o.maxDistance = v.number("--max-distance").value_or(o.maxDistance);
@@ -116,16 +118,23 @@ SurfaceOptions parse(int argc, char** argv) {
     usageError(o.seedsFile + ": name the seed regions with --seed-region NAME");
   if (o.regionMode()) {
     if (o.seedsFile.empty() || !surface_io::isVertexRegionsPath(o.seedsFile))
-      usageError("--region-matrix and --nearest-region need --seeds REGIONS (.annot, .label.gii or .label)");
+      usageError("--region-matrix, --region-maps and --nearest-region need --seeds REGIONS (.annot, .label.gii or "
+                 ".label)");
     if (!o.seeds.empty() || !o.seedPoints.empty())
-      usageError("--region-matrix and --nearest-region measure from the regions of --seeds, not from --seed-vertex "
-                 "or --seed-point");
-    if (o.lanthier) usageError("--region-matrix and --nearest-region run with --method stvd or dijkstra");
+      usageError("--region-matrix, --region-maps and --nearest-region measure from the regions of --seeds, not "
+                 "from --seed-vertex or --seed-point");
+    if (o.lanthier) usageError("--region-matrix, --region-maps and --nearest-region run with --method stvd or dijkstra");
+    if (!o.regionMaps.empty() &&
+        (o.regionMaps.find("{region}") == std::string::npos ||
+         surface_io::vertexValuesFormatOf(o.regionMaps) == surface_io::VertexValuesFormat::None))
+      usageError(o.regionMaps + ": --region-maps takes a pattern with {region} ending in .shape.gii, .func.gii or "
+                 ".curv (or lh.{region}...)");
     if (!o.nearestRegion.empty() &&
         surface_io::vertexValuesFormatOf(o.nearestRegion) == surface_io::VertexValuesFormat::None)
       usageError(o.nearestRegion + ": --nearest-region is written as .shape.gii, .func.gii or FreeSurfer curv");
   }
-  if (v.has("--threads") && !o.regionMode()) usageError("--threads applies to --region-matrix and --nearest-region");
+  if (v.has("--threads") && !o.regionMode())
+    usageError("--threads applies to --region-matrix, --region-maps and --nearest-region");
   if (!o.seedsFile.empty() && !surface_io::isVertexRegionsPath(o.seedsFile) &&
       !surface_io::isVertexValuesPath(o.seedsFile))
     usageError(o.seedsFile + ": --seeds takes a .label, .annot, .label.gii, .func.gii, .shape.gii, .mgh, .mgz or "
@@ -361,6 +370,18 @@ RiemannianMetric buildMetric(const SurfaceOptions& o, const SurfaceDomain& surfa
   }
 }
 
+/// One --region-maps file name: {region} replaced by the region's name,
+/// with characters outside [A-Za-z0-9._-] replaced by '_' (no folder, no
+/// hidden file from a name).
+std::string regionMapPath(const std::string& pattern, std::string name) {
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
+  if (name.empty() || name[0] == '.') name = "_" + name;
+  std::string path = pattern;
+  for (std::size_t at; (at = path.find("{region}")) != std::string::npos;) path.replace(at, 8, name);
+  return path;
+}
+
 /// The region matrix as CSV, as `stvd connectivity --matrix` writes it:
 /// '#' header lines (the region names in order), then row a, column b.
 std::string regionMatrixCsv(const SurfaceSeeds& seeds, const SurfaceRegionDistances& r) {
@@ -531,16 +552,23 @@ int runSurfaceDistance(int argc, char** argv) {
     if (e.exitCode() == kExitOk) return kExitOk;  // --help
     throw;
   }
-  RunFiles files;
-  files.inputFile("surface mesh", o.input);
-  if (o.metric.find(':') != std::string::npos) files.inputFile("metric file", o.metric.substr(o.metric.find(':') + 1));
-  if (!o.seedsFile.empty()) files.inputFile("seed file", o.seedsFile);
-  if (!o.maskFile.empty()) files.inputFile("mask", o.maskFile);
-  files.outputFile("distance output", o.output);
-  files.outputFile("statistics file", o.statsPath);
-  files.outputFile("region matrix", o.regionMatrix);
-  files.outputFile("nearest-region map", o.nearestRegion);
-  files.check();
+  // The run's files, checked before anything is read; the --region-maps
+  // files once the regions' names are known (checked again with them).
+  auto runFiles = [&o](const std::vector<std::string>& maps) {
+    RunFiles files;
+    files.inputFile("surface mesh", o.input);
+    if (o.metric.find(':') != std::string::npos)
+      files.inputFile("metric file", o.metric.substr(o.metric.find(':') + 1));
+    if (!o.seedsFile.empty()) files.inputFile("seed file", o.seedsFile);
+    if (!o.maskFile.empty()) files.inputFile("mask", o.maskFile);
+    files.outputFile("distance output", o.output);
+    files.outputFile("statistics file", o.statsPath);
+    files.outputFile("region matrix", o.regionMatrix);
+    files.outputFile("nearest-region map", o.nearestRegion);
+    for (const std::string& map : maps) files.outputFile("region map", map);
+    files.check();
+  };
+  runFiles({});
   SurfaceRun run;
   Clock::time_point phase = Clock::now();
   surface_io::SurfaceMesh file, mesh;
@@ -566,6 +594,10 @@ int runSurfaceDistance(int argc, char** argv) {
     throw ToolError(kExitInput, o.input + ": " + e.what());
   }
   run.metric = since(phase);
+  std::vector<std::string> regionMaps;
+  for (const std::string& name : seeds.regionNames)
+    if (!o.regionMaps.empty()) regionMaps.push_back(regionMapPath(o.regionMaps, name));
+  if (!regionMaps.empty()) runFiles(regionMaps);
   std::vector<VertexId> sources;
   for (const VertexId v : seeds.vertices) {
     if (!sheets.changed()) {
@@ -602,7 +634,8 @@ int runSurfaceDistance(int argc, char** argv) {
   } else if (o.regionMode()) {
     PropagationOptions options = propagationOptions(o);
     options.maxDistance = o.maxDistance;
-    regionResult = surfaceRegionDistances(*surface, *metric, sheets, seeds.regions, options, o.threads);
+    regionResult =
+        surfaceRegionDistances(*surface, *metric, sheets, seeds.regions, options, o.threads, !regionMaps.empty());
     result.distance = regionResult.nearestDistance;
     for (const double d : result.distance) result.finalizedVertices += std::isfinite(d) ? 1 : 0;
   } else {
@@ -624,6 +657,13 @@ int runSurfaceDistance(int argc, char** argv) {
     if (!o.regionMatrix.empty()) {
       const std::string csv = regionMatrixCsv(seeds, regionResult);
       outputs.write(o.regionMatrix, [&](const std::string& staging) { files::writeFileContents(staging, csv); });
+    }
+    for (std::size_t a = 0; a < regionMaps.size(); ++a) {
+      std::vector<double>& map = regionResult.maps[a];
+      map.resize(file.points.size());
+      outputs.write(regionMaps[a], [&](const std::string& staging) {
+        surface_io::writeSurfaceDistances(staging, regionMaps[a], file, map);
+      });
     }
     if (!o.nearestRegion.empty()) {
       std::vector<double> keys(file.points.size(), -1.0);
@@ -707,6 +747,7 @@ int runSurfaceDistance(int argc, char** argv) {
     else if (unreached && std::isfinite(o.maxDistance))
       std::cout << " (beyond the distance limit)";
     std::cout << ". Wrote " << o.output << (o.regionMatrix.empty() ? "" : ", " + o.regionMatrix)
+              << (regionMaps.empty() ? "" : ", " + std::to_string(regionMaps.size()) + " region maps")
               << (o.nearestRegion.empty() ? "" : ", " + o.nearestRegion)
               << (o.statsPath.empty() ? "" : " and " + o.statsPath) << " in "
               << fixed(run.total, 2) << " s." << std::endl;

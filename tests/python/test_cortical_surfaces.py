@@ -271,6 +271,15 @@ def test_region_matrix_and_nearest_region(files, tmp_path):
         np.testing.assert_array_equal(keys, nearest.astype(np.float32))
         np.testing.assert_array_equal(nib.freesurfer.read_morph_data(output),
                                       np.vstack(maps).min(axis=0).astype(np.float32))
+    # One map per region, the surface built once (the reusable-solver pattern).
+    run_tool("distance", files["pial"], "--seeds", files["annot"], "--region-maps", tmp_path / "lh.{region}.shape.gii",
+             "-o", output, "-q")
+    for name, expected_map in zip(names, maps):
+        np.testing.assert_array_equal(nib.load(tmp_path / f"lh.{name}.shape.gii").darrays[0].data,
+                                      expected_map.astype(np.float32))
+    message = tool_message("distance", files["pial"], "--seeds", files["annot"], "--region-maps", tmp_path / "x.gii",
+                           "-o", output)
+    assert "{region}" in message
     result = stvd.surface_region_distances(coords, faces, regions, threads=2, keep_maps=True)
     np.testing.assert_array_equal(result["matrix"], expected)
     np.testing.assert_array_equal(result["nearest_region"], nearest)
@@ -281,4 +290,4 @@ def test_region_matrix_and_nearest_region(files, tmp_path):
     np.testing.assert_allclose(np.loadtxt(matrix_file, delimiter=","), expected[np.ix_([2, 1], [2, 1])], rtol=1e-8)
     message = tool_message("distance", files["pial"], "--seed-vertex", "0", "--region-matrix", matrix_file, "-o",
                            output)
-    assert "--region-matrix and --nearest-region need --seeds REGIONS" in message
+    assert "--region-matrix, --region-maps and --nearest-region need --seeds REGIONS" in message
