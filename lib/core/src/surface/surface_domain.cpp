@@ -97,8 +97,13 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
     std::uint32_t begin = 0;
     for (std::size_t v = 0; v < n; ++v) {
       const std::uint32_t end = bucket[v];
-      for (std::uint32_t i = begin + 1; i < end; ++i)  // insertion sort: a handful each
-        for (std::uint32_t j = i; j > begin && sorted[j].key < sorted[j - 1].key; --j) std::swap(sorted[j], sorted[j - 1]);
+      const auto byKey = [](const EdgeSide& a, const EdgeSide& b) { return a.key < b.key; };
+      if (end - begin > 16) {  // a vertex of many faces (a fan's centre)
+        std::sort(sorted.begin() + begin, sorted.begin() + end, byKey);
+      } else {
+        for (std::uint32_t i = begin + 1; i < end; ++i)  // insertion sort: a handful each
+          for (std::uint32_t j = i; j > begin && byKey(sorted[j], sorted[j - 1]); --j) std::swap(sorted[j], sorted[j - 1]);
+      }
       begin = end;
     }
     sides.swap(sorted);
@@ -187,11 +192,19 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
   // rings with a binary search over all half-edges per step: a third of
   // building the surface.)
   std::vector<std::int64_t> twin(cornerCount, -1);
-  for (std::uint32_t c = 0; c < cornerCount; ++c) {
-    const VertexId v = faces_.faceVertex[c], w = nextOf(c);
-    for (std::uint32_t i = cornerStart[w]; i < cornerStart[w + 1]; ++i) {
-      const std::uint32_t d = corners[i];
-      if (nextOf(d) == v && (twin[c] < 0 || d < twin[c])) twin[c] = d;
+  {
+    // Each vertex's corners by the vertex they lead to, then by number: a
+    // binary search each (a vertex of many faces costs no quadratic scan).
+    std::vector<std::pair<VertexId, std::uint32_t>> byNext(cornerCount);
+    for (std::size_t v = 0; v < n; ++v) {
+      for (std::uint32_t i = cornerStart[v]; i < cornerStart[v + 1]; ++i) byNext[i] = {nextOf(corners[i]), corners[i]};
+      std::sort(byNext.begin() + cornerStart[v], byNext.begin() + cornerStart[v + 1]);
+    }
+    for (std::uint32_t c = 0; c < cornerCount; ++c) {
+      const VertexId v = faces_.faceVertex[c], w = nextOf(c);
+      const auto first = byNext.begin() + cornerStart[w], last = byNext.begin() + cornerStart[w + 1];
+      const auto it = std::lower_bound(first, last, std::make_pair(v, std::uint32_t{0}));
+      if (it != last && it->first == v) twin[c] = it->second;
     }
   }
   auto previousCorner = [&](std::uint32_t c) {
