@@ -23,6 +23,7 @@
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/front_end/region_connectivity_options.hpp"
+#include "stvd/system/parallel_tasks.hpp"
 #include "stvd/surface/manifold_sheets.hpp"
 #include "stvd/surface/surface_region_distances.hpp"
 #include "stvd/surface/surface_domain.hpp"
@@ -609,9 +610,16 @@ int runSurfaceDistance(int argc, char** argv) {
   std::sort(sources.begin(), sources.end());
   sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
   {
+    // Region mode: one propagation at a time on each thread, and with
+    // --region-maps every region's map kept until it is written.
     const std::uint64_t v = surface->vertexCount();
-    run.memory = checkMemory(o.input, surfaceRunMemoryEstimate(o, v, mesh.faces.faceVertex.size()),
-                             withThousands(v) + " vertices", !o.memoryCheck);
+    const unsigned threadCount = o.regionMode() ? threadCountFor(o.threads, seeds.regions.size()) : 1;
+    const std::uint64_t maps = regionMaps.size() * std::uint64_t{file.points.size()} * sizeof(double);
+    run.memory = checkMemory(
+        o.input, threadCount * surfaceRunMemoryEstimate(o, v, mesh.faces.faceVertex.size()) + maps,
+        (threadCount > 1 ? std::to_string(threadCount) + " propagations at once on " : std::string()) +
+            withThousands(v) + " vertices",
+        !o.memoryCheck);
   }
 
   phase = Clock::now();
