@@ -130,6 +130,8 @@ PYBIND11_MODULE(_core, m) {
       if (p) std::rethrow_exception(p);
     } catch (const stvd::imaging::ImageIoError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const stvd::surface_io::MeshFileError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const stvd::python::MemoryShortfallError& e) {
       PyErr_SetString(PyExc_MemoryError, e.what());
     }
@@ -138,4 +140,5 @@ PYBIND11_MODULE(_core, m) {
   stvd::python::bindFiles(m);
   stvd::python::bindVolumes(m);
   stvd::python::bindMeshes(m);
+  stvd::python::bindSurfaceFiles(m);
 }

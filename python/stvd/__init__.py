@@ -11,6 +11,8 @@ options by these keywords (``k must be between 1 and 16``). The library
 works without the GIL, so threads run in parallel. See docs/python.md.
 """
 
+import os
+
 import numpy as np
 
 from . import _core
@@ -24,7 +26,9 @@ NO_VERTEX = _core.NO_VERTEX
 
 __all__ = ["defaults", "distance", "propagate", "Propagation", "trace_paths", "Paths", "tractogram",
            "connectivity", "Connectivity", "check_tensor_frame", "tet_mesh_distance", "surface_distance",
-           "NO_VERTEX", "OutputFiles", "FileConflictError", "OutputError"]
+           "NO_VERTEX", "OutputFiles", "FileConflictError", "OutputError", "read_surface", "read_surface_values",
+           "read_surface_regions", "region_vertices", "write_surface_values", "surface_region_distances",
+           "SurfaceSolver"]
 
 
 class _Defaults:
@@ -400,7 +404,9 @@ def surface_distance(vertices, faces, seeds, *, metric="isotropic", metric_value
     ``'isotropic'``, ``'curvature'`` (with ``anisotropy``), ``'field'`` (a
     direction per vertex in ``metric_values``, with ``anisotropy``),
     ``'tensors'`` or ``'face-tensors'`` (world tensors per vertex or face in
-    ``metric_values``: (N, 6) in ``tensor_order`` or (N, 3, 3)).
+    ``metric_values``: (N, 6) in ``tensor_order`` or (N, 3, 3)), ``'scale'``
+    (a positive number per vertex in ``metric_values``: a step near the
+    vertex costs that much times its length).
     ``memory_check`` as in ``stvd.distance``. Returns float64 distances per
     vertex (``unreachable_value`` where not reached)."""
     with progress_reporter(progress) as reporter:
@@ -411,3 +417,157 @@ def surface_distance(vertices, faces, seeds, *, metric="isotropic", metric_value
             memory_check=bool(memory_check))
         reporter.finish(values["finalized_vertices"])
     return _distances(values, unreachable_value)
+
+
+def read_surface(path):
+    """A surface file as ``stvd distance`` reads it: .obj, .off, .ply, .stl,
+    a GIfTI surface (.surf.gii) or a FreeSurfer surface (lh.pial, ...).
+    Returns a dict: ``vertices`` (N, 3) float64 as the file stores them,
+    ``faces`` (F, 3) int64 (a list of polygons when not all are
+    triangles), ``format``, ``coordinate_space`` ('tkr-RAS', 'scanner RAS'
+    or GIfTI's DataSpace; '' when the file says nothing), ``transform``
+    (4 x 4 to ``transformed_space``, e.g. FreeSurfer's tkr-RAS to scanner
+    RAS from the volume geometry; None when the file gives none) and
+    ``anatomical_structure`` (GIfTI's AnatomicalStructurePrimary,
+    CortexLeft/CortexRight for lh.*/rh.*)."""
+    return _core.read_surface(os.fspath(path))
+
+
+def read_surface_values(path, vertex_count):
+    """One number per vertex from a GIfTI func/shape file (its first data
+    array), a FreeSurfer curv file or an .mgh/.mgz file: float64 (N,).
+    ValueError when the file holds another count than ``vertex_count``."""
+    return _core.read_surface_values(os.fspath(path), int(vertex_count))
+
+
+def read_surface_regions(path, vertex_count):
+    """Regions of the vertices from a FreeSurfer annotation (.annot), label
+    (.label: its vertices are region 1) or GIfTI label file (.label.gii).
+    Returns ``(keys, names)``: int32 (N,) keys (-1: in no region of an
+    annotation or label) and a dict key -> name."""
+    return _core.read_surface_regions(os.fspath(path), int(vertex_count))
+
+
+def region_vertices(path, vertex_count, *names):
+    """The vertices (sorted int64) of the regions ``names`` of a region file
+    (read_surface_regions); ValueError naming the file's regions when one
+    is not there."""
+    keys, table = read_surface_regions(path, vertex_count)
+    wanted = []
+    for name in names:
+        found = [k for k, n in table.items() if n == name]
+        if not found:
+            raise ValueError(f"{os.fspath(path)}: no region named {name!r} (the file names "
+                             f"{', '.join(table.values()) or 'none'})")
+        wanted.append(found[0])
+    return np.flatnonzero(np.isin(keys, wanted)).astype(np.int64)
+
+
+def write_surface_values(path, values, *, name="geodesic distance", anatomical_structure="", face_count=0):
+    """Writes one value per vertex (float32) as a GIfTI shape/func file
+    (.shape.gii: NIFTI_INTENT_SHAPE; .func.gii or .gii: NIFTI_INTENT_NONE) or
+    a FreeSurfer curv file (.curv, lh.NAME, rh.NAME; ``face_count`` goes into
+    its header), as ``stvd distance`` writes them. Non-finite values are
+    written as NaN, which viewers leave uncoloured. Staged and renamed: a
+    failed write leaves no file."""
+    values = np.asarray(values, dtype=np.float64).ravel()
+    values = np.where(np.isfinite(values), values, np.nan)
+    path = os.fspath(path)
+    with OutputFiles({"surface values": path}) as outputs:
+        outputs.write(path, lambda staging: _core.write_surface_values(
+            staging, values, str(name), str(anatomical_structure), int(face_count)))
+
+
+def surface_region_distances(vertices, faces, regions, *, metric="isotropic", metric_values=None, anisotropy=None,
+                             tensor_order=None, method=None, k=None, chain_measure=None, max_distance=None,
+                             threads=None, keep_maps=False, unreachable_value=None, memory_check=True):
+    """Geodesic distances between the regions of a surface and from every
+    vertex to its nearest region, as ``stvd distance --region-matrix`` and
+    ``--nearest-region`` compute them: one propagation per region (all the
+    region's vertices are its sources), ``threads`` at once (None: one per
+    core; the results do not depend on it). ``regions``: a list of vertex
+    index arrays, one per region (``region_vertices`` reads them from an
+    annotation or label file). The other keywords as in
+    ``surface_distance``. Returns a dict: ``matrix`` (R, R), row a, column b
+    the shortest distance from region a to a vertex of region b (0 on the
+    diagonal); ``nearest_region`` (N,) int64, the index of each vertex's
+    nearest region (-1: none reaches it; ties: the lower index);
+    ``nearest_distance`` (N,); and with ``keep_maps`` ``maps`` (R, N), each
+    region's distance map. Unreached distances are ``unreachable_value``
+    (default inf)."""
+    result = _core.surface_region_distances(
+        vertices, faces, [index_list(r, "regions") for r in regions], metric=metric, metric_values=metric_values,
+        anisotropy=anisotropy, tensor_order=tensor_order, method=method, k=k, chain_measure=chain_measure,
+        max_distance=max_distance, threads=0 if threads is None else int(threads), keep_maps=bool(keep_maps),
+        memory_check=bool(memory_check))
+    if unreachable_value is not None:
+        for key in ("matrix", "nearest_distance", "maps"):
+            if key in result:
+                result[key] = np.where(np.isfinite(result[key]), result[key], unreachable_value)
+    return result
+
+
+class SurfaceSolver:
+    """A surface and its metric built once, then queried with many seed sets,
+    as potpourri3d's ``MeshHeatMethodDistanceSolver`` keeps its
+    precomputation (the surface's rings and frames, the metric, the split of
+    a non-manifold mesh)::
+
+        solver = stvd.SurfaceSolver(vertices, faces)
+        d = solver.distance([12])                      # as stvd.surface_distance(vertices, faces, [12])
+        maps = solver.distances([[12], [40, 41], [99]], threads=None)   # (3, N), on all cores
+        path = solver.paths([12], [500])[0]            # (M, 3) points from vertex 500 back to 12
+        regions = solver.region_distances([a, b, c])   # as stvd.surface_region_distances
+
+    The keywords of the constructor are those of ``surface_distance``
+    (``metric``, ``metric_values``, ``anisotropy``, ``tensor_order``,
+    ``method`` 'stvd' or 'dijkstra', ``k``, ``chain_measure``,
+    ``max_distance``, ``memory_check``). Every query gives exactly what
+    ``surface_distance`` gives for the same seeds, whatever ``threads`` is
+    (None: one per core). ``paths`` follows the propagation's predecessors
+    from each target to a seed: a path along the surface's edges whose
+    length is at least the distance (the distance itself is measured along
+    straighter lines across the faces); an unreached target gives an empty
+    path. Unreached distances are ``unreachable_value`` (default inf)."""
+
+    def __init__(self, vertices, faces, *, metric="isotropic", metric_values=None, anisotropy=None,
+                 tensor_order=None, method=None, k=None, chain_measure=None, max_distance=None,
+                 unreachable_value=None, memory_check=True):
+        self._solver = _core.SurfaceSolver(
+            vertices, faces, metric=metric, metric_values=metric_values, anisotropy=anisotropy,
+            tensor_order=tensor_order, method=method, k=k, chain_measure=chain_measure, max_distance=max_distance,
+            memory_check=bool(memory_check))
+        self._unreachable = unreachable_value
+
+    @property
+    def vertex_count(self):
+        return self._solver.vertex_count
+
+    def _out(self, values):
+        if self._unreachable is None:
+            return values
+        return np.where(np.isfinite(values), values, self._unreachable)
+
+    def distance(self, seeds):
+        """Float64 distances per vertex from the seed vertices."""
+        return self._out(self._solver.distance(index_list(seeds, "seeds")))
+
+    def distances(self, seed_sets, threads=None):
+        """One map per seed set, (S, N), ``threads`` propagations at once."""
+        sets = [index_list(s, "seed_sets") for s in seed_sets]
+        return self._out(self._solver.distances(sets, 0 if threads is None else int(threads)))
+
+    def paths(self, seeds, targets):
+        """For each target vertex, the (M, 3) points of its path back to the
+        seeds along the propagation's predecessors, target first."""
+        return self._solver.paths(index_list(seeds, "seeds"), index_list(targets, "targets"))
+
+    def region_distances(self, regions, threads=None, keep_maps=False):
+        """Distances between regions and to the nearest region, as
+        ``surface_region_distances``."""
+        result = self._solver.region_distances([index_list(r, "regions") for r in regions],
+                                               0 if threads is None else int(threads), bool(keep_maps))
+        for key in ("matrix", "nearest_distance", "maps"):
+            if key in result:
+                result[key] = self._out(result[key])
+        return result

@@ -59,8 +59,12 @@ std::vector<OptionDeclaration> declarations() {
   mask.keywordCommands = kVolumeCommands;
   mask.type = OptionType::Text;
   mask.group = OptionGroup::TensorFile;
-  mask.commands = readers | kInfoCommand;
+  mask.commands = readers | kInfoCommand | kSurfaceDistanceCommand;
   mask.help = "only voxels where FILE is non-zero (same grid as the tensors).";
+  mask.helpFor = {{kSurfaceDistanceCommand,
+                   "only the faces whose corners are all non-zero in FILE, one value per vertex (.func.gii, "
+                   ".shape.gii, .label.gii, curv, .mgh, .mgz, a FreeSurfer .label: its vertices): paths stay on "
+                   "them; other vertices are unreached."}};
   table.push_back(mask);
 
   OptionDeclaration kind;

@@ -56,27 +56,58 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
   // Faces: at least 3 distinct vertices, indices in range.
   std::vector<EdgeSide> sides;
   sides.reserve(faces_.faceVertex.size());
+  std::vector<VertexId> largeFace;
   for (std::uint32_t f = 0; f < faceCount; ++f) {
     const std::uint32_t b = faces_.faceStart[f], e = faces_.faceStart[f + 1];
     if (e - b < 3)
       throw SurfaceError("face " + std::to_string(f) + " has " + std::to_string(e - b) +
                          " vertices; a face needs at least 3");
-    std::vector<VertexId> sorted(faces_.faceVertex.begin() + b, faces_.faceVertex.begin() + e);
-    for (const VertexId v : sorted)
-      if (v >= n)
-        throw SurfaceError("face " + std::to_string(f) + " refers to vertex " + std::to_string(v) +
+    for (std::uint32_t c = b; c < e; ++c)
+      if (faces_.faceVertex[c] >= n)
+        throw SurfaceError("face " + std::to_string(f) + " refers to vertex " + std::to_string(faces_.faceVertex[c]) +
                            " but there are " + std::to_string(n) + " vertices");
-    std::sort(sorted.begin(), sorted.end());
-    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
-      throw SurfaceError("face " + std::to_string(f) + " uses a vertex twice");
+    // A repeated vertex: pairwise for small faces (no allocation per face),
+    // sorted for large polygons.
+    bool repeated = false;
+    if (e - b <= 8) {
+      for (std::uint32_t c = b; c < e && !repeated; ++c)
+        for (std::uint32_t d = c + 1; d < e; ++d) repeated = repeated || faces_.faceVertex[c] == faces_.faceVertex[d];
+    } else {
+      largeFace.assign(faces_.faceVertex.begin() + b, faces_.faceVertex.begin() + e);
+      std::sort(largeFace.begin(), largeFace.end());
+      repeated = std::adjacent_find(largeFace.begin(), largeFace.end()) != largeFace.end();
+    }
+    if (repeated) throw SurfaceError("face " + std::to_string(f) + " uses a vertex twice");
     for (std::uint32_t c = b; c < e; ++c) {
       const VertexId u = faces_.faceVertex[c];
       const VertexId w = faces_.faceVertex[c + 1 < e ? c + 1 : b];
       sides.push_back({directedKey(std::min(u, w), std::max(u, w)), f, u < w});
     }
   }
-  std::sort(sides.begin(), sides.end(),
-            [](const EdgeSide& a, const EdgeSide& b) { return a.key < b.key; });
+  // Sorted by edge: bucketed by the smaller vertex (linear), then each
+  // vertex's few sides by the larger one (std::sort of all the sides was a
+  // tenth of building a cortex).
+  {
+    std::vector<std::uint32_t> bucket(n + 1, 0);
+    for (const EdgeSide& side : sides) ++bucket[(side.key >> 32) + 1];
+    for (std::size_t v = 0; v < n; ++v) bucket[v + 1] += bucket[v];
+    std::vector<EdgeSide> sorted(sides.size());
+    for (const EdgeSide& side : sides) sorted[bucket[side.key >> 32]++] = side;
+    // bucket[v] is now the end of v's sides, the start of v + 1's.
+    std::uint32_t begin = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+      const std::uint32_t end = bucket[v];
+      const auto byKey = [](const EdgeSide& a, const EdgeSide& b) { return a.key < b.key; };
+      if (end - begin > 16) {  // a vertex of many faces (a fan's centre)
+        std::sort(sorted.begin() + begin, sorted.begin() + end, byKey);
+      } else {
+        for (std::uint32_t i = begin + 1; i < end; ++i)  // insertion sort: a handful each
+          for (std::uint32_t j = i; j > begin && byKey(sorted[j], sorted[j - 1]); --j) std::swap(sorted[j], sorted[j - 1]);
+      }
+      begin = end;
+    }
+    sides.swap(sorted);
+  }
 
   // Face adjacency across interior edges; `same` when both faces run along
   // the edge in the same direction (one of them must be flipped).
@@ -134,11 +165,9 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
       std::reverse(faces_.faceVertex.begin() + faces_.faceStart[f],
                    faces_.faceVertex.begin() + faces_.faceStart[f + 1]);
 
-  // Directed half-edges (v, next) -> the corner of v, and the corners of
-  // every vertex.
+  // The corners of every vertex, and each half-edge's twin.
   const std::size_t cornerCount = faces_.faceVertex.size();
   std::vector<std::uint32_t> cornerFace(cornerCount);
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> halfEdges(cornerCount);
   std::vector<std::uint32_t> cornerStart(n + 1, 0);
   auto nextOf = [&](std::uint32_t c) {
     const std::uint32_t f = cornerFace[c];
@@ -150,22 +179,37 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
   };
   for (std::uint32_t f = 0; f < faceCount; ++f)
     for (std::uint32_t c = faces_.faceStart[f]; c < faces_.faceStart[f + 1]; ++c) cornerFace[c] = f;
-  for (std::uint32_t c = 0; c < cornerCount; ++c) {
-    halfEdges[c] = {directedKey(faces_.faceVertex[c], nextOf(c)), c};
-    ++cornerStart[faces_.faceVertex[c] + 1];
-  }
-  std::sort(halfEdges.begin(), halfEdges.end());
+  for (std::uint32_t c = 0; c < cornerCount; ++c) ++cornerStart[faces_.faceVertex[c] + 1];
   for (std::size_t v = 0; v < n; ++v) cornerStart[v + 1] += cornerStart[v];
   std::vector<std::uint32_t> corners(cornerCount);
   {
     std::vector<std::uint32_t> fill(cornerStart.begin(), cornerStart.end() - 1);
     for (std::uint32_t c = 0; c < cornerCount; ++c) corners[fill[faces_.faceVertex[c]]++] = c;
   }
-  auto cornerOfHalfEdge = [&](VertexId a, VertexId b) -> std::int64_t {
-    const std::uint64_t key = directedKey(a, b);
-    const auto it = std::lower_bound(halfEdges.begin(), halfEdges.end(),
-                                     std::make_pair(key, std::uint32_t{0}));
-    return it != halfEdges.end() && it->first == key ? static_cast<std::int64_t>(it->second) : -1;
+  // The twin of each half-edge (v -> next): the corner of the half-edge
+  // (next -> v), the first in corner order, or -1 on a boundary; found
+  // among next's few corners. (A cortex of 163,842 vertices walked its
+  // rings with a binary search over all half-edges per step: a third of
+  // building the surface.)
+  std::vector<std::int64_t> twin(cornerCount, -1);
+  {
+    // Each vertex's corners by the vertex they lead to, then by number: a
+    // binary search each (a vertex of many faces costs no quadratic scan).
+    std::vector<std::pair<VertexId, std::uint32_t>> byNext(cornerCount);
+    for (std::size_t v = 0; v < n; ++v) {
+      for (std::uint32_t i = cornerStart[v]; i < cornerStart[v + 1]; ++i) byNext[i] = {nextOf(corners[i]), corners[i]};
+      std::sort(byNext.begin() + cornerStart[v], byNext.begin() + cornerStart[v + 1]);
+    }
+    for (std::uint32_t c = 0; c < cornerCount; ++c) {
+      const VertexId v = faces_.faceVertex[c], w = nextOf(c);
+      const auto first = byNext.begin() + cornerStart[w], last = byNext.begin() + cornerStart[w + 1];
+      const auto it = std::lower_bound(first, last, std::make_pair(v, std::uint32_t{0}));
+      if (it != last && it->first == v) twin[c] = it->second;
+    }
+  }
+  auto previousCorner = [&](std::uint32_t c) {
+    const std::uint32_t f = cornerFace[c];
+    return c > faces_.faceStart[f] ? c - 1 : faces_.faceStart[f + 1] - 1;
   };
   auto cornerAngle = [&](std::uint32_t c) {
     const Vec3d p = points_[faces_.faceVertex[c]];
@@ -191,6 +235,10 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
   angleSum_.assign(n, 0.0);
   boundary_.assign(n, 0);
   ringStart_.assign(n + 1, 0);
+  // Every corner is one ring entry, and a boundary fan one more.
+  ringNeighbor_.reserve(cornerCount + n);
+  ringCorner_.reserve(cornerCount + n);
+  ringAngle_.reserve(cornerCount + n);
   std::vector<std::uint8_t> visited(cornerCount, 0);
   std::vector<double> angles;
   for (VertexId v = 0; v < n; ++v) {
@@ -201,7 +249,7 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
     std::uint32_t start = corners[cb];
     bool open = false;
     for (std::uint32_t i = cb; i < ce; ++i) {
-      if (cornerOfHalfEdge(nextOf(corners[i]), v) < 0) {
+      if (twin[corners[i]] < 0) {
         start = corners[i];
         open = true;
         break;
@@ -221,7 +269,8 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
       ringCorner_.push_back({std::cos(alpha), std::sin(alpha), 0.0, nextOf(c), cornerFace[c]});
       angle += alpha;
       normal = normal + alpha * faceNormal[cornerFace[c]];
-      const std::int64_t following = cornerOfHalfEdge(v, prevOf(c));
+      // The half-edge v -> prev(c): the twin of prev(c) -> v.
+      const std::int64_t following = twin[previousCorner(c)];
       if (following < 0) {  // boundary: the fan ends with the edge to prev
         ringNeighbor_.push_back(prevOf(c));
         angles.push_back(angle);

@@ -111,6 +111,11 @@ struct PropagationOptions {
   double maxDistance = std::numeric_limits<double>::infinity();
   /// When not empty: stop as soon as all these vertices are final.
   std::vector<VertexId> targets;
+  /// When not empty: the distance each source starts at, one per source in
+  /// the order given (by default 0). A source at distance d stands for a
+  /// path of length d that ends there (the copies of a split non-manifold
+  /// vertex, surface/manifold_sheets.hpp); finite and not negative.
+  std::vector<double> sourceDistances;
   /// Called about every 65536 finalised vertices; return false to cancel.
   std::function<bool(const PropagationProgress&)> progress;
 };

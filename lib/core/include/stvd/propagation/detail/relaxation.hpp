@@ -62,14 +62,18 @@ class Propagation {
         path_(makeCandidatePath(domain, metric, options)) {}
 
   PropagationResult run(const std::vector<VertexId>& sources) {
-    for (const VertexId s : sources) {
+    for (std::size_t i = 0; i < sources.size(); ++i) {
+      const VertexId s = sources[i];
+      const double start = options_.sourceDistances.empty() ? 0.0 : options_.sourceDistances[i];
       if constexpr (SegmentMeasure) {
-        state_[s].measured = 0.0;
-        state_[s].open.key = 0.0;
+        if (start >= state_[s].measured) continue;  // a source given twice keeps its shortest start
+        state_[s].measured = start;
+        state_[s].open.key = start;
       } else {
-        state_[s].distance = 0.0;
+        if (start >= state_[s].distance) continue;
+        state_[s].distance = start;
       }
-      queue_.pushOrDecrease(s, 0.0);
+      queue_.pushOrDecrease(s, start);
     }
     std::vector<std::uint8_t> isTarget;
     std::size_t remainingTargets = 0;
