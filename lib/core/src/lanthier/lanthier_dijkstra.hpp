@@ -105,6 +105,7 @@ class LanthierDijkstra {
     result.graphPoints = cells_.pointCount();
     result.distance.assign(vertexCount_, kUnreachable);
     result.predecessor.assign(vertexCount_, kNoVertex);
+    result.hasPredecessors = false;
     for (VertexId w = 0; w < vertexCount_; ++w) {
       const SteinerPointId p = cells_.pointOfVertex(w);  // kNoVertex: a voxel outside the domain
       if (p != kNoVertex && queue_.isFinal(p)) result.distance[w] = distance_[p];

@@ -58,7 +58,9 @@ struct LanthierResult : PropagationResult {
   // relaxedEdges (segments evaluated: one per finalised point and boundary
   // point of each cell around it), peakStateBytes (distances, queue, scratch;
   // not the domain, metric or cell structure). predecessor holds kNoVertex
-  // for every vertex: paths through Steiner points are not tracked.
+  // for every vertex and hasPredecessors is false: paths through Steiner
+  // points are not tracked, and tracing a path from this result is refused
+  // (std::invalid_argument). Trace paths from a Dijkstra or STVD result.
 
   /// Points of the Steiner graph, original vertices included.
   std::uint64_t graphPoints = 0;

@@ -142,6 +142,11 @@ struct PropagationResult {
   /// Predecessor of each final vertex on its propagation path; kNoVertex for
   /// sources and for vertices that are not final.
   std::vector<VertexId> predecessor;
+  /// Whether `predecessor` holds the propagation's paths. False for a
+  /// Steiner-point propagation (LanthierResult), whose paths run through
+  /// Steiner points and are not kept: predecessorPath, discreteGeodesicPath
+  /// and traceGeodesicPath refuse such a result with std::invalid_argument.
+  bool hasPredecessors = true;
   Termination termination = Termination::Completed;
   std::uint64_t finalizedVertices = 0;
   /// Distance updates evaluated: one per (finalised v, neighbour w) pair
