@@ -61,8 +61,8 @@ void addMask(TensorInput& input, const ScalarImage& mask, const std::string& mas
 }
 
 MetricFromTensors buildCheckedMetric(const std::string& inputName, const TensorInput& input,
-                                     const TensorInputOptions& options) {
-  MetricFromTensors built = buildMetric(input.read.volume.tensors, input.mask, options.metric);
+                                     const TensorInputOptions& options, Interrupter* interrupter) {
+  MetricFromTensors built = buildMetric(input.read.volume.tensors, input.mask, options.metric, interrupter);
   const std::string reason = implausibleTensorsReason(built.counts);
   if (!reason.empty() && !options.acceptImplausible) {
     const auto name = [&](const std::string& flag) { return optionName(tensorInputOption(flag), options.naming); };

@@ -46,10 +46,15 @@ struct LanthierOptions {
   std::vector<VertexId> targets;
   /// Also return the distances at all Steiner points (pointDistance).
   bool keepPointDistances = false;
-  /// Called about every 65536 finalised graph points; return false to
-  /// cancel. finalizedVertices and domainVertices count original vertices
-  /// (voxels, mesh vertices), frontDistance is that of the last point.
+  /// Called as PropagationOptions::progress is (at the start, at least
+  /// every progressInterval seconds, at the end; a cancelled run holds no
+  /// distances); return false to cancel. finalizedVertices and
+  /// domainVertices count original vertices (voxels, mesh vertices),
+  /// frontDistance is that of the last point.
   std::function<bool(const PropagationProgress&)> progress;
+  /// The same reports for an Interrupter ("Steiner-point propagation").
+  Interrupter* interrupter = nullptr;
+  double progressInterval = kDefaultInterruptInterval;
 };
 
 struct LanthierResult : PropagationResult {

@@ -82,8 +82,8 @@ void addMask(TensorInput& input, const ScalarImage& mask, const std::string& mas
 /// layout: when the tensors are implausible (most of them not positive
 /// definite, tensor_plausibility.hpp), InputError naming `inputName`, the
 /// layout, order and frame as read and the options to check, unless
-/// options.acceptImplausible.
+/// options.acceptImplausible. `interrupter`: as for buildMetric.
 MetricFromTensors buildCheckedMetric(const std::string& inputName, const TensorInput& input,
-                                     const TensorInputOptions& options);
+                                     const TensorInputOptions& options, Interrupter* interrupter = nullptr);
 
 }  // namespace stvd::imaging
