@@ -18,7 +18,8 @@ set -euo pipefail
 # meshes those tests read; Dask's distributed scheduler and Nipype for
 # cohort runs (stvd cohort, stvd.interfaces), and cryptography, with which
 # the embedded Dask cluster of a cohort run makes the TLS keys that keep
-# other users of the machine out of it.
+# other users of the machine out of it; doxygen for the API reference
+# generated from the headers (docs/library.md) and its test.
 packages=(
   g++ cmake make libgtest-dev libbenchmark-dev clang-14 libclang-rt-14-dev
   libinsighttoolkit5-dev libeigen3-dev libtet1.5-dev libopenvdb-dev libboost-iostreams-dev zlib1g-dev
@@ -28,6 +29,7 @@ packages=(
   libcgal-dev libcgal-demo
   python3-distributed python3-nipype python3-cryptography
   chromium
+  doxygen
 )
 # Scripts with needs of their own name extra packages as arguments
 # (scripts/evaluate.sh: gnuplot for its plots).

@@ -9,6 +9,7 @@
 #include "bindings.hpp"
 #include "propagation_keywords.hpp"
 #include "stvd/errors.hpp"
+#include "stvd/itk/itk_messages.hpp"
 #include "stvd/front_end/propagation_choice_options.hpp"
 
 namespace py = pybind11;
@@ -117,6 +118,9 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "stvd's C++ library: the extension module under the stvd package.";
   m.attr("__version__") = STVD_VERSION_TEXT;
   m.attr("NO_VERTEX") = stvd::kNoVertex;
+  // The ITK inside this module is ours alone (Python's own ITK, if any, is
+  // another copy): its messages during our reads stay off the terminal.
+  stvd::imaging::installItkMessageFilter();
   m.def("defaults", &defaults, "The library's defaults for every option of the Python API.");
   m.def("option_declarations", &optionDeclarations,
         "The library's option declarations: flags, keywords, commands, choices, ranges, defaults and help.");

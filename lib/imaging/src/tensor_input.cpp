@@ -62,8 +62,9 @@ void addMask(TensorInput& input, const ScalarImage& mask, const std::string& mas
 }
 
 MetricFromTensors buildCheckedMetric(const std::string& inputName, const TensorInput& input,
-                                     const TensorInputOptions& options, TensorFrameCheck* frameCheck) {
-  MetricFromTensors built = buildMetric(input.read.volume.tensors, input.mask, options.metric);
+                                     const TensorInputOptions& options, TensorFrameCheck* frameCheck,
+                                     Interrupter* interrupter) {
+  MetricFromTensors built = buildMetric(input.read.volume.tensors, input.mask, options.metric, interrupter);
   const std::string reason = implausibleTensorsReason(built.counts);
   if (!reason.empty() && !options.acceptImplausible) {
     const auto name = [&](const std::string& flag) { return optionName(tensorInputOption(flag), options.naming); };

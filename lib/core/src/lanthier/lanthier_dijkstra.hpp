@@ -16,6 +16,7 @@
 #include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/metric/metric_field.hpp"
 #include "stvd/propagation/detail/front_queue.hpp"
+#include "stvd/propagation/detail/progress_hook.hpp"
 
 namespace stvd::detail {
 
@@ -65,14 +66,16 @@ class LanthierDijkstra {
     }
 
     LanthierResult result;
-    constexpr std::uint64_t kProgressInterval = 1u << 16;
     // Progress counts original vertices: they are finalised interleaved with
     // the Steiner points in distance order, and unlike the points they all
-    // lie in the domain.
+    // lie in the domain. Reports are paced in time (ProgressHook).
+    ProgressHook hook(options_.progress, options_.interrupter, options_.progressInterval,
+                      "Steiner-point propagation");
     PropagationProgress progress;
     progress.domainVertices = domainVertexCount_;
     std::uint64_t finalizedPoints = 0;
-    while (!queue_.empty()) {
+    if (hook.active() && !hook.report(progress)) result.termination = Termination::Cancelled;
+    while (result.termination != Termination::Cancelled && !queue_.empty()) {
       if (queue_.minKey() > options_.maxDistance) {
         result.termination = Termination::MaxDistanceReached;
         break;
@@ -87,11 +90,13 @@ class LanthierDijkstra {
           break;
         }
       }
-      if (options_.progress && finalizedPoints % kProgressInterval == 0) {
+      if (hook.due(finalizedPoints)) {
         peakBytes_ = std::max(peakBytes_, stateBytes());
         progress.finalizedVertices = result.finalizedVertices;
         progress.frontDistance = distance_[u];
-        if (!options_.progress(progress)) {
+        progress.fraction =
+            double(result.finalizedVertices) / double(std::max<std::uint64_t>(progress.domainVertices, 1));
+        if (!hook.report(progress)) {
           result.termination = Termination::Cancelled;
           break;
         }
@@ -99,20 +104,28 @@ class LanthierDijkstra {
       relax(u);
     }
     peakBytes_ = std::max(peakBytes_, stateBytes());
+    if (hook.active() && result.termination != Termination::Cancelled) {
+      progress.finalizedVertices = result.finalizedVertices;
+      progress.fraction = 1.0;
+      hook.report(progress);
+    }
+    // A cancelled run holds no distances (PropagationOptions::progress).
+    const bool cancelled = result.termination == Termination::Cancelled;
 
     result.relaxedEdges = relaxed_;
     result.peakStateBytes = peakBytes_ + isTarget.capacity();
     result.graphPoints = cells_.pointCount();
     result.distance.assign(vertexCount_, kUnreachable);
     result.predecessor.assign(vertexCount_, kNoVertex);
-    for (VertexId w = 0; w < vertexCount_; ++w) {
+    result.hasPredecessors = false;
+    for (VertexId w = 0; w < (cancelled ? 0 : vertexCount_); ++w) {
       const SteinerPointId p = cells_.pointOfVertex(w);  // kNoVertex: a voxel outside the domain
       if (p != kNoVertex && queue_.isFinal(p)) result.distance[w] = distance_[p];
     }
     if (options_.keepPointDistances) {
       // Only final points carry a distance.
       for (std::uint64_t p = 0; p < distance_.size(); ++p)
-        if (!queue_.isFinal(static_cast<SteinerPointId>(p))) distance_[p] = kUnreachable;
+        if (cancelled || !queue_.isFinal(static_cast<SteinerPointId>(p))) distance_[p] = kUnreachable;
       result.pointDistance = std::move(distance_);
     }
     return result;

@@ -150,7 +150,7 @@ class PathTracer {
   /// and reached.
   bool fieldAt(int i, int j, int k, double& f) const {
     if (!domain_.isInsideImage(i, j, k)) return false;
-    const VertexId w = domain_.vertexAt(i, j, k);
+    const VertexId w = domain_.vertexAtUnchecked(i, j, k);
     if (!domain_.contains(w) || !std::isfinite(u_[w])) return false;
     f = u_[w] * u_[w];
     return true;
@@ -363,6 +363,7 @@ TracedPath traceGeodesicPath(const VoxelGridDomain& domain, const RiemannianMetr
     throw std::invalid_argument("metric, propagation result and domain differ in size");
   if (target >= domain.vertexCount())
     throw std::invalid_argument("target vertex " + std::to_string(target) + " is out of range");
+  if (!result.hasPredecessors) throw std::invalid_argument(detail::kNoPredecessorsMessage);
   if (!(options.stepFraction > 0.0 && options.stepFraction <= 1.0))
     throw std::invalid_argument("path step fraction must be in (0, 1]");
   if (options.fallbackVertices < 1 || options.noDescentSteps < 1 || !(options.stepBudgetFactor > 0.0) ||

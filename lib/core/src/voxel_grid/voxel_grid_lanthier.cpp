@@ -182,7 +182,7 @@ void GridSteinerCells::findCells() {
   const int size[3] = {static_cast<int>(g.size[0]), static_cast<int>(g.size[1]), static_cast<int>(g.size[2])};
   flags_.assign(domain_.vertexCount(), 0);
   auto inDomain = [&](const Index& p) {
-    return domain_.isInsideImage(p[0], p[1], p[2]) && domain_.contains(domain_.vertexAt(p[0], p[1], p[2]));
+    return domain_.isInsideImage(p[0], p[1], p[2]) && domain_.contains(domain_.vertexAtUnchecked(p[0], p[1], p[2]));
   };
   auto complete = [&](const Index& base, int s) {
     const Shape& shape = shapes_[s];
@@ -200,7 +200,7 @@ void GridSteinerCells::findCells() {
       const VoxelIndex c = domain_.indexOf(v);
       for (int n = 0; n < 8; ++n) {
         const int i = c.i - (n & 1), j = c.j - ((n >> 1) & 1), k = c.k - ((n >> 2) & 1);
-        if (i >= 0 && j >= 0 && k >= 0) nearDomain[domain_.vertexAt(i, j, k)] = 1;
+        if (i >= 0 && j >= 0 && k >= 0) nearDomain[domain_.vertexAtUnchecked(i, j, k)] = 1;
       }
     }
   }
@@ -208,7 +208,7 @@ void GridSteinerCells::findCells() {
     for (int k = 0; k < size[2]; ++k)
       for (int j = 0; j < size[1]; ++j)
         for (int i = 0; i < size[0]; ++i) {
-          const VertexId v = domain_.vertexAt(i, j, k);
+          const VertexId v = domain_.vertexAtUnchecked(i, j, k);
           if (nearDomain.empty() || nearDomain[v]) visit(Index{i, j, k}, v);
         }
   };
@@ -230,7 +230,7 @@ void GridSteinerCells::findCells() {
   });
   auto has = [&](const Index& p, int s) {
     return domain_.isInsideImage(p[0], p[1], p[2]) &&
-           (flags_[domain_.vertexAt(p[0], p[1], p[2])] & (1u << s)) != 0;
+           (flags_[domain_.vertexAtUnchecked(p[0], p[1], p[2])] & (1u << s)) != 0;
   };
   const VoxelConnectivity connectivity = domain_.connectivity();
   std::vector<std::uint32_t> lower(domain_.vertexCount(), 0);

@@ -69,7 +69,7 @@ class GridSteinerCells {
     for (std::size_t a = 0; a < count; ++a) {
       const Incidence& in = around[a];
       if (c.i < in.d[0] || c.j < in.d[1] || c.k < in.d[2]) continue;
-      const VertexId base = domain_.vertexAt(c.i - in.d[0], c.j - in.d[1], c.k - in.d[2]);
+      const VertexId base = domain_.vertexAtUnchecked(c.i - in.d[0], c.j - in.d[1], c.k - in.d[2]);
       if (!(flags_[base] & in.flag)) continue;
       const Shape& shape = shapes_[in.shape];
       // The cell's points are numbered with its corner voxels. A shape with

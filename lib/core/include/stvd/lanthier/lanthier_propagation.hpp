@@ -46,10 +46,15 @@ struct LanthierOptions {
   std::vector<VertexId> targets;
   /// Also return the distances at all Steiner points (pointDistance).
   bool keepPointDistances = false;
-  /// Called about every 65536 finalised graph points; return false to
-  /// cancel. finalizedVertices and domainVertices count original vertices
-  /// (voxels, mesh vertices), frontDistance is that of the last point.
+  /// Called as PropagationOptions::progress is (at the start, at least
+  /// every progressInterval seconds, at the end; a cancelled run holds no
+  /// distances); return false to cancel. finalizedVertices and
+  /// domainVertices count original vertices (voxels, mesh vertices),
+  /// frontDistance is that of the last point.
   std::function<bool(const PropagationProgress&)> progress;
+  /// The same reports for an Interrupter ("Steiner-point propagation").
+  Interrupter* interrupter = nullptr;
+  double progressInterval = kDefaultInterruptInterval;
 };
 
 struct LanthierResult : PropagationResult {
@@ -58,7 +63,9 @@ struct LanthierResult : PropagationResult {
   // relaxedEdges (segments evaluated: one per finalised point and boundary
   // point of each cell around it), peakStateBytes (distances, queue, scratch;
   // not the domain, metric or cell structure). predecessor holds kNoVertex
-  // for every vertex: paths through Steiner points are not tracked.
+  // for every vertex and hasPredecessors is false: paths through Steiner
+  // points are not tracked, and tracing a path from this result is refused
+  // (std::invalid_argument). Trace paths from a Dijkstra or STVD result.
 
   /// Points of the Steiner graph, original vertices included.
   std::uint64_t graphPoints = 0;

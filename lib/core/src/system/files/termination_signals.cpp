@@ -25,9 +25,8 @@ std::string& programNameForMessages() {
 }
 
 /// A duplicate of standard error made when the handling is installed: code
-/// that diverts standard error for a while (the image adapter collects the
-/// messages of the libraries it calls that way) must not swallow the line
-/// that says the run was interrupted.
+/// that diverts standard error for a while (a host program may) must not
+/// swallow the line that says the run was interrupted.
 int& messageDescriptor() {
   static int fd = STDERR_FILENO;
   return fd;

@@ -91,9 +91,11 @@ void addMask(TensorInput& input, const ScalarImage& mask, const std::string& mas
 /// tensor_frame_check.hpp, over the domain), InputError naming the
 /// transform that fits, unless options.acceptMisaligned. An inconclusive
 /// check never stops a run. `frameCheck`, when given, receives the check
-/// (verdict NotChecked for metric tensors).
+/// (verdict NotChecked for metric tensors). `interrupter`: as for
+/// buildMetric.
 MetricFromTensors buildCheckedMetric(const std::string& inputName, const TensorInput& input,
-                                     const TensorInputOptions& options, TensorFrameCheck* frameCheck = nullptr);
+                                     const TensorInputOptions& options, TensorFrameCheck* frameCheck = nullptr,
+                                     Interrupter* interrupter = nullptr);
 
 /// The message of buildCheckedMetric for a frame that does not match.
 std::string misalignedTensorsMessage(const std::string& inputName, const TensorFrameCheck& check,

@@ -19,6 +19,7 @@
 #include <utility>
 
 #include "stvd/propagation/candidate_path.hpp"
+#include "stvd/propagation/detail/progress_hook.hpp"
 #include "stvd/propagation/chain_unfolding.hpp"
 #include "stvd/propagation/detail/chain_screen.hpp"
 #include "stvd/propagation/detail/front_queue.hpp"
@@ -112,7 +113,9 @@ class Propagation {
     // times more to touch first than small ones (docs/performance.md).
     result.distance = std::vector<double>(domain_.vertexCount(), kUnreachable);
     result.predecessor = std::vector<VertexId>(domain_.vertexCount(), kNoVertex);
-    for (VertexId v = 0; v < domain_.vertexCount(); ++v) {
+    // A cancelled run holds no distances (PropagationOptions::progress).
+    const VertexId filled = termination_ == Termination::Cancelled ? 0 : domain_.vertexCount();
+    for (VertexId v = 0; v < filled; ++v) {
       if (queue_.isFinal(v)) {
         if (SegmentMeasure && state_[v].finalDistance() > options_.maxDistance) {
           --finalized_;  // settled a little beyond the limit: not reached
@@ -143,9 +146,13 @@ class Propagation {
   template <class Relax>
   void loop(const std::vector<std::uint8_t>& isTarget, std::size_t remainingTargets,
             Relax&& relax) {
-    constexpr std::uint64_t kProgressInterval = 1u << 16;
+    ProgressHook hook(options_.progress, options_.interrupter, options_.progressInterval, "propagation");
     PropagationProgress progress;
     progress.domainVertices = domain_.domainVertexCount();
+    if (hook.active() && !hook.report(progress)) {
+      termination_ = Termination::Cancelled;
+      return;
+    }
     while (!queue_.empty()) {
       if (queue_.minKey() > options_.maxDistance) {
         // Segment measure: a key may be a screened estimate, and a candidate
@@ -178,11 +185,12 @@ class Propagation {
         termination_ = Termination::TargetsReached;
         break;
       }
-      if (options_.progress && finalized_ % kProgressInterval == 0) {
+      if (hook.due(finalized_)) {
         peakBytes_ = std::max(peakBytes_, stateBytes());
         progress.finalizedVertices = finalized_;
         progress.frontDistance = state_[v].finalDistance();
-        if (!options_.progress(progress)) {
+        progress.fraction = double(finalized_) / double(std::max<std::uint64_t>(progress.domainVertices, 1));
+        if (!hook.report(progress)) {
           termination_ = Termination::Cancelled;
           break;
         }
@@ -191,6 +199,11 @@ class Propagation {
       if (options_.method != Method::Dijkstra && !queue_.empty()) prefetchChain(queue_.minVertex());
     }
     peakBytes_ = std::max(peakBytes_, stateBytes());
+    if (hook.active() && termination_ != Termination::Cancelled) {
+      progress.finalizedVertices = finalized_;
+      progress.fraction = 1.0;
+      hook.report(progress);  // the work is done: a late cancel changes nothing
+    }
   }
 
   // The vertex now at the top of the queue is nearly always the next one
