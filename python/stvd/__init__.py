@@ -116,8 +116,11 @@ class Propagation:
     def distance_map(self, unreachable_value=None):
         """The distance map as ``stvd distance`` writes it: float32, voxels not
         reached holding ``unreachable_value`` (``stvd.defaults.unreachable_value``
-        when None). A NiBabel image when an image or a file came in, a NumPy
-        array otherwise."""
+        when None). A NiBabel image whenever an affine is known: an image or
+        a file came in (its affine and header), or an array with ``affine=``
+        (that affine); so ``nibabel.save`` takes it. A NumPy array only when
+        NiBabel is not installed. ``np.asanyarray(image.dataobj)`` is the
+        array."""
         if unreachable_value is None:
             unreachable_value = defaults.unreachable_value
         data = self._result.distance_map(float(unreachable_value))
@@ -144,9 +147,14 @@ class Propagation:
                 f"{self.voxel_counts['domain']} domain voxels reached, {self.termination}>")
 
 
-def _image_template(tensors, field):
-    """How to wrap a distance map in an image of the input's grid, or None."""
-    import nibabel
+def _image_template(tensors, field, affine=None):
+    """How to wrap a distance map in an image of the input's grid, or None
+    when no affine is known (or NiBabel is missing). An array given with
+    ``affine=`` gets a NIfTI image with that affine, as given."""
+    try:
+        import nibabel
+    except ImportError:
+        return None
 
     if is_image(tensors):
         nifti = isinstance(tensors, nibabel.Nifti1Image)  # NIfTI-2 images are NIfTI-1 images too
@@ -162,22 +170,38 @@ def _image_template(tensors, field):
             affine = source.affine if nifti else field.affine
         except Exception:  # NRRD, which NiBabel does not read
             header, affine, image_class = None, field.affine, nibabel.Nifti1Image
+    elif affine is not None:
+        # The affine as given: the header stores it in single precision, the
+        # image keeps the caller's matrix.
+        return _ImageTemplate(None, affine, nibabel.Nifti1Image, exact_affine=True)
     else:
         return None
 
-    def wrap(data):
-        if header is None:
-            image = nibabel.Nifti1Image(data, affine)
-            image.set_qform(affine, code=1)
-            image.set_sform(affine, code=1)
+    return _ImageTemplate(header, affine, image_class)
+
+
+class _ImageTemplate:
+    """Wraps a distance map in a NIfTI image of the input's grid: the input's
+    header (NIfTI inputs) or a new one, and its affine. A class, not a
+    closure, so that a Propagation pickles with it."""
+
+    def __init__(self, header, affine, image_class, exact_affine=False):
+        self.header, self.affine, self.image_class = header, np.array(affine, dtype=np.float64), image_class
+        self.exact_affine = exact_affine
+
+    def __call__(self, data):
+        import nibabel
+
+        if self.header is None:
+            image = nibabel.Nifti1Image(data, self.affine)
+            image.set_qform(self.affine, code=1, update_affine=not self.exact_affine)
+            image.set_sform(self.affine, code=1, update_affine=not self.exact_affine)
             return image
-        out = header.copy()
+        out = self.header.copy()
         out.set_intent("none", (), name="")
         out.set_data_dtype(np.float32)
         out.set_slope_inter(None, None)
-        return image_class(data, affine, out)
-
-    return wrap
+        return self.image_class(data, self.affine, out)
 
 
 def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=None, lps=False, mask=None,
@@ -199,7 +223,7 @@ def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels
                                  domain_connectivity=_connectivity(domain_connectivity),
                                  memory_check=bool(memory_check))
         reporter.finish(result.finalized_vertices)
-    template = _image_template(tensors, field) if (is_image(tensors) or is_path(tensors)) else None
+    template = _image_template(tensors, field, affine)
     return Propagation(result, template,
                        [("tensor input", input_file_of(tensors)), ("mask", input_file_of(mask)),
                         ("seed labels", input_file_of(seed_labels))])
@@ -239,8 +263,9 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
         ``--no-memory-check``).
 
     Options left at None take ``stvd.defaults``. Returns the float32 distance
-    map on the input's grid: a NiBabel image when an image or a file came in,
-    a NumPy array otherwise.
+    map on the input's grid as a NiBabel image with the input's affine (an
+    image's or a file's affine and header, or the ``affine=`` given with an
+    array); a NumPy array only when NiBabel is not installed.
     """
     result = propagate(tensors, seeds, affine=affine, seed_points=seed_points, seed_labels=seed_labels, lps=lps,
                        mask=mask, tensor_order=tensor_order, tensor_frame=tensor_frame, tensor_kind=tensor_kind,
