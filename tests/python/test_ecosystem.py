@@ -61,3 +61,76 @@ def test_images_and_files_keep_their_affine(dipy_image):
         assert isinstance(image, nib.Nifti1Image)
         assert np.array_equal(image.affine, dipy_image.affine)
 
+
+# --- results pickle (item 8)
+
+def round_trip(value):
+    return pickle.loads(pickle.dumps(value, protocol=pickle.HIGHEST_PROTOCOL))
+
+
+def test_a_propagation_pickles_and_keeps_everything(dipy_image):
+    result = stvd.propagate(dipy_image, CC_BODY, mask=str(MASK))
+    back = round_trip(result)
+    assert isinstance(back, stvd.Propagation)
+    for name in ("distance", "predecessor", "seeds", "in_domain", "fractional_anisotropy", "affine"):
+        assert np.array_equal(getattr(back, name), getattr(result, name)), name
+    for name in ("termination", "finalized_vertices", "relaxed_edges", "peak_state_bytes", "method", "k",
+                 "chain_measure", "stencil", "domain_connectivity", "shape", "zooms", "voxel_counts",
+                 "tensor_info", "input_files", "label_seeds_left_out"):
+        assert getattr(back, name) == getattr(result, name), name
+    # The distance map is the same image, and paths and connectivity work
+    # from the copy as from the original, with the same numbers.
+    assert np.array_equal(back.distance_map().affine, result.distance_map().affine)
+    assert np.array_equal(np.asanyarray(back.distance_map().dataobj), np.asanyarray(result.distance_map().dataobj))
+    targets = [CC_BODY_L_LATERAL, CC_BODY_R_LATERAL, CST_L]
+    original, copied = stvd.trace_paths(result, targets), stvd.trace_paths(back, targets)
+    assert all(np.array_equal(a, b) for a, b in zip(original, copied))
+    assert np.array_equal(original.mean_fa, copied.mean_fa)
+    regions = np.zeros(dipy_image.shape[:3], np.uint8)
+    regions[54:57, 53:56, 14:17], regions[67:70, 49:52, 10:13] = 1, 2
+    assert np.array_equal(stvd.connectivity(back, regions).geodesic_mm,
+                          stvd.connectivity(result, regions).geodesic_mm, equal_nan=True)
+
+
+def test_paths_and_connectivity_pickle(tmp_path):
+    result = small_propagation()
+    paths = stvd.trace_paths(result, [(7, 6, 5), (0, 7, 6)])
+    back = round_trip(paths)
+    assert isinstance(back, stvd.Paths) and len(back) == 2
+    assert all(np.array_equal(a, b) for a, b in zip(back, paths))
+    for name in ("geodesic_mm", "euclidean_mm", "straight_mm", "target_voxels", "seed_voxels", "affine"):
+        assert np.array_equal(getattr(back, name), getattr(paths, name), equal_nan=True), name
+    assert back.targets == paths.targets and back.shape == paths.shape
+    # A copy still saves as the original does, byte for byte.
+    paths.save(tmp_path / "a.tck")
+    back.save(tmp_path / "b.tck")
+    assert (tmp_path / "a.tck").read_bytes() == (tmp_path / "b.tck").read_bytes()
+    regions = np.zeros(SHAPE, np.uint8)
+    regions[0:2, 0:2, 0:2], regions[6:8, 5:7, 4:6] = 1, 2
+    c = stvd.connectivity(result, regions)
+    c_back = round_trip(c)
+    assert isinstance(c_back, stvd.Connectivity)
+    assert np.array_equal(c_back.geodesic_mm, c.geodesic_mm, equal_nan=True)
+    assert np.array_equal(c_back.labels, c.labels)
+
+
+def _distance_at(result, voxel):
+    return float(result.distance[voxel])
+
+
+def test_a_propagation_goes_through_a_process_pool():
+    # A child process gets a pickled Propagation and reads it; a spawned one,
+    # as Dask's and multiprocessing's defaults on macOS and Windows do.
+    result = small_propagation()
+    with multiprocessing.get_context("spawn").Pool(1) as pool:
+        assert pool.apply(_distance_at, (result, (7, 6, 5))) == result.distance[7, 6, 5]
+        back = pool.apply(round_trip, (result,))
+    assert np.array_equal(back.distance, result.distance)
+
+
+def test_a_damaged_state_is_refused():
+    result = small_propagation()
+    state = result._result.__getstate__()
+    with pytest.raises(ValueError, match="unpickling stvd"):
+        type(result._result).__new__(type(result._result)).__setstate__(state[:3])
+
