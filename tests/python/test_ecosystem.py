@@ -134,3 +134,48 @@ def test_a_damaged_state_is_refused():
     with pytest.raises(ValueError, match="unpickling stvd"):
         type(result._result).__new__(type(result._result)).__setstate__(state[:3])
 
+
+# --- paths merge (item 9)
+
+def test_paths_of_several_runs_merge_into_paths_nibabel_saves(tmp_path):
+    first = stvd.trace_paths(small_propagation(), [(7, 6, 5), (0, 7, 6)])
+    second = stvd.trace_paths(stvd.propagate(small_tensors(), (6, 1, 1), affine=AFFINE, tensor_order="lower",
+                                             tensor_kind="metric"), [(1, 6, 6)])
+    merged = first + second
+    assert isinstance(merged, stvd.Paths) and len(merged) == 3
+    assert all(np.array_equal(a, b) for a, b in zip(merged, list(first) + list(second)))
+    assert np.array_equal(merged.geodesic_mm, np.concatenate([first.geodesic_mm, second.geodesic_mm]))
+    assert np.array_equal(merged.seed_voxels, [(2, 2, 2), (2, 2, 2), (6, 1, 1)])
+    assert merged.targets == first.targets + second.targets
+    assert np.array_equal(merged.affine, first.affine) and merged.shape == first.shape
+    assert len(first) == 2  # the operands are left as they were
+    assert len(stvd.Paths.merge([first, second, first])) == 5
+    # NiBabel saves the merged set; stvd saves it as the tool would.
+    nib.streamlines.save(stvd.tractogram(merged), str(tmp_path / "merged.trk"), header=merged.trk_header())
+    loaded = nib.streamlines.load(str(tmp_path / "merged.trk"))
+    assert len(loaded.streamlines) == 3
+    assert np.allclose(loaded.tractogram.data_per_streamline["geodesic_mm"][:, 0], merged.geodesic_mm, rtol=1e-6)
+    merged.save(tmp_path / "merged.tck")
+    assert len(nib.streamlines.load(str(tmp_path / "merged.tck")).streamlines) == 3
+    # += gives Paths as well, and a slice keeps the figures of its paths.
+    grown = first
+    grown += second
+    assert isinstance(grown, stvd.Paths) and len(grown) == 3 and len(first) == 2
+    tail = merged[1:]
+    assert isinstance(tail, stvd.Paths) and np.array_equal(tail.geodesic_mm, merged.geodesic_mm[1:])
+    assert isinstance(merged[0], np.ndarray)
+
+
+def test_paths_on_another_grid_do_not_merge():
+    first = stvd.trace_paths(small_propagation(), [(7, 6, 5)])
+    moved = AFFINE.copy()
+    moved[0, 3] += 1.0
+    other = stvd.trace_paths(stvd.propagate(small_tensors(), (2, 2, 2), affine=moved, tensor_order="lower",
+                                            tensor_kind="metric"), [(7, 6, 5)])
+    with pytest.raises(ValueError, match="paths on another grid"):
+        first + other
+    with pytest.raises(TypeError, match="stvd.Paths"):
+        stvd.tractogram(list(first) + list(other))
+    with pytest.raises(TypeError):
+        first + [np.zeros((2, 3))]
+
