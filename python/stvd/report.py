@@ -624,14 +624,17 @@ def _input_name(tensors):
     return "an array"
 
 
-def write_report(output, result=None, *, paths=None, connectivity=None, labels=None, tensors=None, fa=None,
-                 subject=None, convention="neurological", command_line=None):
+def write_report(output, result=None, *, paths=None, connectivity=None, labels=None, tensors=None, affine=None,
+                 mask=None, tensor_order=None, tensor_frame=None, tensor_kind=None, diffusion_metric=None,
+                 max_anisotropy=None, fa_threshold=None, accept_implausible_tensors=False, fa=None, subject=None,
+                 convention="neurological", command_line=None):
     """The report page of a run made from Python.
 
     result: the ``stvd.Propagation`` of ``stvd.propagate`` (the distance map,
-        seeds, statistics and grid); ``tensors`` (what ``stvd.distance``
-        takes, with ``affine=`` given through ``stvd.propagate`` instead) is
-        enough for a connectivity-only page.
+        seeds, statistics and grid); ``tensors`` is enough for a
+        connectivity-only page: what ``stvd.distance`` takes, with the same
+        keywords (``affine=`` for an array, ``tensor_order``, ``mask``, ...).
+        With ``result`` the tensors and their options are the result's.
     paths: the ``stvd.Paths`` of ``stvd.trace_paths``.
     connectivity, labels: the ``stvd.Connectivity`` of ``stvd.connectivity``
         and its label image (path, NiBabel image or array on the grid).
@@ -651,14 +654,21 @@ def write_report(output, result=None, *, paths=None, connectivity=None, labels=N
     if command_line is None:
         command_line = "python3 " + " ".join(sys.argv)
     kind = "connectivity" if connectivity is not None and paths is None else ("path" if paths is not None else "distance")
-    outputs = _report_output(output, {"tensor input": tensors, "label image": labels, "FA image": fa})
+    outputs = _report_output(output, {"tensor input": tensors, "mask": mask, "label image": labels, "FA image": fa})
 
+    tensor_options = dict(tensor_order=tensor_order, tensor_frame=tensor_frame, tensor_kind=tensor_kind,
+                          diffusion_metric=diffusion_metric, max_anisotropy=max_anisotropy, fa_threshold=fa_threshold)
     if result is not None:
+        if mask is not None or accept_implausible_tensors or any(v is not None for v in tensor_options.values()):
+            raise ValueError("write_report: the tensor options come from the stvd.Propagation given (result=)")
         field = result._result.field
+        if affine is not None and not np.allclose(np.asarray(affine, np.float64), field.affine, atol=1e-4):
+            raise ValueError("affine: not the affine of the stvd.Propagation given (result=)")
         name = _input_name(tensors) if tensors is not None else field.name
         statistics = _statistics_of_propagation(result, kind, command_line, name)
     else:
-        field = tensor_field(tensors, None, None, {})
+        field = tensor_field(tensors, affine, mask,
+                             dict(tensor_options, accept_implausible_tensors=bool(accept_implausible_tensors)))
         name = _input_name(tensors)
         info = field.tensor_info
         statistics = {"command": kind, "stvd_version": __version__, "command_line": command_line, "input": name,

@@ -179,3 +179,23 @@ def test_paths_on_another_grid_do_not_merge():
     with pytest.raises(TypeError):
         first + [np.zeros((2, 3))]
 
+
+# --- write_report takes affine= like every other call (item 11)
+
+def test_a_connectivity_page_from_arrays_takes_the_affine(tmp_path, dipy_image, dipy_components):
+    from stvd.report import write_report
+
+    regions = np.zeros(dipy_image.shape[:3], np.uint8)
+    regions[54:57, 53:56, 14:17], regions[67:70, 49:52, 10:13] = 1, 2
+    c = stvd.connectivity(dipy_components, regions, affine=dipy_image.affine, tensor_order="lower", threads=1)
+    summary = write_report(tmp_path / "c.html", connectivity=c, labels=regions, tensors=dipy_components,
+                           affine=dipy_image.affine, tensor_order="lower")
+    assert (tmp_path / "c.html").is_file() and summary is not None
+    # The same page from the image; an affine that is not the result's is refused.
+    write_report(tmp_path / "i.html", connectivity=c, labels=regions, tensors=dipy_image)
+    result = stvd.propagate(dipy_components, CC_BODY, affine=dipy_image.affine, tensor_order="lower",
+                            max_distance=5)
+    write_report(tmp_path / "r.html", result, tensors=dipy_components, affine=dipy_image.affine)
+    with pytest.raises(ValueError, match="affine"):
+        write_report(tmp_path / "x.html", result, affine=np.eye(4))
+    assert not (tmp_path / "x.html").exists()
