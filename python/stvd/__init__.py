@@ -217,7 +217,7 @@ def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels
                                                                 accept_implausible_tensors))
     labels = scalar_image_spec(seed_labels, "seed_labels")
     with progress_reporter(progress) as reporter:
-        result = field.propagate(voxel_list(seeds, "seeds"), point_list(seed_points, "seed_points"), bool(lps),
+        result = field.propagate(voxel_list(seeds, "seeds", "seed_points"), point_list(seed_points, "seed_points"), bool(lps),
                                  labels, method=method, k=k, chain_measure=chain_measure, stencil=stencil,
                                  steiner=steiner, max_distance=max_distance, progress=reporter.callback,
                                  domain_connectivity=_connectivity(domain_connectivity),
@@ -243,8 +243,11 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
         the order ``tensor_order=`` states (``'lower'``, ``'fsl'`` or
         ``'mrtrix'``), or ``(X, Y, Z, 3, 3)`` as DIPY's
         ``TensorFit.quadratic_form``. float32 or float64.
-    seeds: voxel indices ``(i, j, k)``, 0-based; ``seed_points=``: RAS
-        millimetres (LPS with ``lps=True``), the nearest voxel;
+    seeds: voxel indices ``(i, j, k)``, 0-based, integers (float seeds are
+        refused: DIPY's are millimetres); ``seed_points=``: world
+        millimetres, RAS+ (the frame of the image's affine, of
+        nibabel.streamlines and of DIPY's ``seeds_from_mask``; LPS with
+        ``lps=True``), the nearest voxel;
         ``seed_labels=``: every non-zero voxel of a label image (path, image
         or array on the tensors' grid) inside the domain.
     mask, fa_threshold, tensor_frame, tensor_kind, diffusion_metric,
@@ -288,7 +291,7 @@ def trace_paths(result, targets=None, *, target_points=None, target_labels=None,
     if not isinstance(result, Propagation):
         raise TypeError("result: expected the stvd.Propagation that stvd.propagate returns")
     labels = scalar_image_spec(target_labels, "target_labels")
-    records = result._result.trace_paths(voxel_list(targets, "targets"), point_list(target_points, "target_points"),
+    records = result._result.trace_paths(voxel_list(targets, "targets", "target_points"), point_list(target_points, "target_points"),
                                          bool(lps), labels, step=step, smooth=smooth, refine=refine,
                                          discrete=bool(discrete))
     field = result._result.field

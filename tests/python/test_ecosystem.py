@@ -199,3 +199,35 @@ def test_a_connectivity_page_from_arrays_takes_the_affine(tmp_path, dipy_image, 
     with pytest.raises(ValueError, match="affine"):
         write_report(tmp_path / "x.html", result, affine=np.eye(4))
     assert not (tmp_path / "x.html").exists()
+
+
+# --- seeds as float world millimetres, as DIPY gives them (item 13)
+
+def test_dipy_seeds_in_world_millimetres_go_to_seed_points(dipy_image):
+    from dipy.tracking.utils import seeds_from_mask
+
+    region = np.zeros(dipy_image.shape[:3], bool)
+    region[54:57, 53:55, 15] = True
+    points = seeds_from_mask(region, dipy_image.affine, density=1)  # float64 RAS+ millimetres, voxel centres
+    assert points.dtype.kind == "f" and len(points) == 6
+    by_points = stvd.propagate(dipy_image, seed_points=points)
+    by_voxels = stvd.propagate(dipy_image, np.argwhere(region))
+    assert sorted(map(tuple, by_points.seeds)) == sorted(map(tuple, np.argwhere(region)))
+    assert np.array_equal(by_points.distance, by_voxels.distance)
+    # Targets in world millimetres, as nibabel.streamlines gives points.
+    target = nib.affines.apply_affine(dipy_image.affine, CC_BODY_L_LATERAL)
+    paths = stvd.trace_paths(by_points, target_points=[target])
+    assert tuple(paths.target_voxels[0]) == CC_BODY_L_LATERAL
+    assert np.allclose(paths[0][-1], target, atol=1e-3)  # the path ends at the target, in the same frame
+
+
+def test_float_seeds_given_as_voxels_are_refused_with_a_pointer_to_seed_points(dipy_image):
+    # Whole numbers as floats are still not taken for indices: DIPY's seeds
+    # are world millimetres, and a point that happens to be whole is one too.
+    for seeds in ((55.0, 54.0, 15.0), np.array([[55, 54, 15]], np.float32), [(6.4, 11.6, 76.3)]):
+        with pytest.raises(TypeError) as caught:
+            stvd.propagate(dipy_image, seeds)
+        assert "seed_points=" in str(caught.value) and "RAS+" in str(caught.value), caught.value
+    result = stvd.propagate(dipy_image, CC_BODY, max_distance=5)
+    with pytest.raises(TypeError, match="target_points="):
+        stvd.trace_paths(result, [(55.0, 54.0, 16.0)])
