@@ -231,3 +231,45 @@ def test_float_seeds_given_as_voxels_are_refused_with_a_pointer_to_seed_points(d
     result = stvd.propagate(dipy_image, CC_BODY, max_distance=5)
     with pytest.raises(TypeError, match="target_points="):
         stvd.trace_paths(result, [(55.0, 54.0, 16.0)])
+
+
+# --- one message for one bad file, however it is run (item 12)
+
+def test_a_corrupt_file_gives_the_same_message_through_the_cohort_nipype_and_the_calls(tmp_path, dipy_image):
+    import csv
+
+    import stvd.cohort
+    from stvd.interfaces import Distance
+
+    whole = DIPY_5D.read_bytes()
+    (tmp_path / "cut.nii.gz").write_bytes(whole[:len(whole) // 2])
+    (tmp_path / "good.nii.gz").write_bytes(whole)
+    labels = np.zeros(dipy_image.shape[:3], np.uint8)
+    labels[54:57, 53:56, 14:17] = 1
+    nib.save(nib.Nifti1Image(labels, dipy_image.affine), tmp_path / "labels.nii.gz")
+    label_bytes = (tmp_path / "labels.nii.gz").read_bytes()
+    (tmp_path / "cut_labels.nii.gz").write_bytes(label_bytes[:len(label_bytes) // 2])
+    (tmp_path / "m.tsv").write_text("subject\ttensors\tlabels\tseeds\n"
+                                    "tensors_cut\tcut.nii.gz\tlabels.nii.gz\tlabels.nii.gz\n"
+                                    "seeds_cut\tgood.nii.gz\tlabels.nii.gz\tcut_labels.nii.gz\n")
+    cohort = stvd.cohort.run(tmp_path / "m.tsv", tmp_path / "out", serial=True, report=False, connectivity=False)
+    assert sorted(cohort.failed) == ["seeds_cut", "tensors_cut"]
+    with open(tmp_path / "out" / "cohort.tsv", newline="") as table:
+        through_cohort = {row["subject"]: row["error"] for row in csv.DictReader(table, delimiter="\t")}
+
+    def message(call):
+        with pytest.raises(ValueError) as caught:
+            call()
+        return str(caught.value)
+
+    cut, cut_labels = str(tmp_path / "cut.nii.gz"), str(tmp_path / "cut_labels.nii.gz")
+    by_call = {"tensors_cut": message(lambda: stvd.propagate(cut, CC_BODY)),
+               "seeds_cut": message(lambda: stvd.propagate(str(tmp_path / "good.nii.gz"), seed_labels=cut_labels))}
+    by_nipype = {
+        "tensors_cut": message(lambda: Distance(in_file=cut, seed_voxels=[CC_BODY],
+                                                out_file=str(tmp_path / "a.nii.gz")).run()),
+        "seeds_cut": message(lambda: Distance(in_file=str(tmp_path / "good.nii.gz"), seed_file=cut_labels,
+                                              out_file=str(tmp_path / "b.nii.gz")).run())}
+    assert by_call["tensors_cut"] == f"{cut}: the compressed data are damaged or cut short"
+    for subject in by_call:
+        assert through_cohort[subject] == by_call[subject] == by_nipype[subject], subject
