@@ -18,7 +18,8 @@ set -euo pipefail
 # meshes those tests read; Dask's distributed scheduler and Nipype for
 # cohort runs (stvd cohort, stvd.interfaces), and cryptography, with which
 # the embedded Dask cluster of a cohort run makes the TLS keys that keep
-# other users of the machine out of it.
+# other users of the machine out of it; pandas for the package's
+# connectivity tables (Connectivity.to_dataframe) and their test.
 packages=(
   g++ cmake make libgtest-dev libbenchmark-dev clang-14 libclang-rt-14-dev
   libinsighttoolkit5-dev libeigen3-dev libtet1.5-dev libopenvdb-dev libboost-iostreams-dev zlib1g-dev
@@ -26,7 +27,7 @@ packages=(
   python3-dev pybind11-dev python3-pybind11 python3-dipy python3-pytest python3-tqdm python3-matplotlib
   python3-pip python3-setuptools python3-wheel
   libcgal-dev libcgal-demo
-  python3-distributed python3-nipype python3-cryptography
+  python3-distributed python3-nipype python3-cryptography python3-pandas
   chromium
 )
 # Scripts with needs of their own name extra packages as arguments

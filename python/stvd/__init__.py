@@ -18,12 +18,13 @@ from ._inputs import index_list, is_image, is_path, point_list, scalar_image_spe
 from ._outputs import FileConflictError, OutputError, OutputFiles, input_file_of
 from ._paths import Paths, tractogram
 from ._progress import progress_reporter
+from ._regions import long_table, read_label_names, region_names, square_table
 
 __version__ = _core.__version__
 NO_VERTEX = _core.NO_VERTEX
 
 __all__ = ["defaults", "distance", "propagate", "Propagation", "trace_paths", "Paths", "tractogram",
-           "connectivity", "Connectivity", "tet_mesh_distance", "surface_distance", "NO_VERTEX", "OutputFiles",
+           "connectivity", "Connectivity", "read_label_names", "tet_mesh_distance", "surface_distance", "NO_VERTEX", "OutputFiles",
            "FileConflictError", "OutputError"]
 
 
@@ -306,29 +307,54 @@ class Connectivity:
     region a: ``geodesic_mm`` (d(a, b)), ``path_mm`` (Euclidean length of the
     path), ``straight_mm`` and ``connectivity`` (path_mm / geodesic_mm, the
     measure of Astola, Florack and ter Haar Romeny). NaN on the diagonal and
-    where b is not reachable from a. ``labels_left_out``: regions without a
-    voxel in the domain; ``threads``: how many ran."""
+    where b is not reachable from a: the missing value of every
+    connectivity output (``n/a`` in the tool's table, ``nan`` in its
+    matrices). ``names``: each region's name from ``label_names=`` (the
+    label value as text where it has none). ``labels_left_out``: regions
+    without a voxel in the domain; ``threads``: how many ran.
 
-    def __init__(self, values):
+    With pandas: ``to_dataframe()`` gives the long table (one row per
+    ordered pair, as ``stvd connectivity`` writes it, with the names),
+    ``to_dataframe('square', measure='geodesic_mm')`` the matrix of one
+    measure with rows and columns by region name."""
+
+    def __init__(self, values, names=None):
         for key, value in values.items():
             setattr(self, key, value)
+        if not hasattr(self, "names"):
+            self.names = region_names(self.labels, names or {})
+
+    def to_dataframe(self, form="long", measure="geodesic_mm"):
+        """A pandas DataFrame: ``form='long'`` (region_a, region_b, name_a,
+        name_b, geodesic_mm, path_mm, straight_mm, connectivity, voxels_a,
+        voxels_b; one row per ordered pair a != b) or ``'square'`` (the n x n
+        matrix of ``measure``, indexed by region name). NaN where there is no
+        value. Needs pandas (Debian: python3-pandas)."""
+        if form == "long":
+            return long_table(self)
+        if form == "square":
+            return square_table(self, measure)
+        raise ValueError(f"form: '{form}' is not one of long, square")
 
     def __repr__(self):
         return f"<stvd.Connectivity of {len(self.labels)} regions>"
 
 
-def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tensor_order=None, tensor_frame=None,
-                 tensor_kind=None, diffusion_metric=None, max_anisotropy=None, fa_threshold=None, method=None, k=None,
-                 chain_measure=None, stencil=None, progress=None, accept_implausible_tensors=False,
-                 domain_connectivity=None, memory_check=True):
+def connectivity(tensors, labels, *, label_names=None, threads=None, affine=None, mask=None, tensor_order=None,
+                 tensor_frame=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None, fa_threshold=None,
+                 method=None, k=None, chain_measure=None, stencil=None, progress=None,
+                 accept_implausible_tensors=False, domain_connectivity=None, memory_check=True):
     """Region-to-region connectivity as ``stvd connectivity`` computes it: one
     propagation from each region of ``labels`` (a path, image or array on the
     tensors' grid; each distinct non-zero integer is a region), ``threads`` at
     a time (None: one per core; the result does not depend on it).
     ``tensors`` is what ``stvd.distance`` takes, or a ``stvd.Propagation``,
     whose field and method are reused; ``memory_check`` as there (the
-    ``threads`` propagations at once must fit). Returns
-    ``stvd.Connectivity``."""
+    ``threads`` propagations at once must fit). ``label_names``: the
+    regions' names, a label lookup file (a BIDS ``dseg.tsv`` table with
+    ``index`` and ``name`` columns, or a FreeSurfer colour lookup table) or
+    a dict ``{label: name}``. Returns ``stvd.Connectivity``."""
+    names = read_label_names(label_names)
     if isinstance(tensors, Propagation):
         if accept_implausible_tensors or any(
                 v is not None for v in (affine, mask, tensor_order, tensor_frame, tensor_kind, diffusion_metric,
@@ -350,7 +376,7 @@ def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tenso
     with progress_reporter(progress) as reporter:
         values = field.connectivity(spec, threads=threads, progress=reporter.callback,
                                     memory_check=bool(memory_check), **options)
-    return Connectivity(values)
+    return Connectivity(values, names)
 
 
 def _distances(values, unreachable_value):

@@ -273,3 +273,68 @@ def test_a_corrupt_file_gives_the_same_message_through_the_cohort_nipype_and_the
     assert by_call["tensors_cut"] == f"{cut}: the compressed data are damaged or cut short"
     for subject in by_call:
         assert through_cohort[subject] == by_call[subject] == by_nipype[subject], subject
+
+
+# --- connectivity with region names, as pandas tables, one missing value (item 10)
+
+def test_connectivity_has_names_pandas_tables_and_the_tools_missing_value(tmp_path):
+    import csv
+
+    from conftest import run_tool
+
+    pandas = pytest.importorskip("pandas")  # python3-pandas, installed by scripts/setup.sh
+    # Two halves of the small grid, a wall of masked voxels between them:
+    # regions 3 and 5 are connected, 9 is not connected to either.
+    mask = np.ones(SHAPE, np.uint8)
+    mask[4, :, :] = 0
+    labels = np.zeros(SHAPE, np.int16)
+    labels[0:2, 0:2, 0:2], labels[2:4, 5:7, 4:6], labels[6:8, 5:7, 4:6] = 3, 5, 9
+    header = nib.Nifti1Header()
+    header.set_intent("symmetric matrix")
+    nib.save(nib.Nifti1Image(small_tensors()[:, :, :, np.newaxis, :], AFFINE, header), tmp_path / "t.nii.gz")
+    nib.save(nib.Nifti1Image(mask, AFFINE), tmp_path / "mask.nii.gz")
+    nib.save(nib.Nifti1Image(labels, AFFINE), tmp_path / "labels.nii.gz")
+    (tmp_path / "dseg.tsv").write_text("index\tname\n3\tleft_thing\n5\tright_thing\n9\tfar_away\n")
+    (tmp_path / "LUT.txt").write_text("#No. Label Name:   R   G   B   A\n\n3  left_thing  70 130 180 0\n"
+                                      "5  right_thing 245 245 245 0\n")
+
+    c = stvd.connectivity(str(tmp_path / "t.nii.gz"), str(tmp_path / "labels.nii.gz"), mask=str(tmp_path / "mask.nii.gz"),
+                          tensor_kind="metric", threads=1, label_names=tmp_path / "dseg.tsv")
+    assert c.names == ["left_thing", "right_thing", "far_away"]
+    lut = stvd.connectivity(str(tmp_path / "t.nii.gz"), str(tmp_path / "labels.nii.gz"),
+                            mask=str(tmp_path / "mask.nii.gz"), tensor_kind="metric", threads=1,
+                            label_names=tmp_path / "LUT.txt")
+    assert lut.names == ["left_thing", "right_thing", "9"]  # a label the lookup does not name keeps its value
+    assert stvd.read_label_names({3: "a", "5": "b"}) == {3: "a", 5: "b"}
+
+    # One missing value: NaN on the diagonal and for pairs not connected, in
+    # every measure; the tool writes n/a in its table and nan in its matrices.
+    missing = np.eye(3, dtype=bool)
+    missing[0:2, 2] = missing[2, 0:2] = True
+    for measure in ("geodesic_mm", "path_mm", "straight_mm", "connectivity"):
+        assert np.array_equal(np.isnan(getattr(c, measure)), missing), measure
+    run_tool("connectivity", tmp_path / "t.nii.gz", "--labels", tmp_path / "labels.nii.gz", "--mask",
+             tmp_path / "mask.nii.gz", "--tensor-kind", "metric", "--threads", "1", "-o", tmp_path / "c.tsv",
+             "--matrix", tmp_path / "d.csv", "--matrix-index", tmp_path / "ci.csv", "-q")
+    for file, measure in (("d.csv", "geodesic_mm"), ("ci.csv", "connectivity")):
+        matrix = np.loadtxt(tmp_path / file, delimiter=",")
+        assert np.array_equal(np.isnan(matrix), missing), file
+        assert np.allclose(matrix[~missing], getattr(c, measure)[~missing], rtol=1e-4), file
+
+    # pandas: the long table is the tool's table with names; the square one
+    # is the matrix by name.
+    tool_table = pandas.read_csv(tmp_path / "c.tsv", sep="\t")
+    long = c.to_dataframe()
+    assert list(long.columns) == ["region_a", "region_b", "name_a", "name_b", "geodesic_mm", "path_mm",
+                                  "straight_mm", "connectivity", "voxels_a", "voxels_b"]
+    assert len(long) == len(tool_table) == 6
+    assert list(long.region_a) == list(tool_table.region_a) and list(long.region_b) == list(tool_table.region_b)
+    for measure in ("geodesic_mm", "path_mm", "straight_mm", "connectivity"):
+        assert np.array_equal(long[measure].isna(), tool_table[measure].isna()), measure
+        assert np.allclose(long[measure].dropna(), tool_table[measure].dropna(), atol=1e-4), measure
+    square = c.to_dataframe("square", measure="geodesic_mm")
+    assert list(square.index) == list(square.columns) == c.names
+    assert square.loc["left_thing", "right_thing"] == c.geodesic_mm[0, 1]
+    assert np.isnan(square.loc["left_thing", "left_thing"]) and np.isnan(square.loc["left_thing", "far_away"])
+    with open(tmp_path / "c.tsv", newline="") as table:
+        assert sum(row["geodesic_mm"] == "n/a" for row in csv.DictReader(table, delimiter="\t")) == 4
