@@ -170,7 +170,9 @@ std::string executableFolder() {
 std::string pythonPackageFolder(const std::string& module) {
 #ifdef STVD_PYTHON_INSTALL_DIR
   const std::string here = executableFolder();
-  for (const std::string& folder : {here + "/../python", here + "/../" STVD_PYTHON_INSTALL_DIR}) {
+  // The build tree, the install prefix, and a wheel of `pip install .`
+  // (the tool is stvd/_bin/stvd inside the installed package).
+  for (const std::string& folder : {here + "/../python", here + "/../" STVD_PYTHON_INSTALL_DIR, here + "/../.."}) {
     if (::access((folder + "/stvd/" + module).c_str(), R_OK) == 0) return folder;
   }
 #else

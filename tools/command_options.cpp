@@ -62,11 +62,11 @@ std::vector<OptionDeclaration> toolDeclarations() {
   table.push_back(outputOption(
       "--matrix", "FILE.csv", kConnectivityCommand,
       "also the square N x N matrix of geodesic distances (mm): row A, column B holds d(A, B); rows and columns in "
-      "label order, the labels in a '# labels:' header line; 0 on the diagonal, inf where B is not reachable from "
-      "A (numpy.loadtxt(FILE, delimiter=',') and MRtrix's matrix readers skip the '#' lines, as for "
-      "tck2connectome output)."));
+      "label order, the labels in a '# labels:' header line; nan (no value) on the diagonal and where B is not "
+      "reachable from A, as n/a in the table and NaN in Python (numpy.loadtxt(FILE, delimiter=',') and MRtrix's "
+      "matrix readers skip the '#' lines, as for tck2connectome output)."));
   table.push_back(outputOption("--matrix-index", "FILE.csv", kConnectivityCommand,
-                               "the same matrix of the connectivity index; 0 on the diagonal and where B is not "
+                               "the same matrix of the connectivity index; nan on the diagonal and where B is not "
                                "reachable."));
   table.push_back(outputOption(
       "--region-matrix", "FILE.csv", kSurfaceDistanceCommand,

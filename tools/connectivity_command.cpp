@@ -119,9 +119,11 @@ std::string matrixCsv(const std::string& what, const std::vector<LabelRegion>& r
     for (std::size_t b = 0; b < n; ++b) {
       const RegionPair& r = table(a, b);
       csv << (b ? "," : "");
-      if (a == b) csv << "0";
-      else if (index) csv << (std::isfinite(r.connectivity()) ? fixed(r.connectivity(), 6) : "0");
-      else csv << (std::isfinite(r.geodesic) ? fixed(r.geodesic, 4) : "inf");
+      // No value on the diagonal and for pairs not connected: nan, the
+      // missing value of every connectivity output (docs/paths.md).
+      const double value = index ? r.connectivity() : r.geodesic;
+      if (a == b || !std::isfinite(r.geodesic) || !std::isfinite(value)) csv << "nan";
+      else csv << fixed(value, index ? 6 : 4);
     }
     csv << "\n";
   }

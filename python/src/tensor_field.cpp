@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "array_access.hpp"
 #include "stvd/imaging/tensor_arrays.hpp"
@@ -269,6 +270,111 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
     input.maskDescription = "the mask of " + name + " (numpy.ma)";
   }
   return finishField(std::move(field), mask);
+}
+
+namespace {
+
+constexpr const char* kFieldStateTag = "stvd.TensorField/1";
+
+template <class T>
+py::bytes bytesOf(const std::vector<T>& values) {
+  return py::bytes(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+template <class T>
+std::vector<T> vectorOf(const py::handle& bytes, const char* what) {
+  const std::string data = bytes.cast<std::string>();
+  if (data.size() % sizeof(T) != 0) throw py::value_error(std::string("unpickling stvd: ") + what + " is truncated");
+  std::vector<T> values(data.size() / sizeof(T));
+  if (!data.empty()) std::memcpy(values.data(), data.data(), data.size());
+  return values;
+}
+
+template <class E>
+py::object optionalEnum(const std::optional<E>& value) {
+  return value ? py::object(py::int_(static_cast<int>(*value))) : py::object(py::none());
+}
+
+template <class E>
+std::optional<E> enumOrNone(const py::handle& value) {
+  if (value.is_none()) return std::nullopt;
+  return static_cast<E>(value.cast<int>());
+}
+
+}  // namespace
+
+py::tuple fieldState(const TensorField& f) {
+  const imaging::TensorInputOptions& o = f.options;
+  const py::tuple options = py::make_tuple(
+      optionalEnum(o.order), optionalEnum(o.frame), static_cast<int>(o.metric.kind),
+      static_cast<int>(o.metric.diffusionMetric), o.metric.maxAnisotropy, o.metric.faThreshold, o.maskPath,
+      o.acceptImplausible, static_cast<int>(o.naming), o.acceptMisaligned);
+  const GridGeometry& g = f.geometry();
+  const py::tuple geometry = py::make_tuple(g.size, g.spacing, g.origin, g.direction);
+  const imaging::TensorFileInfo& i = f.input.read.info;
+  const py::tuple info = py::make_tuple(static_cast<int>(i.layout), static_cast<int>(i.order), static_cast<int>(i.frame),
+                                        i.frameWasStated, i.hasMeasurementFrame, i.measurementFrameLps, i.nrrdSpace,
+                                        i.componentsToLps, i.componentType, i.warnings);
+  return py::make_tuple(kFieldStateTag, f.name, options, geometry, bytesOf(f.input.read.volume.tensors),
+                        bytesOf(f.input.read.volume.mask), info, bytesOf(f.input.mask), f.input.maskDescription,
+                        f.input.warnings,
+                        py::make_tuple(f.inputKind, f.inputDescription, f.layoutDescription, f.matrices));
+}
+
+std::shared_ptr<TensorField> fieldFromState(const py::tuple& state) {
+  if (state.size() != 11 || !py::isinstance<py::str>(state[0]) || state[0].cast<std::string>() != kFieldStateTag)
+    throw py::value_error("unpickling stvd: not the state of an stvd.TensorField of this version");
+  auto f = std::make_shared<TensorField>();
+  f->name = state[1].cast<std::string>();
+  const py::tuple o = state[2].cast<py::tuple>();
+  f->options.order = enumOrNone<imaging::TensorOrder>(o[0]);
+  f->options.frame = enumOrNone<imaging::TensorFrame>(o[1]);
+  f->options.metric.kind = static_cast<imaging::TensorKind>(o[2].cast<int>());
+  f->options.metric.diffusionMetric = static_cast<imaging::DiffusionMetric>(o[3].cast<int>());
+  f->options.metric.maxAnisotropy = o[4].cast<std::optional<double>>();
+  f->options.metric.faThreshold = o[5].cast<std::optional<double>>();
+  f->options.maskPath = o[6].cast<std::string>();
+  f->options.acceptImplausible = o[7].cast<bool>();
+  f->options.naming = static_cast<OptionNaming>(o[8].cast<int>());
+  f->options.acceptMisaligned = o[9].cast<bool>();
+  const py::tuple g = state[3].cast<py::tuple>();
+  GridGeometry& geometry = f->input.read.volume.geometry;
+  geometry.size = g[0].cast<std::array<std::size_t, 3>>();
+  geometry.spacing = g[1].cast<std::array<double, 3>>();
+  geometry.origin = g[2].cast<std::array<double, 3>>();
+  geometry.direction = g[3].cast<std::array<double, 9>>();
+  f->input.read.volume.tensors = vectorOf<SymTensor3>(state[4], "the tensors");
+  f->input.read.volume.mask = vectorOf<std::uint8_t>(state[5], "the file's mask");
+  const py::tuple i = state[6].cast<py::tuple>();
+  imaging::TensorFileInfo& info = f->input.read.info;
+  info.layout = static_cast<imaging::TensorFileLayout>(i[0].cast<int>());
+  info.order = static_cast<imaging::TensorOrder>(i[1].cast<int>());
+  info.frame = static_cast<imaging::TensorFrame>(i[2].cast<int>());
+  info.frameWasStated = i[3].cast<bool>();
+  info.hasMeasurementFrame = i[4].cast<bool>();
+  info.measurementFrameLps = i[5].cast<imaging::Matrix3>();
+  info.nrrdSpace = i[6].cast<std::string>();
+  info.componentsToLps = i[7].cast<imaging::Matrix3>();
+  info.componentType = i[8].cast<std::string>();
+  info.warnings = i[9].cast<std::vector<std::string>>();
+  f->input.mask = vectorOf<std::uint8_t>(state[7], "the mask");
+  f->input.maskDescription = state[8].cast<std::string>();
+  f->input.warnings = state[9].cast<std::vector<std::string>>();
+  const py::tuple given = state[10].cast<py::tuple>();
+  f->inputKind = given[0].cast<std::string>();
+  f->inputDescription = given[1].cast<std::string>();
+  f->layoutDescription = given[2].cast<std::string>();
+  f->matrices = given[3].cast<bool>();
+  if (f->input.read.volume.tensors.size() != geometry.voxelCount() ||
+      (!f->input.mask.empty() && f->input.mask.size() != geometry.voxelCount()))
+    throw py::value_error("unpickling stvd: the tensors or the mask do not fill the grid");
+  // The metric and the domain, built again as finishField built them.
+  py::gil_scoped_release release;
+  imaging::MetricFromTensors built = imaging::buildCheckedMetric(f->name, f->input, f->options, &f->frameCheck);
+  f->counts = built.counts;
+  f->inDomain = std::move(built.inDomain);
+  f->metric = RiemannianMetric(std::move(built.metric), &f->inDomain);
+  return f;
 }
 
 }  // namespace stvd::python

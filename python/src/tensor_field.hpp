@@ -88,4 +88,12 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
                                             const std::optional<bool>& niftiIntent, const std::string& name,
                                             imaging::TensorInputOptions options, const py::handle& mask);
 
+/// The field as a picklable state (a tuple of plain values and bytes: the
+/// tensors as read, the masks, the options, the file information) and back.
+/// The metric and the domain are not stored: `fieldFromState` builds them
+/// again from the tensors and options, as the field was built, the same
+/// values bit for bit.
+py::tuple fieldState(const TensorField& field);
+std::shared_ptr<TensorField> fieldFromState(const py::tuple& state);
+
 }  // namespace stvd::python

@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -316,6 +317,84 @@ py::dict frameCheckDict(const imaging::TensorFrameCheck& c) {
   return d;
 }
 
+constexpr const char* kPropagationStateTag = "stvd.VolumePropagation/1";
+
+template <class T>
+py::bytes bytesOfValues(const std::vector<T>& values) {
+  return py::bytes(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+template <class T>
+std::vector<T> valuesOfBytes(const py::handle& bytes, std::size_t count, const char* what) {
+  const std::string data = bytes.cast<std::string>();
+  if (data.size() != count * sizeof(T))
+    throw py::value_error(std::string("unpickling stvd: ") + what + " do not fill the grid");
+  std::vector<T> values(count);
+  if (count) std::memcpy(values.data(), data.data(), data.size());
+  return values;
+}
+
+/// A propagation as a picklable state: its field (pickled by its own
+/// state), the method chosen, the result's arrays and figures and the
+/// seeds. The domain is made again from the field and the choice.
+py::tuple propagationState(const VolumePropagation& p) {
+  const PropagationChoice& c = p.choice;
+  const py::tuple choice = py::make_tuple(static_cast<int>(c.method), c.lanthier, c.steinerPoints, c.k,
+                                          static_cast<int>(c.chainMeasure), c.chainMeasureGiven, c.stencil,
+                                          c.stencilGiven, static_cast<int>(c.connectivity), c.connectivityGiven,
+                                          c.memoryCheck, static_cast<int>(c.naming));
+  const PropagationResult& r = p.result;
+  const py::tuple result = py::make_tuple(bytesOfValues(r.distance), bytesOfValues(r.predecessor),
+                                          static_cast<int>(r.termination), r.finalizedVertices, r.relaxedEdges,
+                                          r.measuredCandidates, r.refusedCandidates, r.peakStateBytes);
+  py::list seeds;
+  for (const imaging::SeedVoxel& s : p.seeds) seeds.append(py::make_tuple(s.index.i, s.index.j, s.index.k, s.givenAs));
+  return py::make_tuple(kPropagationStateTag, std::const_pointer_cast<TensorField>(p.field), choice, result, seeds,
+                        p.labelSeedsLeftOut);
+}
+
+std::shared_ptr<VolumePropagation> propagationFromState(const py::tuple& state) {
+  if (state.size() != 6 || !py::isinstance<py::str>(state[0]) ||
+      state[0].cast<std::string>() != kPropagationStateTag)
+    throw py::value_error("unpickling stvd: not the state of an stvd propagation of this version");
+  const std::shared_ptr<TensorField> field = state[1].cast<std::shared_ptr<TensorField>>();
+  const py::tuple c = state[2].cast<py::tuple>();
+  PropagationChoice choice;
+  choice.method = static_cast<Method>(c[0].cast<int>());
+  choice.lanthier = c[1].cast<bool>();
+  choice.steinerPoints = c[2].cast<int>();
+  choice.k = c[3].cast<std::optional<int>>();
+  choice.chainMeasure = static_cast<ChainMeasure>(c[4].cast<int>());
+  choice.chainMeasureGiven = c[5].cast<bool>();
+  choice.stencil = c[6].cast<std::string>();
+  choice.stencilGiven = c[7].cast<bool>();
+  choice.connectivity = static_cast<VoxelConnectivity>(c[8].cast<int>());
+  choice.connectivityGiven = c[9].cast<bool>();
+  choice.memoryCheck = c[10].cast<bool>();
+  choice.naming = static_cast<OptionNaming>(c[11].cast<int>());
+  const py::tuple r = state[3].cast<py::tuple>();
+  const std::size_t voxels = field->geometry().voxelCount();
+  PropagationResult result;
+  result.distance = valuesOfBytes<double>(r[0], voxels, "the distances");
+  result.predecessor = valuesOfBytes<VertexId>(r[1], voxels, "the predecessors");
+  result.termination = static_cast<Termination>(r[2].cast<int>());
+  result.finalizedVertices = r[3].cast<std::uint64_t>();
+  result.relaxedEdges = r[4].cast<std::uint64_t>();
+  result.measuredCandidates = r[5].cast<std::uint64_t>();
+  result.refusedCandidates = r[6].cast<std::uint64_t>();
+  result.peakStateBytes = r[7].cast<std::uint64_t>();
+  std::vector<imaging::SeedVoxel> seeds;
+  for (const py::handle s : state[4].cast<py::list>()) {
+    const py::tuple t = s.cast<py::tuple>();
+    seeds.push_back({VoxelIndex{t[0].cast<std::int32_t>(), t[1].cast<std::int32_t>(), t[2].cast<std::int32_t>()},
+                     t[3].cast<std::string>()});
+  }
+  VoxelGridDomain domain(field->geometry(), Stencil::byName(choice.stencil), field->inDomain, choice.connectivity);
+  return std::make_shared<VolumePropagation>(VolumePropagation{field, std::move(choice), std::move(domain),
+                                                               std::move(result), std::move(seeds),
+                                                               state[5].cast<std::size_t>()});
+}
+
 }  // namespace
 
 void bindVolumes(py::module_& m) {
@@ -356,6 +435,8 @@ void bindVolumes(py::module_& m) {
           py::arg("tensor_kind") = py::none(), py::arg("diffusion_metric") = py::none(),
           py::arg("max_anisotropy") = py::none(), py::arg("fa_threshold") = py::none(),
           py::arg("accept_implausible_tensors") = false, py::arg("accept_misaligned_tensors") = false)
+      .def(py::pickle([](const TensorField& f) { return fieldState(f); },
+                      [](const py::tuple& state) { return fieldFromState(state); }))
       .def_property_readonly("name", [](const TensorField& f) { return f.name; })
       .def_property_readonly("shape", [](const TensorField& f) { return py::tuple(py::cast(gridShape(f.geometry()))); })
       .def_property_readonly("affine", [](const TensorField& f) { return affineArray(f.geometry()); },
@@ -452,6 +533,8 @@ void bindVolumes(py::module_& m) {
           py::arg("memory_check") = true);
 
   py::class_<VolumePropagation, std::shared_ptr<VolumePropagation>>(m, "VolumePropagation")
+      .def(py::pickle([](const VolumePropagation& p) { return propagationState(p); },
+                      [](const py::tuple& state) { return propagationFromState(state); }))
       .def_property_readonly("field", [](const VolumePropagation& p) { return std::const_pointer_cast<TensorField>(p.field); })
       .def_property_readonly(
           "distance",

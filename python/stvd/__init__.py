@@ -20,15 +20,16 @@ from ._inputs import index_list, is_image, is_path, point_list, scalar_image_spe
 from ._outputs import FileConflictError, OutputError, OutputFiles, input_file_of
 from ._paths import Paths, tractogram
 from ._progress import progress_reporter
+from ._regions import long_table, read_label_names, region_names, square_table
 
 __version__ = _core.__version__
 NO_VERTEX = _core.NO_VERTEX
 
 __all__ = ["defaults", "distance", "propagate", "Propagation", "trace_paths", "Paths", "tractogram",
-           "connectivity", "Connectivity", "check_tensor_frame", "tet_mesh_distance", "surface_distance",
-           "NO_VERTEX", "OutputFiles", "FileConflictError", "OutputError", "read_surface", "read_surface_values",
-           "read_surface_regions", "region_vertices", "write_surface_values", "surface_region_distances",
-           "SurfaceSolver"]
+           "connectivity", "Connectivity", "read_label_names", "check_tensor_frame", "tet_mesh_distance",
+           "surface_distance", "NO_VERTEX", "OutputFiles", "FileConflictError", "OutputError", "read_surface",
+           "read_surface_values", "read_surface_regions", "region_vertices", "write_surface_values",
+           "surface_region_distances", "SurfaceSolver"]
 
 
 class _Defaults:
@@ -122,8 +123,11 @@ class Propagation:
     def distance_map(self, unreachable_value=None):
         """The distance map as ``stvd distance`` writes it: float32, voxels not
         reached holding ``unreachable_value`` (``stvd.defaults.unreachable_value``
-        when None). A NiBabel image when an image or a file came in, a NumPy
-        array otherwise."""
+        when None). A NiBabel image whenever an affine is known: an image or
+        a file came in (its affine and header), or an array with ``affine=``
+        (that affine); so ``nibabel.save`` takes it. A NumPy array only when
+        NiBabel is not installed. ``np.asanyarray(image.dataobj)`` is the
+        array."""
         if unreachable_value is None:
             unreachable_value = defaults.unreachable_value
         data = self._result.distance_map(float(unreachable_value))
@@ -150,9 +154,14 @@ class Propagation:
                 f"{self.voxel_counts['domain']} domain voxels reached, {self.termination}>")
 
 
-def _image_template(tensors, field):
-    """How to wrap a distance map in an image of the input's grid, or None."""
-    import nibabel
+def _image_template(tensors, field, affine=None):
+    """How to wrap a distance map in an image of the input's grid, or None
+    when no affine is known (or NiBabel is missing). An array given with
+    ``affine=`` gets a NIfTI image with that affine, as given."""
+    try:
+        import nibabel
+    except ImportError:
+        return None
 
     if is_image(tensors):
         nifti = isinstance(tensors, nibabel.Nifti1Image)  # NIfTI-2 images are NIfTI-1 images too
@@ -168,22 +177,38 @@ def _image_template(tensors, field):
             affine = source.affine if nifti else field.affine
         except Exception:  # NRRD, which NiBabel does not read
             header, affine, image_class = None, field.affine, nibabel.Nifti1Image
+    elif affine is not None:
+        # The affine as given: the header stores it in single precision, the
+        # image keeps the caller's matrix.
+        return _ImageTemplate(None, affine, nibabel.Nifti1Image, exact_affine=True)
     else:
         return None
 
-    def wrap(data):
-        if header is None:
-            image = nibabel.Nifti1Image(data, affine)
-            image.set_qform(affine, code=1)
-            image.set_sform(affine, code=1)
+    return _ImageTemplate(header, affine, image_class)
+
+
+class _ImageTemplate:
+    """Wraps a distance map in a NIfTI image of the input's grid: the input's
+    header (NIfTI inputs) or a new one, and its affine. A class, not a
+    closure, so that a Propagation pickles with it."""
+
+    def __init__(self, header, affine, image_class, exact_affine=False):
+        self.header, self.affine, self.image_class = header, np.array(affine, dtype=np.float64), image_class
+        self.exact_affine = exact_affine
+
+    def __call__(self, data):
+        import nibabel
+
+        if self.header is None:
+            image = nibabel.Nifti1Image(data, self.affine)
+            image.set_qform(self.affine, code=1, update_affine=not self.exact_affine)
+            image.set_sform(self.affine, code=1, update_affine=not self.exact_affine)
             return image
-        out = header.copy()
+        out = self.header.copy()
         out.set_intent("none", (), name="")
         out.set_data_dtype(np.float32)
         out.set_slope_inter(None, None)
-        return image_class(data, affine, out)
-
-    return wrap
+        return self.image_class(data, self.affine, out)
 
 
 def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=None, lps=False, mask=None,
@@ -200,13 +225,13 @@ def propagate(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels
                                                                 accept_misaligned_tensors))
     labels = scalar_image_spec(seed_labels, "seed_labels")
     with progress_reporter(progress) as reporter:
-        result = field.propagate(voxel_list(seeds, "seeds"), point_list(seed_points, "seed_points"), bool(lps),
+        result = field.propagate(voxel_list(seeds, "seeds", "seed_points"), point_list(seed_points, "seed_points"), bool(lps),
                                  labels, method=method, k=k, chain_measure=chain_measure, stencil=stencil,
                                  steiner=steiner, max_distance=max_distance, progress=reporter.callback,
                                  domain_connectivity=_connectivity(domain_connectivity),
                                  memory_check=bool(memory_check))
         reporter.finish(result.finalized_vertices)
-    template = _image_template(tensors, field) if (is_image(tensors) or is_path(tensors)) else None
+    template = _image_template(tensors, field, affine)
     return Propagation(result, template,
                        [("tensor input", input_file_of(tensors)), ("mask", input_file_of(mask)),
                         ("seed labels", input_file_of(seed_labels))])
@@ -226,8 +251,11 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
         the order ``tensor_order=`` states (``'lower'``, ``'fsl'`` or
         ``'mrtrix'``), or ``(X, Y, Z, 3, 3)`` as DIPY's
         ``TensorFit.quadratic_form``. float32 or float64.
-    seeds: voxel indices ``(i, j, k)``, 0-based; ``seed_points=``: RAS
-        millimetres (LPS with ``lps=True``), the nearest voxel;
+    seeds: voxel indices ``(i, j, k)``, 0-based, integers (float seeds are
+        refused: DIPY's are millimetres); ``seed_points=``: world
+        millimetres, RAS+ (the frame of the image's affine, of
+        nibabel.streamlines and of DIPY's ``seeds_from_mask``; LPS with
+        ``lps=True``), the nearest voxel;
         ``seed_labels=``: every non-zero voxel of a label image (path, image
         or array on the tensors' grid) inside the domain.
     mask, fa_threshold, tensor_frame, tensor_kind, diffusion_metric,
@@ -250,8 +278,9 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
         ``--no-memory-check``).
 
     Options left at None take ``stvd.defaults``. Returns the float32 distance
-    map on the input's grid: a NiBabel image when an image or a file came in,
-    a NumPy array otherwise.
+    map on the input's grid as a NiBabel image with the input's affine (an
+    image's or a file's affine and header, or the ``affine=`` given with an
+    array); a NumPy array only when NiBabel is not installed.
     """
     result = propagate(tensors, seeds, affine=affine, seed_points=seed_points, seed_labels=seed_labels, lps=lps,
                        mask=mask, tensor_order=tensor_order, tensor_frame=tensor_frame, tensor_kind=tensor_kind,
@@ -275,7 +304,7 @@ def trace_paths(result, targets=None, *, target_points=None, target_labels=None,
     if not isinstance(result, Propagation):
         raise TypeError("result: expected the stvd.Propagation that stvd.propagate returns")
     labels = scalar_image_spec(target_labels, "target_labels")
-    records = result._result.trace_paths(voxel_list(targets, "targets"), point_list(target_points, "target_points"),
+    records = result._result.trace_paths(voxel_list(targets, "targets", "target_points"), point_list(target_points, "target_points"),
                                          bool(lps), labels, step=step, smooth=smooth, refine=refine,
                                          discrete=bool(discrete))
     field = result._result.field
@@ -290,31 +319,57 @@ class Connectivity:
     region a: ``geodesic_mm`` (d(a, b)), ``path_mm`` (Euclidean length of the
     path), ``straight_mm`` and ``connectivity`` (path_mm / geodesic_mm, the
     measure of Astola, Florack and ter Haar Romeny). NaN on the diagonal and
-    where b is not reachable from a. ``labels_left_out``: regions without a
-    voxel in the domain; ``threads``: how many ran; ``tensor_info`` and
-    ``voxel_counts``: how the tensors were read and the domain, as on a
-    ``stvd.Propagation``."""
+    where b is not reachable from a: the missing value of every
+    connectivity output (``n/a`` in the tool's table, ``nan`` in its
+    matrices). ``names``: each region's name from ``label_names=`` (the
+    label value as text where it has none). ``labels_left_out``: regions
+    without a voxel in the domain; ``threads``: how many ran;
+    ``tensor_info`` and ``voxel_counts``: how the tensors were read and the
+    domain, as on a ``stvd.Propagation``.
 
-    def __init__(self, values):
+    With pandas: ``to_dataframe()`` gives the long table (one row per
+    ordered pair, as ``stvd connectivity`` writes it, with the names),
+    ``to_dataframe('square', measure='geodesic_mm')`` the matrix of one
+    measure with rows and columns by region name."""
+
+    def __init__(self, values, names=None):
         for key, value in values.items():
             setattr(self, key, value)
+        if not hasattr(self, "names"):
+            self.names = region_names(self.labels, names or {})
+
+    def to_dataframe(self, form="long", measure="geodesic_mm"):
+        """A pandas DataFrame: ``form='long'`` (region_a, region_b, name_a,
+        name_b, geodesic_mm, path_mm, straight_mm, connectivity, voxels_a,
+        voxels_b; one row per ordered pair a != b) or ``'square'`` (the n x n
+        matrix of ``measure``, indexed by region name). NaN where there is no
+        value. Needs pandas (Debian: python3-pandas)."""
+        if form == "long":
+            return long_table(self)
+        if form == "square":
+            return square_table(self, measure)
+        raise ValueError(f"form: '{form}' is not one of long, square")
 
     def __repr__(self):
         return f"<stvd.Connectivity of {len(self.labels)} regions>"
 
 
-def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tensor_order=None, tensor_frame=None,
-                 tensor_kind=None, diffusion_metric=None, max_anisotropy=None, fa_threshold=None, method=None, k=None,
-                 chain_measure=None, stencil=None, progress=None, accept_implausible_tensors=False,
-                 accept_misaligned_tensors=False, domain_connectivity=None, memory_check=True):
+def connectivity(tensors, labels, *, label_names=None, threads=None, affine=None, mask=None, tensor_order=None,
+                 tensor_frame=None, tensor_kind=None, diffusion_metric=None, max_anisotropy=None, fa_threshold=None,
+                 method=None, k=None, chain_measure=None, stencil=None, progress=None,
+                 accept_implausible_tensors=False, accept_misaligned_tensors=False, domain_connectivity=None,
+                 memory_check=True):
     """Region-to-region connectivity as ``stvd connectivity`` computes it: one
     propagation from each region of ``labels`` (a path, image or array on the
     tensors' grid; each distinct non-zero integer is a region), ``threads`` at
     a time (None: one per core; the result does not depend on it).
     ``tensors`` is what ``stvd.distance`` takes, or a ``stvd.Propagation``,
     whose field and method are reused; ``memory_check`` as there (the
-    ``threads`` propagations at once must fit). Returns
-    ``stvd.Connectivity``."""
+    ``threads`` propagations at once must fit). ``label_names``: the
+    regions' names, a label lookup file (a BIDS ``dseg.tsv`` table with
+    ``index`` and ``name`` columns, or a FreeSurfer colour lookup table) or
+    a dict ``{label: name}``. Returns ``stvd.Connectivity``."""
+    names = read_label_names(label_names)
     if isinstance(tensors, Propagation):
         if accept_implausible_tensors or accept_misaligned_tensors or any(
                 v is not None for v in (affine, mask, tensor_order, tensor_frame, tensor_kind, diffusion_metric,
@@ -341,7 +396,7 @@ def connectivity(tensors, labels, *, threads=None, affine=None, mask=None, tenso
     # this result states (stvd.report.write_report).
     values["tensor_info"] = dict(field.tensor_info)
     values["voxel_counts"] = dict(field.voxel_counts)
-    return Connectivity(values)
+    return Connectivity(values, names)
 
 
 def check_tensor_frame(tensors, *, affine=None, mask=None, tensor_order=None, tensor_frame=None):

@@ -672,14 +672,19 @@ def _input_name(tensors):
     return "an array"
 
 
-def write_report(output, result=None, *, paths=None, connectivity=None, labels=None, tensors=None, fa=None,
-                 subject=None, convention="neurological", command_line=None, target_labels=None):
+def write_report(output, result=None, *, paths=None, connectivity=None, labels=None, tensors=None, affine=None,
+                 mask=None, tensor_order=None, tensor_frame=None, tensor_kind=None, diffusion_metric=None,
+                 max_anisotropy=None, fa_threshold=None, accept_implausible_tensors=False,
+                 accept_misaligned_tensors=False, fa=None, subject=None, convention="neurological", command_line=None,
+                 target_labels=None):
     """The report page of a run made from Python.
 
     result: the ``stvd.Propagation`` of ``stvd.propagate`` (the distance map,
-        seeds, statistics and grid); ``tensors`` (what ``stvd.distance``
-        takes, with ``affine=`` given through ``stvd.propagate`` instead) is
-        enough for a connectivity-only page.
+        seeds, statistics and grid); ``tensors`` is enough for a
+        connectivity-only page: what ``stvd.distance`` takes, with the same
+        keywords (``affine=`` for an array, ``tensor_order``, ``mask``, ...);
+        without them the tensors are read as the connectivity run read them.
+        With ``result`` the tensors and their options are the result's.
     paths: the ``stvd.Paths`` of ``stvd.trace_paths``; ``target_labels``: the
         label image its ``target_labels=`` were (path, NiBabel image or array
         on the grid), outlined on the slices.
@@ -701,22 +706,33 @@ def write_report(output, result=None, *, paths=None, connectivity=None, labels=N
     if command_line is None:
         command_line = "python3 " + " ".join(sys.argv)
     kind = "connectivity" if connectivity is not None and paths is None else ("path" if paths is not None else "distance")
-    outputs = _report_output(output, {"tensor input": tensors, "label image": labels, "FA image": fa,
+    outputs = _report_output(output, {"tensor input": tensors, "mask": mask, "label image": labels, "FA image": fa,
                                       "target labels": target_labels})
 
+    tensor_options = dict(tensor_order=tensor_order, tensor_frame=tensor_frame, tensor_kind=tensor_kind,
+                          diffusion_metric=diffusion_metric, max_anisotropy=max_anisotropy, fa_threshold=fa_threshold)
     if result is not None:
+        if mask is not None or accept_implausible_tensors or accept_misaligned_tensors or any(
+                v is not None for v in tensor_options.values()):
+            raise ValueError("write_report: the tensor options come from the stvd.Propagation given (result=)")
         field = result._result.field
+        if affine is not None and not np.allclose(np.asarray(affine, np.float64), field.affine, atol=1e-4):
+            raise ValueError("affine: not the affine of the stvd.Propagation given (result=)")
         info = field.tensor_info
         statistics = _statistics_of_propagation(result, kind, command_line, info["input"])
     else:
         # The grid and FA from the tensors, read as the connectivity run read
         # them; what the page states about the run is that run's record.
+        # Options given here are taken as given (an array's affine= too).
         info = getattr(connectivity, "tensor_info", None)
-        options = {} if info is None else {"accept_implausible_tensors": True, "accept_misaligned_tensors": True,
-                                           "tensor_order": info["order"] if info["order_was_stated"] else None,
-                                           "tensor_frame": info["frame"] if info["frame_was_stated"] else None,
-                                           "tensor_kind": info["tensor_kind"]}
-        field = tensor_field(tensors, None, None, options)
+        options = dict(tensor_options, accept_implausible_tensors=bool(accept_implausible_tensors),
+                       accept_misaligned_tensors=bool(accept_misaligned_tensors))
+        if info is not None and all(v is None for v in tensor_options.values()):
+            options.update({"accept_implausible_tensors": True, "accept_misaligned_tensors": True,
+                            "tensor_order": info["order"] if info["order_was_stated"] else None,
+                            "tensor_frame": info["frame"] if info["frame_was_stated"] else None,
+                            "tensor_kind": info["tensor_kind"]})
+        field = tensor_field(tensors, affine, mask, options)
         info = info or field.tensor_info
         statistics = {"command": kind, "stvd_version": __version__, "command_line": command_line,
                       "input": info["input"], "parameters": _tensor_parameters(info),
