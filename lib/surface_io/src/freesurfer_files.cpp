@@ -270,6 +270,14 @@ VertexRegions readAnnot(const std::string& path, std::size_t vertexCount) {
     while (!t.empty() && t.back() == '\0') t.pop_back();
     return t;
   };
+  // FreeSurfer's packing r + 256 g + 65536 b, in unsigned arithmetic: a
+  // hostile table's colours outside 0..255 wrap (as in FreeSurfer's int
+  // arithmetic on two's complement) instead of overflowing a signed int.
+  const auto packedColour = [](std::int32_t red, std::int32_t green, std::int32_t blue) {
+    const std::uint32_t packed = static_cast<std::uint32_t>(red) + static_cast<std::uint32_t>(green) * 256u +
+                                 static_cast<std::uint32_t>(blue) * 65536u;
+    return static_cast<std::int32_t>(packed);
+  };
   std::map<std::int32_t, std::int32_t> keyOfColour;  // packed colour -> structure index
   std::int32_t entries = r.int32("the colour table");
   if (entries > 0) {
@@ -280,7 +288,7 @@ VertexRegions readAnnot(const std::string& path, std::size_t vertexCount) {
       const std::string name = string("a colour table entry");
       const std::int32_t red = r.int32("a colour"), green = r.int32("a colour"), blue = r.int32("a colour");
       r.int32("a colour");
-      keyOfColour[red + green * 256 + blue * 65536] = e;
+      keyOfColour[packedColour(red, green, blue)] = e;
       regions.name[e] = name;
     }
   } else {
@@ -298,7 +306,7 @@ VertexRegions readAnnot(const std::string& path, std::size_t vertexCount) {
       r.int32("a colour");
       if (regions.name.count(index))
         throw MeshFileError(path + ": structure " + std::to_string(index) + " appears twice in the colour table");
-      keyOfColour[red + green * 256 + blue * 65536] = index;
+      keyOfColour[packedColour(red, green, blue)] = index;
       regions.name[index] = name;
     }
   }
