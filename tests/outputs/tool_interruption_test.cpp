@@ -299,6 +299,7 @@ pid_t stopReportChildOnceTheMapIsCommitted(RunningTool& tool, const std::string&
 }
 
 TEST_F(ToolInterruption, SigtermWhileThePageIsDrawnStopsTheReportChildBeforeTheToolEnds) {
+  if (!withReports()) GTEST_SKIP() << "built without the Python package, which draws the page";
   const std::vector<std::string> arguments{"distance", brain, "--seed-voxel", "55,54,15", "-o", out("d.nii.gz"),
                                            "--report", out("r.html"), "-q"};
   // Should the page be drawn before the child could be stopped (it takes
@@ -339,6 +340,7 @@ TEST_F(ToolInterruption, SigtermWhileThePageIsDrawnStopsTheReportChildBeforeTheT
 }
 
 TEST_F(ToolInterruption, AReportChildDiesWithAToolThatIsKilled) {
+  if (!withReports()) GTEST_SKIP() << "built without the Python package, which draws the page";
   // SIGKILL leaves the tool no chance to stop its child: the kernel does
   // (PR_SET_PDEATHSIG), and the child removes what it staged.
   const std::vector<std::string> arguments{"distance", brain, "--seed-voxel", "55,54,15", "-o", out("d.nii.gz"),
