@@ -205,6 +205,27 @@ std::vector<T> withCopies(std::vector<T> rows, const ManifoldSheets& sheets) {
   return rows;
 }
 
+/// The surface of the vertex and face rows as the tool builds it:
+/// non-manifold edges and vertices split into manifold sheets (`sheets`
+/// says how), the propagation joining them again; checked against the
+/// memory a run of `choice` needs. ValueError when it is no surface.
+SurfaceDomain surfaceOfRows(const py::object& verticesObject, const py::object& facesObject,
+                            const PropagationChoice& choice, bool memoryCheck, ManifoldSheets& sheets) {
+  const std::vector<Vec3d> points = pointRows(verticesObject, "vertices");
+  PolygonList faces;
+  for (const auto& row : indexRows(facesObject, 0, "faces")) faces.add(row.begin(), row.end());
+  std::optional<SurfaceDomain> surface;
+  try {
+    py::gil_scoped_release release;
+    surface.emplace(surfaceOfSheets(points, faces, sheets));
+  } catch (const SurfaceError& e) {  // not an orientable surface
+    throw py::value_error("surface: " + std::string(e.what()));
+  }
+  checkMemory("vertices", surfaceRunMemoryEstimate(choice, surface->vertexCount(), faces.faceVertex.size()),
+              text::withThousands(surface->vertexCount()) + " vertices", memoryCheck);
+  return std::move(*surface);
+}
+
 RiemannianMetric surfaceMetric(const SurfaceDomain& surface, const ManifoldSheets& sheets, const std::string& kind,
                                const py::object& values, const std::optional<double>& anisotropy,
                                const std::optional<std::string>& order) {
@@ -261,22 +282,9 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
   const PropagationChoice choice = choiceOf(method, k, chainMeasure, std::nullopt, steiner);
   checkMeshPropagationChoice(choice, "face edge", 4);
   const double limit = maxDistanceOf(maxDistance);
-  std::vector<Vec3d> points = pointRows(verticesObject, "vertices");
-  PolygonList faces;
-  for (const auto& row : indexRows(facesObject, 0, "faces")) faces.add(row.begin(), row.end());
-  std::optional<SurfaceDomain> surface;
-  // Non-manifold edges and vertices are split into manifold sheets, joined
-  // again at the split vertices by the propagation (as the tool does).
   ManifoldSheets sheets;
-  try {
-    py::gil_scoped_release release;
-    surface.emplace(surfaceOfSheets(points, faces, sheets));
-  } catch (const SurfaceError& e) {  // not an orientable surface
-    throw py::value_error("surface: " + std::string(e.what()));
-  }
-  checkMemory("vertices", surfaceRunMemoryEstimate(choice, surface->vertexCount(), faces.faceVertex.size()),
-              text::withThousands(surface->vertexCount()) + " vertices", memoryCheck);
-  const RiemannianMetric metric = surfaceMetric(*surface, sheets, metricKind, metricValues, anisotropy, order);
+  const SurfaceDomain surface = surfaceOfRows(verticesObject, facesObject, choice, memoryCheck, sheets);
+  const RiemannianMetric metric = surfaceMetric(surface, sheets, metricKind, metricValues, anisotropy, order);
   ProgressRelay relay(progress);
   PropagationResult result;
   {
@@ -294,7 +302,7 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
       steiner.maxDistance = limit;
       steiner.progress = relay.hook();
       try {
-        result = lanthierPropagate(*surface, metric, sources, steiner);
+        result = lanthierPropagate(surface, metric, sources, steiner);
       } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
         throw OptionError("vertices: " +
                           optionWithValue(propagationOption("--method"), "lanthier", OptionNaming::Keywords) + ": " +
@@ -304,7 +312,7 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
       PropagationOptions options = propagationOptions(choice);
       options.maxDistance = limit;
       options.progress = relay.hook();
-      result = propagateOverSheets(*surface, metric, sheets, sources, options);
+      result = propagateOverSheets(surface, metric, sheets, sources, options);
     }
   }
   relay.rethrowIfFailed();
@@ -314,7 +322,7 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
   for (VertexId& p : result.predecessor)
     if (p != kNoVertex) p = sheets.original[p];
   py::dict d = resultDict(result);
-  d["component_count"] = surface->componentCount();
+  d["component_count"] = surface.componentCount();
   d["split_vertices"] = sheets.splitVertices;
   d["non_manifold_edges"] = sheets.nonManifoldEdges;
   return d;
@@ -334,20 +342,9 @@ py::dict surfaceRegionDistancesPy(const py::object& verticesObject, const py::ob
   checkMeshPropagationChoice(choice, "face edge", 4);
   if (choice.lanthier) throw py::value_error("surface_region_distances runs with method='stvd' or 'dijkstra'");
   if (regions.empty()) throw py::value_error("regions: no region given");
-  std::vector<Vec3d> points = pointRows(verticesObject, "vertices");
-  PolygonList faces;
-  for (const auto& row : indexRows(facesObject, 0, "faces")) faces.add(row.begin(), row.end());
-  std::optional<SurfaceDomain> surface;
   ManifoldSheets sheets;
-  try {
-    py::gil_scoped_release release;
-    surface.emplace(surfaceOfSheets(points, faces, sheets));
-  } catch (const SurfaceError& e) {
-    throw py::value_error("surface: " + std::string(e.what()));
-  }
-  checkMemory("vertices", surfaceRunMemoryEstimate(choice, surface->vertexCount(), faces.faceVertex.size()),
-              text::withThousands(surface->vertexCount()) + " vertices", memoryCheck);
-  const RiemannianMetric metric = surfaceMetric(*surface, sheets, metricKind, metricValues, anisotropy, order);
+  const SurfaceDomain surface = surfaceOfRows(verticesObject, facesObject, choice, memoryCheck, sheets);
+  const RiemannianMetric metric = surfaceMetric(surface, sheets, metricKind, metricValues, anisotropy, order);
   const std::vector<std::uint8_t> all(sheets.inputVertexCount, 1);
   std::vector<std::vector<VertexId>> sets;
   for (std::size_t a = 0; a < regions.size(); ++a) {
@@ -359,7 +356,7 @@ py::dict surfaceRegionDistancesPy(const py::object& verticesObject, const py::ob
     py::gil_scoped_release release;
     PropagationOptions options = propagationOptions(choice);
     options.maxDistance = maxDistanceOf(maxDistance);
-    r = surfaceRegionDistances(*surface, metric, sheets, sets, options, threads, keepMaps);
+    r = surfaceRegionDistances(surface, metric, sheets, sets, options, threads, keepMaps);
   }
   const std::size_t n = sets.size();
   py::array_t<double> matrix({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(n)});
@@ -396,17 +393,7 @@ class SurfaceSolver {
     if (choice.lanthier) throw py::value_error("SurfaceSolver runs with method='stvd' or 'dijkstra'");
     options_ = propagationOptions(choice);
     options_.maxDistance = maxDistanceOf(maxDistance);
-    const std::vector<Vec3d> points = pointRows(verticesObject, "vertices");
-    PolygonList faces;
-    for (const auto& row : indexRows(facesObject, 0, "faces")) faces.add(row.begin(), row.end());
-    try {
-      py::gil_scoped_release release;
-      surface_.emplace(surfaceOfSheets(points, faces, sheets_));
-    } catch (const SurfaceError& e) {
-      throw py::value_error("surface: " + std::string(e.what()));
-    }
-    checkMemory("vertices", surfaceRunMemoryEstimate(choice, surface_->vertexCount(), faces.faceVertex.size()),
-                text::withThousands(surface_->vertexCount()) + " vertices", memoryCheck);
+    surface_.emplace(surfaceOfRows(verticesObject, facesObject, choice, memoryCheck, sheets_));
     metric_.emplace(surfaceMetric(*surface_, sheets_, metricKind, metricValues, anisotropy, order));
   }
 
