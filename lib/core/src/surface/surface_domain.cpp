@@ -372,35 +372,35 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
   // Per vertex: the angles summed around the ring (the angle of each entry
   // before scaling waits in ringDirectionX_), the normal, the frame.
   forEachTaskInParallel(vertexBlocks, threads, [&](std::size_t block) {
-  for (std::size_t v = block * kBlock; v < blockEnd(block, n); ++v) {
-    const std::uint32_t first = ringStart_[v], last = ringStart_[v + 1];
-    if (first == last) continue;  // isolated vertex
-    const bool open = boundary_[v] != 0;
-    const Vec3d p = points_[v];
-    double angle = 0.0;
-    Vec3d normal{};
-    for (std::uint32_t i = first; i < last; ++i) {
-      ringDirectionX_[i] = angle;
-      const std::uint32_t face = ringCorner_[i].face;
-      if (face == kNoFace) continue;  // the edge that ends a boundary fan
-      const double alpha = ringDirectionY_[i];
-      angle += alpha;
-      normal = normal + alpha * faceNormal[face];
+    for (std::size_t v = block * kBlock; v < blockEnd(block, n); ++v) {
+      const std::uint32_t first = ringStart_[v], last = ringStart_[v + 1];
+      if (first == last) continue;  // isolated vertex
+      const bool open = boundary_[v] != 0;
+      const Vec3d p = points_[v];
+      double angle = 0.0;
+      Vec3d normal{};
+      for (std::uint32_t i = first; i < last; ++i) {
+        ringDirectionX_[i] = angle;
+        const std::uint32_t face = ringCorner_[i].face;
+        if (face == kNoFace) continue;  // the edge that ends a boundary fan
+        const double alpha = ringDirectionY_[i];
+        angle += alpha;
+        normal = normal + alpha * faceNormal[face];
+      }
+      angleSum_[v] = angle;
+      const double scale = !open && angle > 0.0 ? 2.0 * kPi / angle : 1.0;
+      for (std::uint32_t i = first; i < last; ++i) {
+        ringAngle_[i] = static_cast<float>(ringDirectionX_[i] * scale);
+        ringCorner_[i].length = ringLength_[i];
+        ringDirectionX_[i] = std::cos(static_cast<double>(ringAngle_[i]));
+        ringDirectionY_[i] = std::sin(static_cast<double>(ringAngle_[i]));
+        ringEdgeX_[i] = static_cast<float>(ringLength_[i] * ringDirectionX_[i]);
+        ringEdgeY_[i] = static_cast<float>(ringLength_[i] * ringDirectionY_[i]);
+      }
+      normals_[v] = unitOr(normal, Vec3d{0, 0, 1});
+      const Vec3d d = points_[ringNeighbor_[first]] - p;
+      tangents_[v] = unitOr(d - dot(d, normals_[v]) * normals_[v], anyOrthogonal(normals_[v]));
     }
-    angleSum_[v] = angle;
-    const double scale = !open && angle > 0.0 ? 2.0 * kPi / angle : 1.0;
-    for (std::uint32_t i = first; i < last; ++i) {
-      ringAngle_[i] = static_cast<float>(ringDirectionX_[i] * scale);
-      ringCorner_[i].length = ringLength_[i];
-      ringDirectionX_[i] = std::cos(static_cast<double>(ringAngle_[i]));
-      ringDirectionY_[i] = std::sin(static_cast<double>(ringAngle_[i]));
-      ringEdgeX_[i] = static_cast<float>(ringLength_[i] * ringDirectionX_[i]);
-      ringEdgeY_[i] = static_cast<float>(ringLength_[i] * ringDirectionY_[i]);
-    }
-    normals_[v] = unitOr(normal, Vec3d{0, 0, 1});
-    const Vec3d d = points_[ringNeighbor_[first]] - p;
-    tangents_[v] = unitOr(d - dot(d, normals_[v]) * normals_[v], anyOrthogonal(normals_[v]));
-  }
   });
 
   // Components through edges.
