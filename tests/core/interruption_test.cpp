@@ -1,0 +1,133 @@
+// Every long operation reports to one Interrupter and can be stopped
+// (system/interrupter.hpp, docs/library.md "Progress and cancellation"):
+// start(name), 0 % first, percents that never decrease, 100 % last, end();
+// stopped at its first report after the start, it ends at once with the
+// result its documentation states. The report interval is made zero so
+// that even these small scenes report during their work (a report every
+// 1024 steps); the work done is counted, never timed.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "interrupt_recorder.hpp"
+#include "scenes.hpp"
+#include "stvd/cell_mesh/cell_mesh_lanthier.hpp"
+#include "stvd/cell_mesh/tetrahedral_cells.hpp"
+#include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
+
+namespace stvd {
+namespace {
+
+using testing::expectCompleteReports;
+using testing::InterruptRecorder;
+
+/// A ball of about 9,200 voxels in a 28^3 grid: masked, so every pass of the
+/// Steiner cells' setup runs.
+struct MaskedBall {
+  GridGeometry geometry = test::obliqueGrid({28, 28, 28});
+  VoxelGridDomain domain{geometry, Stencil::full26(), test::ballMask(geometry, {13.5, 13.5, 13.5}, 13.0)};
+  RiemannianMetric metric{test::smoothVaryingTensors(domain), &domain.mask()};
+  VertexId source = domain.vertexAt(14, 14, 14);
+};
+
+LanthierOptions steinerOptions(int m, Interrupter* interrupter) {
+  LanthierOptions o;
+  o.steinerPoints = m;
+  o.interrupter = interrupter;
+  o.progressInterval = 0.0;
+  return o;
+}
+
+// The Steiner cells and the propagation's state are set up before the
+// propagation starts: an operation of its own, which reports and ends
+// before "Steiner-point propagation" starts.
+TEST(LanthierSetupInterruption, TheSetupReportsZeroToHundredPercentBeforeThePropagationStarts) {
+  const MaskedBall s;
+  InterruptRecorder recorder;
+  const LanthierResult r = lanthierPropagate(s.domain, s.metric, {s.source}, steinerOptions(4, &recorder));
+  EXPECT_EQ(r.termination, Termination::Completed);
+  ASSERT_EQ(recorder.operations().size(), 2u);
+  EXPECT_EQ(recorder.operations()[0].name, "Steiner cells");
+  EXPECT_EQ(recorder.operations()[1].name, "Steiner-point propagation");
+  // 6 passes over 28^3 voxels and 2 arrays of 61 entries per domain voxel:
+  // a report at least every 1024 steps of them.
+  EXPECT_GT(recorder.operations()[0].percents.size(), 6u * 28 * 28 * 28 / 1024);
+  for (const InterruptRecorder::Operation& o : recorder.operations()) expectCompleteReports(o);
+  EXPECT_TRUE(recorder.allEnded());
+}
+
+// Stopped at its first report after the start, the setup ends there: the
+// run returns Termination::Cancelled with no distances, no point was
+// finalised, the propagation never started, and nothing reported again.
+TEST(LanthierSetupInterruption, StoppedDuringTheSetupTheRunIsCancelledBeforeAnyPointIsFinal) {
+  const MaskedBall s;
+  InterruptRecorder recorder;
+  recorder.stopAtFirstReportAfterStart("Steiner cells");
+  const LanthierResult r = lanthierPropagate(s.domain, s.metric, {s.source}, steinerOptions(4, &recorder));
+  EXPECT_EQ(r.termination, Termination::Cancelled);
+  EXPECT_EQ(r.finalizedVertices, 0u);
+  EXPECT_EQ(r.relaxedEdges, 0u);
+  ASSERT_EQ(r.distance.size(), s.domain.vertexCount());
+  for (VertexId v = 0; v < s.domain.vertexCount(); ++v) {
+    ASSERT_EQ(r.distance[v], kUnreachable) << "vertex " << v;
+    ASSERT_EQ(r.predecessor[v], kNoVertex) << "vertex " << v;
+  }
+  ASSERT_EQ(recorder.operations().size(), 1u);  // no propagation
+  const InterruptRecorder::Operation& setup = recorder.operations()[0];
+  EXPECT_EQ(setup.name, "Steiner cells");
+  // Stopped after the first 1024 of about 1.5 million steps.
+  ASSERT_EQ(setup.percents.size(), 2u);
+  EXPECT_EQ(setup.percents[0], 0);
+  EXPECT_EQ(setup.percents[1], 0);
+  EXPECT_TRUE(setup.ended);
+  EXPECT_EQ(recorder.reportsAfterStop(), 0u);
+}
+
+// The progress callback hears the setup's reports as the run's first ones
+// (no vertex final, fraction 0): a host with only the callback (the tool's
+// bar, the Python package) can cancel during the setup too.
+TEST(LanthierSetupInterruption, TheProgressCallbackCanCancelDuringTheSetup) {
+  const MaskedBall s;
+  LanthierOptions o = steinerOptions(4, nullptr);
+  std::vector<PropagationProgress> reports;
+  o.progress = [&reports](const PropagationProgress& p) {
+    reports.push_back(p);
+    return reports.size() < 2;
+  };
+  const LanthierResult r = lanthierPropagate(s.domain, s.metric, {s.source}, o);
+  EXPECT_EQ(r.termination, Termination::Cancelled);
+  EXPECT_EQ(r.finalizedVertices, 0u);
+  ASSERT_EQ(reports.size(), 2u);
+  for (const PropagationProgress& p : reports) {
+    EXPECT_EQ(p.finalizedVertices, 0u);
+    EXPECT_EQ(p.fraction, 0.0);
+    EXPECT_EQ(p.domainVertices, s.domain.domainVertexCount());
+  }
+}
+
+// On a tetrahedral mesh the setup is the propagation's state (the cells are
+// the TetrahedralCells' own): the same reports, the same cancel.
+TEST(LanthierSetupInterruption, OnATetrahedralMeshTheSetupReportsAndStops) {
+  const test::TetrahedralBox box = test::kuhnTetrahedralBox({6, 6, 6}, {1.0, 1.0, 1.0}, 0.0, 1);
+  const TetrahedralCells cells(box.points, box.tets);
+  const RiemannianMetric metric = RiemannianMetric::constant(cells.vertexCount(), test::toSymTensor(test::Mat3{}));
+  InterruptRecorder all;
+  EXPECT_EQ(lanthierPropagate(cells, metric, {0}, steinerOptions(4, &all)).termination, Termination::Completed);
+  ASSERT_EQ(all.operations().size(), 2u);
+  EXPECT_EQ(all.operations()[0].name, "Steiner cells");
+  for (const InterruptRecorder::Operation& o : all.operations()) expectCompleteReports(o);
+
+  InterruptRecorder stopping;
+  stopping.stopAtFirstReportAfterStart("Steiner cells");
+  const LanthierResult r = lanthierPropagate(cells, metric, {0}, steinerOptions(4, &stopping));
+  EXPECT_EQ(r.termination, Termination::Cancelled);
+  EXPECT_EQ(r.finalizedVertices, 0u);
+  for (double d : r.distance) ASSERT_EQ(d, kUnreachable);
+  EXPECT_EQ(stopping.operations().size(), 1u);
+  EXPECT_EQ(stopping.reportsAfterStop(), 0u);
+}
+
+}  // namespace
+}  // namespace stvd
