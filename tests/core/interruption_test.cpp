@@ -7,6 +7,7 @@
 // 1024 steps); the work done is counted, never timed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -15,7 +16,11 @@
 #include "stvd/cell_mesh/cell_mesh_lanthier.hpp"
 #include "stvd/cell_mesh/tetrahedral_cells.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/path_refinement.hpp"
+#include "stvd/voxel_grid/path_tracing.hpp"
 #include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd {
 namespace {
@@ -126,6 +131,109 @@ TEST(LanthierSetupInterruption, OnATetrahedralMeshTheSetupReportsAndStops) {
   EXPECT_EQ(r.finalizedVertices, 0u);
   for (double d : r.distance) ASSERT_EQ(d, kUnreachable);
   EXPECT_EQ(stopping.operations().size(), 1u);
+  EXPECT_EQ(stopping.reportsAfterStop(), 0u);
+}
+
+/// A path around a wall: the descent falls back to the predecessor chain
+/// at its end and the refinement has corners to straighten.
+struct WallWithHole {
+  GridGeometry geometry = [] {
+    GridGeometry g;
+    g.size = {30, 30, 20};
+    g.spacing = {1.0, 1.0, 1.5};
+    return g;
+  }();
+  std::vector<std::uint8_t> mask = [this] {
+    std::vector<std::uint8_t> m(geometry.voxelCount(), 1);
+    for (int k = 0; k < 20; ++k)
+      for (int j = 0; j < 30; ++j)
+        if (!(j >= 21 && j <= 23 && k >= 9 && k <= 11)) m[15 + 30 * (j + 30 * k)] = 0;
+    return m;
+  }();
+  VoxelGridDomain domain{geometry, Stencil::full26(), mask};
+  RiemannianMetric metric{test::smoothVaryingTensors(domain), &mask};
+  VertexId source = domain.vertexAt(4, 8, 10), target = domain.vertexAt(26, 8, 10);
+  PropagationResult result = propagate(domain, metric, {source});
+};
+
+PathTracingOptions tracingOptions(Interrupter* interrupter) {
+  PathTracingOptions o;
+  o.interrupter = interrupter;
+  o.progressInterval = 0.0;
+  return o;
+}
+
+// Tracing a path is one operation, "path tracing": the descent reports the
+// first half (how far the distance has come down), the refinement the
+// second (its iterations).
+TEST(PathTracingInterruption, TracingAndRefiningReportZeroToHundredPercent) {
+  const WallWithHole s;
+  InterruptRecorder recorder;
+  const TracedPath path = traceGeodesicPath(s.domain, s.metric, s.result, s.target, tracingOptions(&recorder));
+  ASSERT_FALSE(path.points.empty());
+  ASSERT_GT(path.refinement.iterations, 0u);
+  ASSERT_EQ(recorder.operations().size(), 1u);
+  const InterruptRecorder::Operation& o = recorder.operations()[0];
+  EXPECT_EQ(o.name, "path tracing");
+  expectCompleteReports(o);
+  // Reports from the descent (below 50 %) and from the refinement (one per
+  // iteration at least).
+  EXPECT_GE(std::count_if(o.percents.begin(), o.percents.end(), [](int p) { return p > 0 && p < 50; }), 1);
+  EXPECT_GE(static_cast<std::size_t>(std::count_if(o.percents.begin(), o.percents.end(),
+                                                   [](int p) { return p >= 50 && p < 100; })),
+            path.refinement.iterations);
+  // The same path as without an interrupter.
+  const TracedPath plain = traceGeodesicPath(s.domain, s.metric, s.result, s.target);
+  ASSERT_EQ(plain.points.size(), path.points.size());
+  for (std::size_t n = 0; n < path.points.size(); ++n) EXPECT_EQ(norm(plain.points[n] - path.points[n]), 0.0);
+}
+
+// Stopped at its first report after the start (64 steps into the descent),
+// the tracing throws Cancelled: a path that does not reach a source is no
+// path.
+TEST(PathTracingInterruption, StoppedTheTracingThrowsCancelledWithoutAPath) {
+  const WallWithHole s;
+  InterruptRecorder recorder;
+  recorder.stopAtFirstReportAfterStart();
+  EXPECT_THROW(traceGeodesicPath(s.domain, s.metric, s.result, s.target, tracingOptions(&recorder)), Cancelled);
+  ASSERT_EQ(recorder.operations().size(), 1u);
+  const InterruptRecorder::Operation& o = recorder.operations()[0];
+  ASSERT_EQ(o.percents.size(), 2u);
+  EXPECT_LT(o.percents[1], 50);  // still descending: no refinement ran
+  EXPECT_TRUE(o.ended);
+  EXPECT_EQ(recorder.reportsAfterStop(), 0u);
+}
+
+// Refinement on its own is "path refinement"; stopped, it throws Cancelled
+// and leaves the points as they were.
+TEST(PathTracingInterruption, RefinementReportsAndStoppedLeavesThePointsAsTheyWere) {
+  const WallWithHole s;
+  PathTracingOptions unrefined;
+  unrefined.refine = false;
+  const std::vector<Vec3d> traced = traceGeodesicPath(s.domain, s.metric, s.result, s.target, unrefined).points;
+  ASSERT_GT(traced.size(), 2u);
+
+  InterruptRecorder all;
+  PathRefinementOptions o;
+  o.interrupter = &all;
+  o.progressInterval = 0.0;
+  std::vector<Vec3d> refined = traced;
+  const PathRefinementReport report = refineGeodesicPath(s.domain, s.metric, s.result.distance, refined, o);
+  ASSERT_GT(report.iterations, 0u);
+  ASSERT_EQ(all.operations().size(), 1u);
+  EXPECT_EQ(all.operations()[0].name, "path refinement");
+  expectCompleteReports(all.operations()[0]);
+  EXPECT_GT(all.operations()[0].percents.size(), report.iterations);
+
+  InterruptRecorder stopping;
+  stopping.stopAtFirstReportAfterStart();
+  o.interrupter = &stopping;
+  std::vector<Vec3d> points = traced;
+  EXPECT_THROW(refineGeodesicPath(s.domain, s.metric, s.result.distance, points, o), Cancelled);
+  ASSERT_EQ(points.size(), traced.size());
+  for (std::size_t n = 0; n < points.size(); ++n) EXPECT_EQ(norm(points[n] - traced[n]), 0.0) << "point " << n;
+  // Stopped before its first iteration.
+  EXPECT_EQ(stopping.operations()[0].percents, (std::vector<int>{0, 0}));
   EXPECT_EQ(stopping.reportsAfterStop(), 0u);
 }
 
