@@ -8,6 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -19,6 +22,7 @@
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/voxel_grid/path_refinement.hpp"
 #include "stvd/voxel_grid/path_tracing.hpp"
+#include "stvd/voxel_grid/region_connectivity.hpp"
 #include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 #include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
@@ -235,6 +239,82 @@ TEST(PathTracingInterruption, RefinementReportsAndStoppedLeavesThePointsAsTheyWe
   // Stopped before its first iteration.
   EXPECT_EQ(stopping.operations()[0].percents, (std::vector<int>{0, 0}));
   EXPECT_EQ(stopping.reportsAfterStop(), 0u);
+}
+
+/// Four regions of 8 voxels (2 x 2 x 2 blocks) in a 24 x 20 x 16 grid under
+/// a smoothly varying metric.
+struct FourRegions {
+  VoxelGridDomain domain{test::obliqueGrid({24, 20, 16}), Stencil::full26()};
+  RiemannianMetric metric{test::smoothVaryingTensors(domain)};
+  std::vector<std::vector<VertexId>> regions = [this] {
+    std::vector<std::vector<VertexId>> r;
+    for (const std::array<int, 3>& c : {std::array<int, 3>{2, 2, 2}, {20, 3, 4}, {4, 16, 12}, {19, 15, 13}}) {
+      r.emplace_back();
+      for (int k = 0; k < 2; ++k)
+        for (int j = 0; j < 2; ++j)
+          for (int i = 0; i < 2; ++i) r.back().push_back(domain.vertexAt(c[0] + i, c[1] + j, c[2] + k));
+    }
+    return r;
+  }();
+};
+
+PropagationOptions propagationOptions(Interrupter* interrupter) {
+  PropagationOptions o;
+  o.interrupter = interrupter;
+  o.progressInterval = 0.0;
+  return o;
+}
+
+// The run is one operation, "region connectivity", by the share of pairs
+// measured; each region's propagation and each pair's path report within
+// it as operations of their own.
+TEST(RegionConnectivityInterruption, TheRunAndEveryPropagationAndPathReportZeroToHundredPercent) {
+  const FourRegions s;
+  InterruptRecorder recorder;
+  const RegionConnectivity table = regionConnectivity(s.domain, s.metric, s.regions, propagationOptions(&recorder), 1);
+  for (std::size_t a = 0; a < 4; ++a)
+    for (std::size_t b = 0; b < 4; ++b)
+      if (a != b) {
+        EXPECT_TRUE(std::isfinite(table(a, b).geodesic)) << a << " to " << b;
+      }
+  ASSERT_EQ(recorder.named("region connectivity").size(), 1u);
+  EXPECT_EQ(recorder.operations().front().name, "region connectivity");
+  EXPECT_EQ(recorder.named("propagation").size(), 4u);
+  EXPECT_EQ(recorder.named("path tracing").size(), 12u);
+  for (const InterruptRecorder::Operation& o : recorder.operations()) expectCompleteReports(o);
+  // A report after every region and every pair: 16 steps.
+  EXPECT_EQ(recorder.named("region connectivity")[0].percents.size(), 2u + 16u);
+  EXPECT_TRUE(recorder.allEnded());
+}
+
+// Stopped at its first report after the start (once the first region's
+// propagation is done), the run throws Cancelled: no other region is
+// propagated, no path traced, and nothing reports again.
+TEST(RegionConnectivityInterruption, StoppedTheRunThrowsCancelledAndDoesNoMoreWork) {
+  const FourRegions s;
+  InterruptRecorder recorder;
+  recorder.stopAtFirstReportAfterStart("region connectivity");
+  EXPECT_THROW(regionConnectivity(s.domain, s.metric, s.regions, propagationOptions(&recorder), 1), Cancelled);
+  EXPECT_EQ(recorder.named("propagation").size(), 1u);
+  EXPECT_EQ(recorder.named("path tracing").size(), 0u);
+  EXPECT_EQ(recorder.named("region connectivity")[0].percents, (std::vector<int>{0, 6}));  // 1 of 16 steps
+  EXPECT_EQ(recorder.reportsAfterStop(), 0u);
+  EXPECT_TRUE(recorder.allEnded());
+}
+
+// A propagation cancelled by its progress callback cancels the run (on two
+// threads): a table whose rows are missing would read as regions that do
+// not reach each other.
+TEST(RegionConnectivityInterruption, APropagationCancelledByItsCallbackCancelsTheRun) {
+  const FourRegions s;
+  PropagationOptions o;
+  std::atomic<int> calls{0};
+  o.progress = [&calls](const PropagationProgress&) {
+    ++calls;
+    return false;
+  };
+  EXPECT_THROW(regionConnectivity(s.domain, s.metric, s.regions, o, 2), Cancelled);
+  EXPECT_LE(calls.load(), 2);  // one report per propagation started, on at most two threads
 }
 
 }  // namespace
