@@ -27,6 +27,13 @@ class InterruptRecorder : public Interrupter {
   /// report after the one at its start.
   void stopAtFirstReportAfterStart(std::string name = {}) {
     stopping_ = true;
+    stopAtReport_ = 2;
+    stopName_ = std::move(name);
+  }
+  /// Stops it at its first report (0 %, at its start).
+  void stopAtStart(std::string name = {}) {
+    stopping_ = true;
+    stopAtReport_ = 1;
     stopName_ = std::move(name);
   }
 
@@ -48,7 +55,7 @@ class InterruptRecorder : public Interrupter {
     Operation& o = operations_[open_.back()];
     o.percents.push_back(percent);
     if (stopped_) ++reportsAfterStop_;
-    const bool stop = stopping_ && o.percents.size() >= 2 && (stopName_.empty() || o.name == stopName_);
+    const bool stop = stopping_ && o.percents.size() >= stopAtReport_ && (stopName_.empty() || o.name == stopName_);
     stopped_ = stopped_ || stop;
     return stop;
   }
@@ -72,6 +79,7 @@ class InterruptRecorder : public Interrupter {
   std::vector<Operation> operations_;
   std::vector<std::size_t> open_;  // started and not ended, innermost last
   bool stopping_ = false;
+  std::size_t stopAtReport_ = 2;
   std::string stopName_;
   bool stopped_ = false;
   std::size_t reportsAfterStop_ = 0;
