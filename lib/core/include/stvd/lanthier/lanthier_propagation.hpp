@@ -51,7 +51,7 @@ struct LanthierOptions {
   /// distances); return false to cancel. finalizedVertices and
   /// domainVertices count original vertices (voxels, mesh vertices),
   /// frontDistance is that of the last point. The setup before the
-  /// propagation (the Steiner cells and the propagation's state: 0.2 s for
+  /// propagation (the Steiner cells and the propagation's state: 0.1 s for
   /// the 29 million points of the sample brain with M = 8) reports here
   /// first, with no vertex final and fraction 0; cancelled there, the run
   /// returns as a cancelled run does, before any point is final.
