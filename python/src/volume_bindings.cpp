@@ -248,6 +248,7 @@ py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py:
   std::vector<LabelRegion> regions;
   std::size_t leftOut = 0;
   RegionConnectivity table;
+  bool cancelled = false;
   {
     py::gil_scoped_release release;
     imaging::requireSameGrid(labels.geometry, field->geometry(), labelsName, "the labels are", field->name);
@@ -267,9 +268,16 @@ py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py:
                                  choice.connectivity);
     PropagationOptions options = propagationOptions(choice);
     options.progress = relay.hook();
-    table = regionConnectivity(domain, field->metric, voxels, options, threads);
+    options.interrupter = relay.interrupter();  // Ctrl-C between the propagations, in the paths
+    try {
+      table = regionConnectivity(domain, field->metric, voxels, options, threads);
+    } catch (const Cancelled&) {
+      cancelled = true;
+    }
   }
-  relay.rethrowIfFailed();
+  relay.rethrowIfFailed();  // Ctrl-C or the callback's exception first
+  if (cancelled)  // the callback returned False: no partial table
+    throw Cancelled("region connectivity was cancelled by the progress function: no table");
   const py::ssize_t n = static_cast<py::ssize_t>(regions.size());
   py::array_t<long long> labelValues(n), voxelCounts(n);
   py::array_t<double> geodesic({n, n}), pathLength({n, n}), straight({n, n}), index({n, n});

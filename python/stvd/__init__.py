@@ -368,7 +368,10 @@ def connectivity(tensors, labels, *, label_names=None, threads=None, affine=None
     ``threads`` propagations at once must fit). ``label_names``: the
     regions' names, a label lookup file (a BIDS ``dseg.tsv`` table with
     ``index`` and ``name`` columns, or a FreeSurfer colour lookup table) or
-    a dict ``{label: name}``. Returns ``stvd.Connectivity``."""
+    a dict ``{label: name}``. ``progress`` as for ``stvd.distance``, heard
+    by every region's propagation; when it returns False (or on Ctrl-C) no
+    table is returned: RuntimeError (KeyboardInterrupt) is raised. Returns
+    ``stvd.Connectivity``."""
     names = read_label_names(label_names)
     if isinstance(tensors, Propagation):
         if accept_implausible_tensors or accept_misaligned_tensors or any(

@@ -255,5 +255,38 @@ TEST_F(ItkBridge, ProgressRunsFromZeroToOneAndAnAbortLeavesNoMap) {
   EXPECT_LT(seen.back(), 1.f);
 }
 
+// With Lanthier's method the setup (the Steiner cells) and the
+// propagation share the filter's range after the metric: its progress
+// still never goes back (each reports 0 to 100 % on its own).
+TEST_F(ItkBridge, WithSteinerPointsTheProgressNeverGoesBack) {
+  const TensorImage::Pointer tensors = readWithItk<TensorImage>(sampleFile("dti_tensor_dipy5d.nii.gz"));
+  auto filter = GeodesicDistanceImageFilter<TensorImage>::New();
+  filter->SetInput(tensors);
+  filter->SetTensorFrame(ItkTensorFrame::indexAxes());
+  filter->AddSeed({{55, 54, 15}});
+  PropagationChoice choice;
+  choice.lanthier = true;
+  choice.steinerPoints = 4;
+  filter->SetPropagationChoice(choice);
+  filter->SetMaximumDistance(10.0);
+  std::vector<float> seen;
+  auto onProgress = itk::CStyleCommand::New();
+  struct Watch {
+    GeodesicDistanceImageFilter<TensorImage>* filter;
+    std::vector<float>* seen;
+  } watch{filter.GetPointer(), &seen};
+  onProgress->SetClientData(&watch);
+  onProgress->SetCallback([](itk::Object*, const itk::EventObject&, void* data) {
+    auto* w = static_cast<Watch*>(data);
+    w->seen->push_back(w->filter->GetProgress());
+  });
+  filter->AddObserver(itk::ProgressEvent(), onProgress);
+  filter->Update();
+  ASSERT_GE(seen.size(), 3u);
+  EXPECT_EQ(seen.front(), 0.f);
+  EXPECT_EQ(seen.back(), 1.f);
+  for (std::size_t n = 1; n < seen.size(); ++n) EXPECT_GE(seen[n], seen[n - 1]) << "report " << n;
+}
+
 }  // namespace
 }  // namespace stvd::testing

@@ -102,6 +102,23 @@ def test_an_exception_in_the_progress_function_reaches_the_caller(dipy_image):
         stvd.connectivity(dipy_image, labels, progress=fail)
 
 
+def test_a_progress_function_that_cancels_connectivity_gets_no_table(dipy_image):
+    """Cancelled, connectivity raises instead of returning a table whose
+    missing rows would read as regions that do not reach each other."""
+    labels = np.zeros(dipy_image.shape[:3], np.uint8)
+    labels[54:57, 53:56, 14:17] = 1
+    labels[67:70, 49:52, 10:13] = 2
+    calls = []
+
+    def cancel(*report):
+        calls.append(report)
+        return False
+
+    with pytest.raises(RuntimeError, match="region connectivity was cancelled"):
+        stvd.connectivity(dipy_image, labels, progress=cancel, threads=1)
+    assert len(calls) == 1  # the first propagation's first report; nothing ran after it
+
+
 def test_progress_true_shows_a_tqdm_bar(dipy_image, capsys):
     stvd.distance(dipy_image, CC_BODY, progress=True)
     bar = capsys.readouterr().err

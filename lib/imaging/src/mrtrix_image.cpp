@@ -1,5 +1,6 @@
 // MRtrix image files: our own parser and writer (see mrtrix_image.hpp).
 #include "stvd/imaging/mrtrix_image.hpp"
+#include "stvd/imaging/detail/read_progress.hpp"
 
 #include <unistd.h>
 #include <zlib.h>
@@ -194,7 +195,8 @@ void forEachElement(const MrtrixHeader& header, Visit visit) {
 
 bool isScaled(const MrtrixHeader& h) { return !(h.scalingOffset == 0.0 && h.scalingMultiplier == 1.0); }
 
-std::vector<float> decodeValues(const MrtrixHeader& header, std::string_view data) {
+std::vector<float> decodeValues(const MrtrixHeader& header, std::string_view data, InterruptScope& progress,
+                                std::uint64_t from) {
   DataType type;
   parseDataType(header.datatype, type);
   const bool swap = type.bytes > 1 && type.bigEndian == hostIsLittleEndian();
@@ -204,6 +206,7 @@ std::vector<float> decodeValues(const MrtrixHeader& header, std::string_view dat
   // its bits), so that a written file reads back bit for bit.
   const bool scaled = isScaled(header);
   forEachElement(header, [&](std::size_t e, std::size_t at) {
+    progress.step(from + e);
     const double raw = element(bytes, at, type, swap);
     values[e] = static_cast<float>(scaled ? header.scalingOffset + header.scalingMultiplier * raw : raw);
   });
@@ -213,7 +216,7 @@ std::vector<float> decodeValues(const MrtrixHeader& header, std::string_view dat
 /// Labels: integer datatypes without scaling exactly (64-bit), every other
 /// value through the rules for floating-point labels (stvd/imaging/label_values.hpp).
 std::vector<std::int64_t> decodeLabels(const MrtrixHeader& header, std::string_view data, const GridGeometry& g,
-                                       const std::string& name) {
+                                       const std::string& name, InterruptScope& progress, std::uint64_t from) {
   DataType type;
   parseDataType(header.datatype, type);
   const bool swap = type.bytes > 1 && type.bigEndian == hostIsLittleEndian();
@@ -221,6 +224,7 @@ std::vector<std::int64_t> decodeLabels(const MrtrixHeader& header, std::string_v
   std::vector<std::int64_t> labels(header.elementCount());
   const bool exact = !type.floating && !isScaled(header);
   forEachElement(header, [&](std::size_t e, std::size_t at) {
+    progress.step(from + e);
     if (!exact) {
       const double raw = element(bytes, at, type, swap);
       labels[e] = labelOfReal(isScaled(header) ? header.scalingOffset + header.scalingMultiplier * raw : raw,
@@ -583,7 +587,8 @@ MrtrixImage parseMrtrixImage(std::string_view bytes, const std::string& name) {
                                  " bytes where header and data need " + std::to_string(needed));
   MrtrixImage image;
   image.geometry = geometryOf(header, name);
-  image.values = decodeValues(header, bytes.substr(header.dataOffset, header.dataBytes()));
+  InterruptScope none(nullptr, "", 0);
+  image.values = decodeValues(header, bytes.substr(header.dataOffset, header.dataBytes()), none, 0);
   image.header = header;
   return image;
 }
@@ -639,23 +644,47 @@ StoredImage readStoredImage(const std::string& path) {
 
 }  // namespace
 
-MrtrixImage readMrtrixImage(const std::string& path) {
-  StoredImage stored = readStoredImage(path);
+MrtrixImage readMrtrixImage(const std::string& path, Interrupter* interrupter) {
+  InterruptScope progress(interrupter, "reading image", 0);
+  MrtrixImage image = detail::readMrtrixImage(path, progress);
+  progress.finish();
+  return image;
+}
+
+MrtrixLabelImage readMrtrixLabelImage(const std::string& path, Interrupter* interrupter) {
+  InterruptScope progress(interrupter, "reading labels", 0);
+  MrtrixLabelImage image = detail::readMrtrixLabelImage(path, progress);
+  progress.finish();
+  return image;
+}
+
+namespace detail {
+
+MrtrixImage readMrtrixImage(const std::string& path, InterruptScope& progress, std::uint64_t stepsAfter) {
+  StoredImage stored = readStoredImage(path);  // the bytes: read (and inflated) in one piece
+  const std::uint64_t values = stored.header.elementCount();
+  progress.setTotal(2 * values + stepsAfter);
+  progress.check(values);
   MrtrixImage image;
   image.geometry = geometryOf(stored.header, path);
-  image.values = decodeValues(stored.header, stored.data);
+  image.values = decodeValues(stored.header, stored.data, progress, values);
   image.header = std::move(stored.header);
   return image;
 }
 
-MrtrixLabelImage readMrtrixLabelImage(const std::string& path) {
+MrtrixLabelImage readMrtrixLabelImage(const std::string& path, InterruptScope& progress) {
   StoredImage stored = readStoredImage(path);
+  const std::uint64_t values = stored.header.elementCount();
+  progress.setTotal(2 * values);
+  progress.check(values);
   MrtrixLabelImage image;
   image.geometry = geometryOf(stored.header, path);
-  image.labels = decodeLabels(stored.header, stored.data, image.geometry, path);
+  image.labels = decodeLabels(stored.header, stored.data, image.geometry, path, progress, values);
   image.header = std::move(stored.header);
   return image;
 }
+
+}  // namespace detail
 
 GridGeometry readMrtrixImageGrid(const std::string& path) {
   std::error_code ec;

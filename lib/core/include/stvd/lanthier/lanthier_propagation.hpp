@@ -50,9 +50,15 @@ struct LanthierOptions {
   /// every progressInterval seconds, at the end; a cancelled run holds no
   /// distances); return false to cancel. finalizedVertices and
   /// domainVertices count original vertices (voxels, mesh vertices),
-  /// frontDistance is that of the last point.
+  /// frontDistance is that of the last point. The setup before the
+  /// propagation (the Steiner cells and the propagation's state: 0.1 s for
+  /// the 29 million points of the sample brain with M = 8) reports here
+  /// first, with no vertex final and fraction 0; cancelled there, the run
+  /// returns as a cancelled run does, before any point is final.
   std::function<bool(const PropagationProgress&)> progress;
-  /// The same reports for an Interrupter ("Steiner-point propagation").
+  /// The same reports for an Interrupter: first the setup, an operation of
+  /// its own ("Steiner cells", 0 to 100 %), then "Steiner-point
+  /// propagation".
   Interrupter* interrupter = nullptr;
   double progressInterval = kDefaultInterruptInterval;
 };

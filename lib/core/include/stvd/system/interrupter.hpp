@@ -5,6 +5,7 @@
 // wasInterrupted(percent).
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <stdexcept>
@@ -53,9 +54,11 @@ class Cancelled : public std::runtime_error {
 /// An Interrupter driven through a loop of `total` steps: start(name) at
 /// construction with a report of 0 %, end() at destruction; step(done)
 /// after each step costs a bit test, looks at the clock every 1024 steps
-/// and reports when the interval has passed; finish() reports 100 %. Throws
-/// Cancelled ("<name> was interrupted") when the interrupter asks to stop.
-/// Does nothing without an interrupter.
+/// and reports when the interval has passed; check(done) after a coarse
+/// step (a piece of an array filled, a whole path) looks at the clock every
+/// time; finish() reports 100 %. Throws Cancelled ("<name> was
+/// interrupted") when the interrupter asks to stop. Does nothing without an
+/// interrupter.
 class InterruptScope {
  public:
   InterruptScope(Interrupter* interrupter, const char* name, std::uint64_t total,
@@ -81,12 +84,18 @@ class InterruptScope {
   InterruptScope& operator=(const InterruptScope&) = delete;
 
   void step(std::uint64_t done) {
-    if (!interrupter_ || (done & 1023) != 0) return;
+    if ((done & 1023) == 0) check(done);
+  }
+  void check(std::uint64_t done) {
+    if (!interrupter_) return;
     const Clock::time_point now = Clock::now();
     if (now < next_) return;
     next_ = now + interval_;
-    ask(total_ > 0 ? static_cast<int>(100 * done / total_) : -1);
+    ask(total_ > 0 ? static_cast<int>(100 * std::min(done, total_) / total_) : -1);
   }
+  /// The total once it is known better; a smaller one than before keeps
+  /// the percents non-decreasing.
+  void setTotal(std::uint64_t total) { total_ = total; }
   void finish() {
     if (interrupter_) ask(100);
   }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "stvd/imaging/tensor_volume.hpp"
+#include "stvd/system/interrupter.hpp"
 
 namespace stvd::imaging {
 
@@ -19,7 +20,15 @@ namespace stvd::imaging {
 /// one-line message naming the file: unreadable, truncated or hostile file,
 /// not a tensor layout (scalar image, wrong component count), a 4D NIfTI
 /// without an order, an order that contradicts the file.
-TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options = {});
+///
+/// `interrupter` hears "reading tensors": 0 %; the file's values, which
+/// ITK (NIfTI, NRRD) or our reader (the bytes of an MRtrix file) read in
+/// one piece that cannot be cut, so that the next report comes when they
+/// are in; then the decoding of MRtrix values and the conversion of the
+/// components into tensors, at least every kDefaultInterruptInterval; 100 %.
+/// When it asks to stop, Cancelled is thrown (nothing is returned).
+TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options = {},
+                                  Interrupter* interrupter = nullptr);
 
 /// Writes `volume` (tensors in LPS) as float32 in the given layout, order
 /// and frame, atomically and checked as writeScalarImage writes (see

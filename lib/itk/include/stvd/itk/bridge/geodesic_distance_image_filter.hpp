@@ -9,6 +9,7 @@
 #include <itkProcessObject.h>
 
 #include <array>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -227,18 +228,36 @@ class GeodesicDistanceImageFilter : public itk::ImageToImageFilter<TTensorImage,
   /// the propagation).
   static constexpr float kMetricShare = 0.1f;
 
-  /// stvd's interrupter as the filter's progress (from..to) and abort.
+  /// The share of the propagation's progress that Lanthier's setup (the
+  /// operation "Steiner cells" before "Steiner-point propagation") takes.
+  static constexpr float kSteinerSetupShare = 0.2f;
+
+  /// stvd's interrupter as the filter's progress (from..to) and abort. Each
+  /// operation reports 0..100 %; Lanthier's setup and propagation share the
+  /// range, so that the filter's progress never goes back.
   class PipelineInterrupter : public Interrupter {
    public:
-    PipelineInterrupter(Self& filter, float from, float to) : filter_(filter), from_(from), to_(to) {}
+    PipelineInterrupter(Self& filter, float from, float to)
+        : filter_(filter), from_(from), to_(to), low_(from), high_(to) {}
+    void start(const char* name) override {
+      const float middle = from_ + kSteinerSetupShare * (to_ - from_);
+      if (std::strcmp(name, "Steiner cells") == 0) {
+        low_ = from_, high_ = middle;
+      } else if (std::strcmp(name, "Steiner-point propagation") == 0) {
+        low_ = middle, high_ = to_;
+      } else {
+        low_ = from_, high_ = to_;
+      }
+    }
     bool wasInterrupted(int percent) override {
-      if (percent >= 0) filter_.UpdateProgress(from_ + (to_ - from_) * static_cast<float>(percent) / 100.f);
+      if (percent >= 0) filter_.UpdateProgress(low_ + (high_ - low_) * static_cast<float>(percent) / 100.f);
       return filter_.GetAbortGenerateData();
     }
 
    private:
     Self& filter_;
     float from_, to_;
+    float low_, high_;  // the range of the operation under way
   };
 
   VertexId vertexOf(const IndexType& index, const TTensorImage& input) const {
