@@ -11,6 +11,7 @@
 // headers in stvd/imaging/detail/ are detail: they may change without notice.
 #pragma once
 
+#include "stvd/imaging/fod_cost.hpp"
 #include "stvd/imaging/fod_field.hpp"
 #include "stvd/imaging/image_files.hpp"
 #include "stvd/imaging/label_values.hpp"
