@@ -53,21 +53,26 @@ double FodField::amplitude(std::size_t v, const Vec3d& directionLps) const {
   return a;
 }
 
-FodField fodFieldFromVolumes(const std::string& name, const GridGeometry& geometry, const float* values,
-                             std::size_t valueCount, std::size_t volumes, ShBasis basis, FodFrame frame,
-                             const Matrix3& lpsToShFrame) {
+int fodDegreeOfVolumes(const std::string& name, std::size_t volumes) {
   const std::optional<int> lmax = shDegreeOfCount(volumes);
   if (!lmax)
     throw ImageIoError(name, "not an FOD image: " + std::to_string(volumes) +
                                  " volumes is no spherical-harmonic count of even lmax 0 to 12 "
                                  "(1, 6, 15, 28, 45, 66 or 91 volumes)");
+  return *lmax;
+}
+
+FodField fodFieldFromVolumes(const std::string& name, const GridGeometry& geometry, const float* values,
+                             std::size_t valueCount, std::size_t volumes, ShBasis basis, FodFrame frame,
+                             const Matrix3& lpsToShFrame) {
+  const int lmax = fodDegreeOfVolumes(name, volumes);
   const std::size_t n = geometry.voxelCount();
   if (valueCount != n * volumes)
     throw ImageIoError(name, "holds " + std::to_string(valueCount) + " values, expected " + std::to_string(volumes) +
                                  " per voxel for " + std::to_string(n) + " voxels");
   FodField f;
   f.geometry = geometry;
-  f.lmax = *lmax;
+  f.lmax = lmax;
   f.basis = basis;
   f.frame = frame;
   f.lpsToShFrame = lpsToShFrame;

@@ -70,8 +70,7 @@ FodField readFodVolume(const std::string& path, const FodReadOptions& options) {
                                  shBasisNames() + ")");
   const ShBasis basis = basisOf(path, options.basis);
   const std::size_t volumes = io->GetDimensions(3);
-  if (!shDegreeOfCount(volumes))  // before the data are read
-    return fodFieldFromVolumes(path, GridGeometry{}, nullptr, 0, volumes, basis, FodFrame::Voxel, Matrix3{});
+  fodDegreeOfVolumes(path, volumes);  // the count checked before the data are read
   const GridGeometry geometry = detail::geometryOf(image, path);
   const FodFrame frame = options.frame.value_or(defaultFodFrame(options.basis));
   const std::vector<float> values = detail::readAllComponents(image, path);

@@ -67,6 +67,11 @@ struct FodField {
 /// Voxel.
 Matrix3 lpsToFodFrame(FodFrame frame, const GridGeometry& geometry);
 
+/// The lmax of an FOD image of `volumes` coefficients per voxel (1, 6, 15,
+/// 28, 45, 66 or 91: lmax 0 to 12). Throws ImageIoError naming `name` and
+/// the count for any other.
+int fodDegreeOfVolumes(const std::string& name, std::size_t volumes);
+
 /// A field from values stored one volume after another (volume j holds
 /// coefficient j of every voxel, voxels in linear order i fastest), as
 /// 4-D images store them. `name` (the file) is used in messages. Throws
