@@ -183,6 +183,8 @@ TEST_F(FodFiles, MrtrixImageIsMrtrix3BasisInTheScannerFrame) {
   EXPECT_EQ(fod.lmax, 8);
   EXPECT_EQ(fod.basis, ShBasis::Tournier07);
   EXPECT_EQ(fod.frame, FodFrame::Scanner);
+  // The same through the imaging adapter's own reader, without ITK.
+  EXPECT_EQ(readMrtrixFodVolume(path("fod.mif")).coefficients, fod.coefficients);
   // Voxel (1, 2, 0) is number 5; its coefficient j is volume j's value there.
   const std::size_t voxel = 5;
   for (int t = 0; t < 10; ++t) {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "stvd/errors.hpp"
+#include "stvd/imaging/mrtrix_image.hpp"
 
 namespace stvd::imaging {
 
@@ -92,6 +93,45 @@ FodField fodFieldFromVolumes(const std::string& name, const GridGeometry& geomet
     }
   }
   return f;
+}
+
+ShBasis shBasisOfFile(const std::string& path, const std::string& name) {
+  const std::optional<ShBasis> basis = parseShBasis(name);
+  if (!basis)
+    throw ImageIoError(path, "unknown spherical-harmonic basis '" + name + "' (one of " + shBasisNames() + ")");
+  return *basis;
+}
+
+namespace {
+
+std::string dimensionsText(const std::vector<std::size_t>& size) {
+  std::string dim;
+  for (std::size_t s : size) dim += (dim.empty() ? "" : ",") + std::to_string(s);
+  return dim;
+}
+
+}  // namespace
+
+/// An MRtrix image X Y Z N, as dwi2fod and amp2sh write it: MRtrix3's basis
+/// in the scanner frame unless stated.
+FodField readMrtrixFodVolume(const std::string& path, const FodReadOptions& options) {
+  const MrtrixImage image = readMrtrixImage(path);
+  const std::vector<std::size_t>& size = image.header.size;
+  if (size.size() != 4)
+    throw ImageIoError(path, "not an FOD image: spherical-harmonic coefficients lie along a fourth axis "
+                             "(dim X,Y,Z,N), this image has dim " + dimensionsText(size));
+  const ShBasis basis = options.basis.empty() ? ShBasis::Tournier07 : shBasisOfFile(path, options.basis);
+  const FodFrame frame = options.frame.value_or(FodFrame::Scanner);
+  // The voxel frame of an MRtrix image is its axes as stored (as for
+  // tensors: a file mrconvert made from a NIfTI file keeps that file's axes).
+  Matrix3 lpsToSh = lpsToFodFrame(frame, image.geometry);
+  if (frame == FodFrame::Voxel) {
+    const Matrix3 axes = mrtrixStoredVoxelAxes(image.header, image.geometry);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) lpsToSh[3 * r + c] = axes[3 * c + r];
+  }
+  return fodFieldFromVolumes(path, image.geometry, image.values.data(), image.values.size(), size[3], basis, frame,
+                             lpsToSh);
 }
 
 }  // namespace stvd::imaging

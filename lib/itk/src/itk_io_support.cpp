@@ -9,7 +9,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -348,21 +347,6 @@ void writeFloatData(itk::ImageIOBase& io, const std::string& reportedPath, const
   // bytes") on standard error without ITK throwing; standard error is not
   // ours to read (library_messages.hpp), and checkWrittenImage finds the
   // short file instead (written_files.hpp).
-}
-
-Matrix3 storedVoxelAxes(const MrtrixHeader& header, const GridGeometry& geometry) {
-  std::array<int, 3> byStride{0, 1, 2};
-  std::sort(byStride.begin(), byStride.end(), [&](int a, int b) {
-    return std::llabs(header.strides[a]) < std::llabs(header.strides[b]);
-  });
-  const Matrix3 logical = voxelAxes(geometry);
-  Matrix3 stored{};
-  for (int s = 0; s < 3; ++s) {
-    const int a = byStride[s];
-    const double sign = header.strides[a] < 0 ? -1.0 : 1.0;
-    for (int r = 0; r < 3; ++r) stored[3 * r + s] = sign * logical[3 * r + a];
-  }
-  return stored;
 }
 
 }  // namespace stvd::imaging::detail

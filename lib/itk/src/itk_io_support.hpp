@@ -8,8 +8,6 @@
 #include <vector>
 
 #include "stvd/imaging/detail/image_header_screening.hpp"
-#include "stvd/imaging/mrtrix_image.hpp"
-#include "stvd/imaging/tensor_frames.hpp"
 #include "stvd/voxel_grid/grid_geometry.hpp"
 
 namespace stvd::imaging::detail {
@@ -68,12 +66,5 @@ itk::ImageIOBase::Pointer createFloatWriter(const std::string& path, const std::
 /// Writes `data` through `io` (prepared by createFloatWriter). Throws
 /// ImageIoError naming `reportedPath`.
 void writeFloatData(itk::ImageIOBase& io, const std::string& reportedPath, const float* data);
-
-/// An MRtrix image's voxel frame: its first three axes in the order and
-/// direction they are stored (the layout), in LPS. A tensor image that
-/// mrconvert made from a NIfTI file keeps that file's storage, and its
-/// components stay in that file's voxel frame whatever axes MRtrix shows;
-/// a file stvd writes stores its axes as they are, so the two frames agree.
-Matrix3 storedVoxelAxes(const MrtrixHeader& header, const GridGeometry& geometry);
 
 }  // namespace stvd::imaging::detail

@@ -61,7 +61,7 @@ TensorReadResult readMrtrixTensorVolume(const std::string& path, const TensorRea
   info.frame = options.frame.value_or(defaultTensorFrame(info.layout, info.order));
   info.componentType = image.header.datatype;
   result.volume.geometry = image.geometry;
-  info.componentsToLps = info.frame == TensorFrame::Voxel ? detail::storedVoxelAxes(image.header, image.geometry)
+  info.componentsToLps = info.frame == TensorFrame::Voxel ? mrtrixStoredVoxelAxes(image.header, image.geometry)
                                                           : componentFrameToLps(info, image.geometry);
   // The values are in logical order, axis 0 fastest: the axes of size 1
   // change nothing, and the six volumes follow one another.

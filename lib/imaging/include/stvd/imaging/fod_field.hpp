@@ -83,4 +83,27 @@ FodField fodFieldFromVolumes(const std::string& name, const GridGeometry& geomet
                              std::size_t valueCount, std::size_t volumes, ShBasis basis, FodFrame frame,
                              const Matrix3& lpsToShFrame);
 
+struct FodReadOptions {
+  /// The basis by name (parseShBasis). Empty: tournier07 for MRtrix images
+  /// (MRtrix3's basis); a NIfTI file must have it stated.
+  std::string basis;
+  /// The frame of the coefficients. Unset: scanner for MRtrix images;
+  /// for NIfTI defaultFodFrame(basis): scanner for "mrtrix3", voxel for
+  /// DIPY's basis names.
+  std::optional<FodFrame> frame;
+};
+
+/// The basis of that name (parseShBasis), or an ImageIoError naming the
+/// file and the accepted names.
+ShBasis shBasisOfFile(const std::string& path, const std::string& name);
+
+/// Reads an FOD image from a .mif, .mif.gz or .mih file (X Y Z N) with our
+/// own MRtrix reader (no ITK; stvd/itk/fod_volume_io.hpp reads NIfTI too):
+/// MRtrix3's basis (tournier07) in the scanner frame unless stated; the
+/// voxel frame of an MRtrix image is its axes as stored
+/// (mrtrixStoredVoxelAxes). Throws ImageIoError with one line naming the
+/// file, as fodFieldFromVolumes and readMrtrixImage do, and for an unknown
+/// basis name or an image that is not 4-D.
+FodField readMrtrixFodVolume(const std::string& path, const FodReadOptions& options = {});
+
 }  // namespace stvd::imaging

@@ -1,7 +1,8 @@
 // Fibre orientation distribution (FOD) images read as files: spherical-
 // harmonic coefficients along the fourth axis of a 4-D NIfTI file (through
-// ITK) or an MRtrix image (our own reader), with their basis and frame
-// stated or taken from the format. docs/fod.md.
+// ITK) or an MRtrix image (our own reader, readMrtrixFodVolume in
+// stvd/imaging/fod_field.hpp, which needs no ITK), with their basis and
+// frame stated or taken from the format. docs/fod.md.
 #pragma once
 
 #include <optional>
@@ -10,16 +11,6 @@
 #include "stvd/imaging/fod_field.hpp"
 
 namespace stvd::imaging {
-
-struct FodReadOptions {
-  /// The basis by name (parseShBasis). Empty: tournier07 for MRtrix images
-  /// (MRtrix3's basis); a NIfTI file must have it stated.
-  std::string basis;
-  /// The frame of the coefficients. Unset: scanner for MRtrix images;
-  /// for NIfTI defaultFodFrame(basis): scanner for "mrtrix3", voxel for
-  /// DIPY's basis names.
-  std::optional<FodFrame> frame;
-};
 
 /// Reads an FOD image from a .nii, .nii.gz (X Y Z N, N = 1, 6, 15, 28, 45,
 /// 66 or 91 coefficients: lmax 0 to 12), .mif, .mif.gz or .mih file (X Y Z
