@@ -13,6 +13,7 @@
 
 #include "stvd/imaging/fod_cost.hpp"
 #include "stvd/imaging/fod_field.hpp"
+#include "stvd/imaging/fod_metric.hpp"
 #include "stvd/imaging/image_files.hpp"
 #include "stvd/imaging/label_values.hpp"
 #include "stvd/imaging/metric_sampling.hpp"

@@ -7,7 +7,7 @@
 //   c(x, u) = 1 / rho(x, u),   rho(x, u) = max(floor, min(1, a(x, u) / a_max(x)))^power
 //
 // a(x, u) the FOD's amplitude and a_max(x) its largest over the sampling
-// directions (below): the best direction of every voxel costs 1 per mm,
+// directions and the FOD's refined maxima (below): the best direction of every voxel costs 1 per mm,
 // none costs less, none more than floor^-power, and a voxel whose FOD is
 // nowhere positive (outside the fit's mask) costs floor^-power everywhere.
 //
