@@ -255,3 +255,78 @@ def test_hostile_files_are_refused_in_one_line(tmp_path):
     scalar = tmp_path / "scalar.nii.gz"
     nib.save(nib.Nifti1Image(np.ones((4, 4, 4), np.float32), affine), scalar)
     assert "fourth axis" in refused(scalar, "tournier07")
+
+
+def crossing_phantom(angle):
+    """A 21 x 21 x 3 phantom: bundle 0 along the voxel axis i through j = 10,
+    bundle 1 at `angle` to it in the i-j plane through the centre, each 5
+    voxels wide; DIPY's multi_tensor signal (one fibre direction per bundle a
+    voxel lies in, two in the crossing, equal fractions) fitted by DIPY's
+    CSD inside the bundles (zero coefficients outside, as a fit's mask
+    leaves them)."""
+    sphere = get_sphere("repulsion100")
+    gtab = gradient_table(np.r_[0.0, np.full(100, 3000.0)], np.r_[np.zeros((1, 3)), sphere.vertices])
+    evals = np.array([0.0017, 0.0002, 0.0002])
+    axes = [np.array([1.0, 0.0, 0.0]), np.array([np.cos(np.radians(angle)), np.sin(np.radians(angle)), 0.0])]
+
+    def in_bundle(b, i, j):
+        x = np.array([i - 10.0, j - 10.0, 0.0])
+        return np.linalg.norm(x - (x @ axes[b]) * axes[b]) <= 2 + 1e-9
+
+    signals = {}
+    for key, angles in (((0,), [(90, 0), (90, 0)]), ((1,), [(90, angle), (90, angle)]),
+                        ((0, 1), [(90, 0), (90, angle)])):
+        signals[key], _ = multi_tensor(gtab, np.array([evals, evals]), S0=100, angles=angles, fractions=[50, 50],
+                                       snr=None)
+    data = np.zeros((21, 21, 3, 101))
+    mask = np.zeros((21, 21, 3), bool)
+    for i in range(21):
+        for j in range(21):
+            key = tuple(b for b in (0, 1) if in_bundle(b, i, j))
+            if key:
+                data[i, j, :] = signals[key]
+                mask[i, j, :] = True
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ConstrainedSphericalDeconvModel(gtab, (evals, 100.0), sh_order=8).fit(data, mask=mask)
+    return fit.shm_coeff.astype(np.float32), axes, in_bundle
+
+
+def fod_path(path, seed, target):
+    """stvd's Dijkstra under the convexified FOD norm: the target's distance
+    and the voxels of its path."""
+    run = subprocess.run([str(PROBE), str(path), "descoteaux07_legacy", "-", "--path", *map(str, seed), *map(str, target)],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    lines = run.stdout.strip().split("\n")[1:]
+    return float(lines[0]), np.loadtxt(lines[1:], ndmin=2).astype(int)
+
+
+@pytest.mark.parametrize("crossing", [90, 45])
+@pytest.mark.parametrize("oriented", ["identity", "rotated_flipped"])
+def test_dijkstra_on_a_csd_crossing_follows_the_seeds_own_bundle(tmp_path, crossing, oriented):
+    # Voxels of 2 mm, the grid rotated and flipped or not: the bundles'
+    # physical lengths follow from the affine, the lobes from DIPY's voxel
+    # frame carried into LPS by stvd.
+    coefficients, axes, in_bundle = crossing_phantom(crossing)
+    affine = np.diag([2.0, 2.0, 2.0, 1.0])
+    if oriented == "rotated_flipped":
+        affine[:3, :3] = voxel_to_lps(rotated_flipped_affine()) @ np.diag([2.0, 2.0, 2.0])
+        affine[:3, 3] = [5.0, -7.0, 3.0]
+    path = tmp_path / "crossing.nii.gz"
+    nib.save(nib.Nifti1Image(coefficients, affine), path)
+
+    # The far end of the seed's bundle: reached straight along it, through
+    # the crossing, at its length (20 voxels of 2 mm).
+    distance, voxels = fod_path(path, (0, 10, 1), (20, 10, 1))
+    assert distance == pytest.approx(40.0, rel=0.005)
+    assert all(j == 10 and k == 1 for _, j, k in voxels), voxels
+
+    # The far end of the other bundle: along the seed's bundle to the
+    # crossing, then along the other; no voxel outside both, the length
+    # that of the two legs.
+    target = (int(round(10 + 10 * axes[1][0])), int(round(10 + 10 * axes[1][1])), 1)
+    distance, voxels = fod_path(path, (0, 10, 1), target)
+    legs = 2.0 * (10 + np.hypot(target[0] - 10, target[1] - 10))
+    assert distance == pytest.approx(legs, rel=0.02)
+    assert all(in_bundle(0, i, j) or in_bundle(1, i, j) for i, j, _ in voxels), voxels
