@@ -142,17 +142,23 @@ TEST_P(ConvexifiedFodNorm, IsANormBelowTheCostAndEqualAlongTheFibres) {
   }
   // The FOD's maxima are the two fibres, both ways, within a degree (two
   // lobes of equal weight crossing at 45 degrees push each other's maxima
-  // about 1 degree apart at lmax 8), and there F* = F = 1.
+  // about 1 degree apart at lmax 8).
   ASSERT_GE(ball.peaks.size(), 4u);
   for (const Vec3d& d : c.fibre) {
     double nearest = 180;
     for (const Vec3d& p : ball.peaks) nearest = std::min(nearest, std::acos(std::min(1.0, std::abs(dot(p, d)))) * 180 / M_PI);
     EXPECT_LT(nearest, 1.2);
   }
+  // Along every maximum F* = F (its point is on the hull); F = 1 exactly
+  // along the largest, and along the other fibre's (of equal weight) to
+  // within what the refinement's 1e-3 rad leaves of its amplitude.
   for (const Vec3d& p : ball.peaks) {
-    EXPECT_NEAR(cost(p), 1.0, 1e-6);
-    EXPECT_NEAR(fstar(p), 1.0, 1e-6);
+    EXPECT_NEAR(fstar(p), cost(p), 1e-9 * cost(p));
+    EXPECT_NEAR(cost(p), 1.0, 1e-4);
   }
+  double lowest = 2;
+  for (const Vec3d& p : ball.peaks) lowest = std::min(lowest, std::abs(cost(p) - 1.0));
+  EXPECT_LT(lowest, 1e-12);
   // Between the lobes a zig-zag along the two fibres is cheaper than the
   // straight line under F: F* there is at most the gauge of the chord
   // between the fibres' unit points, 1 / cos(half the angle), taken

@@ -113,9 +113,10 @@ double FodCostSampler::amplitudeAt(const float* c, const Vec3d& unitLps) const {
 
 Vec3d FodCostSampler::refinePeak(const float* c, Vec3d u, double* amplitude) const {
   // A pattern search on the sphere: steps along two tangent directions,
-  // halved when none improves, from half a spacing down to 1e-4 rad.
+  // halved when none improves, from half a spacing down to 1e-3 rad (0.06
+  // degrees; F* = F = 1 at the point found, however precise).
   double best = amplitudeAt(c, u);
-  for (double step = 0.5 * spacing_; step > 1e-4;) {
+  for (double step = 0.5 * spacing_; step > 1e-3;) {
     const Vec3d helper = std::abs(u.x) < 0.9 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0};
     const Vec3d t1 = normalised(helper - dot(helper, u) * u);
     const Vec3d t2{u.y * t1.z - u.z * t1.y, u.z * t1.x - u.x * t1.z, u.x * t1.y - u.y * t1.x};

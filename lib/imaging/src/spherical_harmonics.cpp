@@ -49,22 +49,46 @@ void evaluateShBasis(ShBasis basis, int lmax, double x, double y, double z, doub
     throw std::invalid_argument("spherical harmonics: the direction is zero or not finite");
   const double ct = std::clamp(z / r, -1.0, 1.0);
   const double st = std::sqrt(std::max(0.0, 1.0 - ct * ct));
-  const double phi = std::atan2(y, x);
+
+  // The factors of the recurrences, computed once.
+  constexpr int L = kMaxShDegree;
+  struct Factors {
+    double diagonal[L + 1], subdiagonal[L + 1], a[L + 1][L + 1], b[L + 1][L + 1];
+  };
+  static const Factors f = [] {
+    Factors t{};
+    for (int m = 1; m <= L; ++m) t.diagonal[m] = -std::sqrt((2.0 * m + 1.0) / (2.0 * m));
+    for (int m = 0; m < L; ++m) t.subdiagonal[m] = std::sqrt(2.0 * m + 3.0);
+    for (int m = 0; m <= L; ++m)
+      for (int l = m + 2; l <= L; ++l) {
+        t.a[l][m] = std::sqrt((4.0 * l * l - 1.0) / (double(l) * l - double(m) * m));
+        t.b[l][m] = std::sqrt((double(l - 1) * (l - 1) - double(m) * m) / (4.0 * (l - 1) * (l - 1) - 1.0));
+      }
+    return t;
+  }();
 
   // Normalised associated Legendre functions with the Condon-Shortley phase,
   // p[l][m] = sqrt((2l+1)/(4 pi) (l-m)!/(l+m)!) P_l^m(cos theta), by the
   // stable recurrences in m (diagonal) and l.
-  constexpr int L = kMaxShDegree;
-  std::array<std::array<double, L + 1>, L + 1> p{};
-  p[0][0] = 1.0 / std::sqrt(4.0 * M_PI);
-  for (int m = 1; m <= lmax; ++m) p[m][m] = -std::sqrt((2.0 * m + 1.0) / (2.0 * m)) * st * p[m - 1][m - 1];
-  for (int m = 0; m < lmax; ++m) p[m + 1][m] = std::sqrt(2.0 * m + 3.0) * ct * p[m][m];
+  double p[L + 1][L + 1];
+  p[0][0] = 0.5 / std::sqrt(M_PI);
+  for (int m = 1; m <= lmax; ++m) p[m][m] = f.diagonal[m] * st * p[m - 1][m - 1];
+  for (int m = 0; m < lmax; ++m) p[m + 1][m] = f.subdiagonal[m] * ct * p[m][m];
   for (int m = 0; m <= lmax; ++m)
-    for (int l = m + 2; l <= lmax; ++l) {
-      const double a = std::sqrt((4.0 * l * l - 1.0) / (double(l) * l - double(m) * m));
-      const double b = std::sqrt((double(l - 1) * (l - 1) - double(m) * m) / (4.0 * (l - 1) * (l - 1) - 1.0));
-      p[l][m] = a * (ct * p[l - 1][m] - b * p[l - 2][m]);
-    }
+    for (int l = m + 2; l <= lmax; ++l) p[l][m] = f.a[l][m] * (ct * p[l - 1][m] - f.b[l][m] * p[l - 2][m]);
+
+  // cos(m phi) and sin(m phi) by complex powers of (x + iy) / |(x, y)|: no
+  // trigonometric call (at the poles phi is taken as 0; every m > 0 term
+  // vanishes there).
+  double cosm[L + 1], sinm[L + 1];
+  const double rxy = std::sqrt(x * x + y * y);
+  const double c1 = rxy > 0.0 ? x / rxy : 1.0, s1 = rxy > 0.0 ? y / rxy : 0.0;
+  cosm[0] = 1.0;
+  sinm[0] = 0.0;
+  for (int m = 1; m <= lmax; ++m) {
+    cosm[m] = cosm[m - 1] * c1 - sinm[m - 1] * s1;
+    sinm[m] = sinm[m - 1] * c1 + cosm[m - 1] * s1;
+  }
 
   const bool legacyScale = basis == ShBasis::Tournier07Legacy;
   const double s2 = legacyScale ? 1.0 : std::sqrt(2.0);
@@ -72,7 +96,7 @@ void evaluateShBasis(ShBasis basis, int lmax, double x, double y, double z, doub
     const int centre = l * (l + 1) / 2;
     out[centre] = p[l][0];
     for (int m = 1; m <= l; ++m) {
-      const double c = std::cos(m * phi), s = std::sin(m * phi);
+      const double c = cosm[m], s = sinm[m];
       const double k = s2 * p[l][m];
       switch (basis) {
         case ShBasis::Tournier07:

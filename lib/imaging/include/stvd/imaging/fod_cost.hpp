@@ -74,7 +74,7 @@ struct FodUnitBall {
   double amplitudeMax = 0.0;
   /// Unit directions (LPS) of the FOD's local maxima over the sampling
   /// directions whose normalised amplitude is at least the floor, each
-  /// refined to its maximum on the sphere (to 1e-4 rad): both antipodes.
+  /// refined to its maximum on the sphere (to 1e-3 rad): both antipodes.
   std::vector<Vec3d> peaks;
   /// rho(x, g_i) g_i for every sampling direction, then p for every peak.
   std::vector<Vec3d> points;
