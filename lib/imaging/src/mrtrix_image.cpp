@@ -6,6 +6,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -787,6 +788,21 @@ void writeMrtrixImage(const std::string& path, const std::string& formatPath, co
     problem.erase(0, e.path().size() + 2);
     throw ImageIoError(formatPath, problem);
   }
+}
+
+Matrix3 mrtrixStoredVoxelAxes(const MrtrixHeader& header, const GridGeometry& geometryLps) {
+  std::array<int, 3> byStride{0, 1, 2};
+  std::sort(byStride.begin(), byStride.end(), [&](int a, int b) {
+    return std::llabs(header.strides[a]) < std::llabs(header.strides[b]);
+  });
+  const Matrix3 logical = voxelAxes(geometryLps);
+  Matrix3 stored{};
+  for (int s = 0; s < 3; ++s) {
+    const int a = byStride[s];
+    const double sign = header.strides[a] < 0 ? -1.0 : 1.0;
+    for (int r = 0; r < 3; ++r) stored[3 * r + s] = sign * logical[3 * r + a];
+  }
+  return stored;
 }
 
 }  // namespace stvd::imaging

@@ -39,26 +39,6 @@ Matrix3 transpose(const Matrix3& m) {
   return {m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]};
 }
 
-/// An MRtrix image's voxel frame: its first three axes in the order and
-/// direction they are stored (the layout), in LPS. A tensor image that
-/// mrconvert made from a NIfTI file keeps that file's storage, and its
-/// components stay in that file's voxel frame whatever axes MRtrix shows;
-/// a file stvd writes stores its axes as they are, so the two frames agree.
-Matrix3 storedVoxelAxes(const MrtrixHeader& header, const GridGeometry& geometry) {
-  std::array<int, 3> byStride{0, 1, 2};
-  std::sort(byStride.begin(), byStride.end(), [&](int a, int b) {
-    return std::llabs(header.strides[a]) < std::llabs(header.strides[b]);
-  });
-  const Matrix3 logical = voxelAxes(geometry);
-  Matrix3 stored{};
-  for (int s = 0; s < 3; ++s) {
-    const int a = byStride[s];
-    const double sign = header.strides[a] < 0 ? -1.0 : 1.0;
-    for (int r = 0; r < 3; ++r) stored[3 * r + s] = sign * logical[3 * r + a];
-  }
-  return stored;
-}
-
 /// An MRtrix tensor image: X Y Z 6, as dwi2tensor writes it (components
 /// D11 D22 D33 D12 D13 D23 along the scanner's RAS axes), or X Y Z 1 6 (any
 /// number of axes of size 1 before the six volumes), as mrconvert makes it
@@ -87,7 +67,7 @@ TensorReadResult readMrtrixTensorVolume(const std::string& path, const TensorRea
   info.frame = options.frame.value_or(defaultTensorFrame(info.layout, info.order));
   info.componentType = image.header.datatype;
   result.volume.geometry = image.geometry;
-  info.componentsToLps = info.frame == TensorFrame::Voxel ? storedVoxelAxes(image.header, image.geometry)
+  info.componentsToLps = info.frame == TensorFrame::Voxel ? mrtrixStoredVoxelAxes(image.header, image.geometry)
                                                           : componentFrameToLps(info, image.geometry);
   // The values are in logical order, axis 0 fastest: the axes of size 1
   // change nothing, and the six volumes follow one another.

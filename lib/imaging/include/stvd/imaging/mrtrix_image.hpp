@@ -35,6 +35,7 @@
 #include <string_view>
 #include <vector>
 
+#include "stvd/imaging/tensor_frames.hpp"
 #include "stvd/system/interrupter.hpp"
 #include "stvd/voxel_grid/grid_geometry.hpp"
 
@@ -119,6 +120,14 @@ MrtrixLabelImage readMrtrixLabelImage(const std::string& path, Interrupter* inte
 /// header's folder), or "" when the header cannot be read (reading the
 /// image then fails with its own message).
 std::string mrtrixDataFile(const std::string& path);
+
+/// An MRtrix image's voxel frame: its first three axes in the order and
+/// direction they are stored (the layout), in LPS, as columns. An image
+/// that mrconvert made from a NIfTI file keeps that file's storage, and
+/// components given along the voxel axes (tensors, spherical harmonics)
+/// stay in that file's voxel frame whatever axes MRtrix shows; a file stvd
+/// writes stores its axes as they are, so the two frames agree.
+Matrix3 mrtrixStoredVoxelAxes(const MrtrixHeader& header, const GridGeometry& geometryLps);
 
 /// How MRtrix numbers the voxels of an image. MRtrix reorders the axes of
 /// every image it opens (NIfTI, NRRD or its own) so that the first, second

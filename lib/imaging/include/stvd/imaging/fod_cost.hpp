@@ -1,0 +1,126 @@
+// The direction-dependent cost of an FOD and the convexified (Finsler) norm
+// the methods compute (issue 35; docs/fod.md, "The cost" and "The
+// convexified norm").
+//
+// The cost of moving along v at voxel x is F(x, v) = |v| c(x, v/|v|) with
+//
+//   c(x, u) = 1 / rho(x, u),   rho(x, u) = max(floor, min(1, a(x, u) / a_max(x)))^power
+//
+// a(x, u) the FOD's amplitude and a_max(x) its largest over the sampling
+// directions and the FOD's refined maxima (below): the best direction of every voxel costs 1 per mm,
+// none costs less, none more than floor^-power, and a voxel whose FOD is
+// nowhere positive (outside the fit's mask) costs floor^-power everywhere.
+//
+// The unit ball {v : F(x, v) <= 1} is the star-shaped set of radius
+// rho(x, u) along u: not convex where lobes cross, and a straight segment
+// under F is then longer than a zig-zag along the lobes, which a path can
+// always make. The methods compute instead the norm F* whose unit ball is
+// the convex hull of F's: F*(v) = min { sum l_i : v = sum l_i w_i, l_i >= 0 }
+// over the points w_i = rho(x, g_i) g_i of F's ball along the sampling
+// directions g_i and along the FOD's refined maxima. F* is a norm
+// (positive, 1-homogeneous, convex, symmetric as an FOD is); F* <= F along
+// every sampling direction, and a straight step under F* is as long as a
+// zig-zag along the w_i measured under F, which a path can make: F* is what
+// paths achieve, never less. F* = F along the FOD's largest maxima (radius
+// 1, the largest there is). Along directions between samples F* can exceed
+// F (the hull of the samples lies inside the hull of the whole ball): then
+// F* is longer than the best zig-zag, never shorter (docs/fod.md gives the
+// sizes).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "stvd/imaging/fod_field.hpp"
+#include "stvd/types.hpp"
+#include "stvd/voxel_grid/grid_geometry.hpp"
+
+namespace stvd::imaging {
+
+struct FodCostOptions {
+  /// The smallest normalised amplitude counted: the cost of any direction
+  /// is at most floor^-power times that of the voxel's best one.
+  double floor = 0.1;
+  /// The exponent of the normalised amplitude.
+  double power = 1.0;
+  /// Throws std::invalid_argument unless 0 < floor <= 1 and 0 < power <= 8.
+  void validate() const;
+};
+
+/// The vertices of an icosahedron subdivided `subdivisions` times (each
+/// triangle into four), on the unit sphere: 12, 42, 162, 642, 2562, ...
+/// directions, antipodally symmetric.
+std::vector<Vec3d> icosphereDirections(int subdivisions);
+
+/// The unit directions (LPS) of the 26 neighbours of a voxel, in the order
+/// of the offsets (di, dj, dk) with dk slowest, (0, 0, 0) left out.
+std::vector<Vec3d> neighbourDirections26(const GridGeometry& geometry);
+
+/// The icosphere of the default sampling directions.
+inline constexpr int kFodSamplingSubdivisions = 3;
+
+/// The sampling directions of the cost: icosphereDirections(subdivisions)
+/// (642 for 3, 2562 for 4) and the 26 neighbour directions of the grid.
+std::vector<Vec3d> defaultFodSamplingDirections(const GridGeometry& geometry, int subdivisions = kFodSamplingSubdivisions);
+
+/// Voxel v's unit ball {u : F(x, u) <= 1} as the convexification sees it:
+/// the points rho(x, g_i) g_i along the sampling directions g_i, and
+/// rho(x, p) p = p along each of the FOD's maxima p (refined beyond the
+/// sampling, so that F* = F = 1 there exactly).
+struct FodUnitBall {
+  /// The FOD's largest amplitude, its refined maxima included; not
+  /// positive for a voxel whose FOD is nowhere positive (then every radius
+  /// is floor^power and there are no peaks).
+  double amplitudeMax = 0.0;
+  /// Unit directions (LPS) of the FOD's local maxima over the sampling
+  /// directions whose normalised amplitude is at least the floor, each
+  /// refined to its maximum on the sphere (to 1e-3 rad): both antipodes.
+  std::vector<Vec3d> peaks;
+  /// rho(x, g_i) g_i for every sampling direction, then p for every peak.
+  std::vector<Vec3d> points;
+};
+
+/// An FOD's cost sampled along fixed unit directions (LPS): the spherical
+/// harmonics along them evaluated once, then per voxel a matrix product.
+class FodCostSampler {
+ public:
+  /// `directions` must surround the origin (their cone is all of R^3), as
+  /// every set above does.
+  FodCostSampler(const FodField& field, std::vector<Vec3d> directions, FodCostOptions options = {});
+
+  const std::vector<Vec3d>& directions() const { return directions_; }
+  const FodCostOptions& options() const { return options_; }
+  const FodField& field() const { return field_; }
+  std::size_t voxelCount() const { return field_.geometry.voxelCount(); }
+
+  /// Voxel v's unit ball (`ball` is reused to spare allocations).
+  void unitBall(std::size_t v, FodUnitBall& ball) const;
+  /// F(x, d) for any non-zero d (LPS), with voxel v's amplitudeMax.
+  double cost(std::size_t v, const Vec3d& d, double amplitudeMax) const;
+
+ private:
+  double amplitudeAt(const float* coefficients, const Vec3d& unitLps) const;
+  Vec3d refinePeak(const float* coefficients, Vec3d start, double* amplitude) const;
+
+  const FodField& field_;
+  std::vector<Vec3d> directions_;
+  FodCostOptions options_;
+  std::vector<double> basis_;                  // directions x coefficients, row-major
+  std::vector<std::vector<int>> neighbours_;   // sampling directions within 1.5 spacings
+  double spacing_ = 0.0;                       // sqrt(4 pi / count), radians
+};
+
+/// The gauge of the convex hull of the points w (which must surround the
+/// origin: their cone is all of R^3) at v: min sum l_i over v = sum l_i
+/// w_i, l_i >= 0, by the simplex method on this 3-row linear program. 0
+/// for v = 0. Throws std::invalid_argument when the points do not surround
+/// v's direction.
+double convexHullGauge(const Vec3d* w, std::size_t count, const Vec3d& v);
+
+/// F* of every voxel along each query direction (LPS, unit or not):
+/// result[v * queries.size() + q], float. The hull is that of the points of
+/// FodCostSampler::unitBall; with the queries among the sampling
+/// directions, F* <= F along each.
+std::vector<float> convexifiedFodNorms(const FodCostSampler& sampler, const std::vector<Vec3d>& queries);
+
+}  // namespace stvd::imaging

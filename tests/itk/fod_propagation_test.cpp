@@ -1,0 +1,122 @@
+// Dijkstra over a voxel grid under the convexified FOD norm (docs/fod.md,
+// "Propagation"): two bundles of 5 voxels' width cross in the middle of a
+// 25 x 25 x 3 grid, at 90 and at 45 degrees; each voxel's FOD has one lobe
+// per bundle it lies in (two in the crossing), none outside them. A seed
+// at one end of a bundle reaches the far end of its own bundle along it,
+// straight through the crossing, at the cost of its length (1 per mm), and
+// the far end of the other bundle by turning into it at the crossing,
+// never cutting through the voxels of neither.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "stvd/imaging/fod_cost.hpp"
+#include "stvd/imaging/fod_field.hpp"
+#include "stvd/imaging/fod_metric.hpp"
+#include "stvd/imaging/spherical_harmonics.hpp"
+#include "stvd/propagation/predecessor_path.hpp"
+#include "stvd/voxel_grid/stencil.hpp"
+#include "stvd/voxel_grid/voxel_grid_domain.hpp"
+
+namespace stvd::testing {
+namespace {
+
+using namespace imaging;
+
+constexpr int kN = 25, kC = 12, kHalfWidth = 2;
+
+/// Adds a lobe along the LPS direction d to the coefficients (MRtrix3's
+/// basis, scanner frame): h_l Y_lm(d), a function of u.d largest at d.
+void addLobe(const FodField& f, float* c, const Vec3d& d) {
+  const Vec3d s = f.toShFrame(d);
+  const std::vector<double> y = evaluateShBasis(ShBasis::Tournier07, 8, s.x, s.y, s.z);
+  for (int l = 0; l <= 8; l += 2)
+    for (int m = -l; m <= l; ++m) c[l * (l + 1) / 2 + m] += static_cast<float>(std::exp(-0.02 * l * (l + 1)) * y[l * (l + 1) / 2 + m]);
+}
+
+struct Bundles {
+  FodField field;
+  Vec3d direction[2];  // unit, LPS; index axes are the LPS axes here
+  /// Whether voxel (i, j) lies within kHalfWidth of bundle b's axis through the centre.
+  bool inBundle(int b, int i, int j) const {
+    const double x = i - kC, y = j - kC;
+    const double along = x * direction[b].x + y * direction[b].y;
+    const double dx = x - along * direction[b].x, dy = y - along * direction[b].y;
+    return std::sqrt(dx * dx + dy * dy) <= kHalfWidth + 1e-9;
+  }
+};
+
+Bundles bundles(double degrees) {
+  Bundles b;
+  FodField& f = b.field;
+  f.geometry.size = {kN, kN, 3};
+  f.lmax = 8;
+  f.basis = ShBasis::Tournier07;
+  f.frame = FodFrame::Scanner;
+  f.lpsToShFrame = lpsToFodFrame(FodFrame::Scanner, f.geometry);
+  f.coefficients.assign(f.geometry.voxelCount() * 45, 0.f);
+  b.direction[0] = {1, 0, 0};
+  b.direction[1] = {std::cos(degrees * M_PI / 180), std::sin(degrees * M_PI / 180), 0};
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < kN; ++j)
+      for (int i = 0; i < kN; ++i)
+        for (int bundle = 0; bundle < 2; ++bundle)
+          if (b.inBundle(bundle, i, j))
+            addLobe(f, f.coefficients.data() + 45 * (i + kN * (j + kN * k)), b.direction[bundle]);
+  return b;
+}
+
+class FodDijkstra : public ::testing::TestWithParam<double> {};
+
+TEST_P(FodDijkstra, ASeedReachesTheFarEndOfItsOwnBundleAlongIt) {
+  const Bundles b = bundles(GetParam());
+  const FodCostSampler sampler(b.field, defaultFodSamplingDirections(b.field.geometry));
+  const FodStencilMetric metric = fodStencilMetric(sampler);
+  const VoxelGridDomain domain(b.field.geometry, Stencil::full26());
+
+  // Bundle 0 runs along i through j = kC; the seed is its end at i = 0.
+  const VertexId seed = domain.vertexAt(0, kC, 1);
+  PropagationOptions options;
+  options.method = Method::Dijkstra;
+  const PropagationResult r = propagate(domain, metric, {seed}, options);
+
+  // Its far end: reached along the bundle, at its length.
+  const VertexId farEnd = domain.vertexAt(kN - 1, kC, 1);
+  EXPECT_NEAR(r.distance[farEnd], kN - 1, 1e-3 * (kN - 1));
+  for (VertexId v : predecessorPath(r, farEnd)) {
+    const int i = static_cast<int>(v % kN), j = static_cast<int>((v / kN) % kN), k = static_cast<int>(v / (kN * kN));
+    EXPECT_EQ(j, kC) << "left the axis of its bundle at (" << i << ", " << j << ", " << k << ")";
+    EXPECT_EQ(k, 1);
+  }
+
+  // The far end of the other bundle (its end beyond the crossing, on the
+  // side of positive direction): along bundle 0 to the crossing, then along
+  // bundle 1; every voxel of the path in one of the bundles, and its length
+  // that of the two legs (steps along either bundle's direction cost 1 per
+  // mm; the 45-degree bundle's diagonal steps are neighbour directions).
+  const int reach = GetParam() == 90.0 ? kC : 12;
+  const int ti = static_cast<int>(std::lround(kC + reach * b.direction[1].x));
+  const int tj = static_cast<int>(std::lround(kC + reach * b.direction[1].y));
+  const VertexId other = domain.vertexAt(ti, tj, 1);
+  const double legs = kC + std::hypot(ti - kC, tj - kC);
+  EXPECT_NEAR(r.distance[other], legs, 0.02 * legs);
+  int turnedAt = -1;
+  const std::vector<VertexId> path = predecessorPath(r, other);
+  for (std::size_t s = 0; s < path.size(); ++s) {
+    const int i = static_cast<int>(path[s] % kN), j = static_cast<int>((path[s] / kN) % kN);
+    EXPECT_TRUE(b.inBundle(0, i, j) || b.inBundle(1, i, j)) << "a step through neither bundle at (" << i << ", " << j << ")";
+    if (turnedAt < 0 && !b.inBundle(0, i, j)) turnedAt = static_cast<int>(s);
+  }
+  EXPECT_GT(turnedAt, 0);
+
+  // Across the bundles the cost is far higher: the voxel beside the seed,
+  // outside both bundles, is not reached for less than the floor's cost.
+  const VertexId outside = domain.vertexAt(0, kC + kHalfWidth + 3, 1);
+  EXPECT_GT(r.distance[outside], 3.0 * (kHalfWidth + 3));
+}
+
+INSTANTIATE_TEST_SUITE_P(CrossingAngles, FodDijkstra, ::testing::Values(90.0, 45.0));
+
+}  // namespace
+}  // namespace stvd::testing
