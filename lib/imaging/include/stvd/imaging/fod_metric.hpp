@@ -68,8 +68,10 @@ using FodStencilMetric = MetricField<FodStencilNorm>;
 /// The metric of an FOD on its own grid: F* of `sampler` (default
 /// sampling directions of the field's grid) along the 26 neighbour
 /// directions of every voxel with a non-zero `inDomain` entry (every voxel
-/// when null; the others get the floor's isotropic cost).
-FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vector<std::uint8_t>* inDomain = nullptr);
+/// when null; the others get the floor's isotropic cost), computed on
+/// `threads` threads (0: one per core); the table is the same for any count.
+FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vector<std::uint8_t>* inDomain = nullptr,
+                                  unsigned threads = 1);
 
 }  // namespace stvd::imaging
 
