@@ -137,7 +137,8 @@ std::vector<OptionDeclaration> allDeclarations() {
   std::vector<OptionDeclaration> all;
   for (const auto* table :
        {&imaging::seedOptionDeclarations(), &meshOptionDeclarations(), &regionConnectivityOptionDeclarations(),
-        &propagationOptionDeclarations(), &imaging::tensorInputOptionDeclarations(), &imaging::fodInputOptionDeclarations(),
+        &propagationOptionDeclarations(), &imaging::tensorInputOptionDeclarations(),
+        &imaging::fodInputOptionDeclarations(),
         &tetmesh::tetMeshOptionDeclarations(), &pathTracingOptionDeclarations()})
     all.insert(all.end(), table->begin(), table->end());
   const std::vector<OptionDeclaration> own = toolDeclarations();

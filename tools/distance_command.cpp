@@ -165,7 +165,8 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
     return o;
   }
   for (const OptionDeclaration& d : imaging::tensorInputOptionDeclarations())
-    if (d.flag != "--mask" && v.has(d.flag)) usageError(d.flag + " applies to tensor images, not to an FOD image (--fod-basis)");
+    if (d.flag != "--mask" && v.has(d.flag))
+      usageError(d.flag + " applies to tensor images, not to an FOD image (--fod-basis)");
   // Dijkstra over the 26-neighbour stencil measures every step by F* along
   // a tabulated direction: a path that exists. STVD's candidates and
   // Lanthier's segments are not yet measured against exact FOD distances.
@@ -174,7 +175,8 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
                ": not measured on FOD metrics yet (docs/fod.md); use --method dijkstra, the default for FOD images");
   o.method = Method::Dijkstra;
   if (o.stencil != "6" && o.stencil != "18" && o.stencil != "26")
-    usageError("--stencil " + o.stencil + ": the FOD metric is tabulated along the 26 neighbour directions; use 6, 18 or 26");
+    usageError("--stencil " + o.stencil +
+               ": the FOD metric is tabulated along the 26 neighbour directions; use 6, 18 or 26");
   if (!o.reportPath.empty()) usageError("--report does not draw runs on FOD images yet");
   return o;
 }
@@ -366,7 +368,8 @@ std::string fodWithoutBasisMessage(const std::string& path) {
     const imaging::FodField fod = imaging::readFodVolume(path, probe);
     if (fod.lmax < 4) return "";
     return path + ": " + std::to_string(fod.coefficientCount()) + " volumes, an FOD image of lmax " +
-           std::to_string(fod.lmax) + "? state its basis with --fod-basis: mrtrix3 for MRtrix's dwi2fod, DIPY's basis name for its fits "
+           std::to_string(fod.lmax) +
+           "? state its basis with --fod-basis: mrtrix3 for MRtrix's dwi2fod, DIPY's basis name for its fits "
            "(docs/fod.md)";
   } catch (const std::exception&) {
     return "";
@@ -413,7 +416,8 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
   counts.total = voxels;
   for (const std::uint8_t inside : inDomain) counts.domain += inside != 0;
   counts.masked = voxels - counts.domain;
-  if (counts.domain == 0) throw NothingToCompute(o.input + ": the domain is empty: no voxel inside the mask " + o.tensor.maskPath);
+  if (counts.domain == 0)
+    throw NothingToCompute(o.input + ": the domain is empty: no voxel inside the mask " + o.tensor.maskPath);
   std::size_t labelSeedsLeftOut = 0;
   const std::vector<Seed> seeds = resolveSeeds(o.input, o, grid, o.tensor.metric, inDomain, labelSeedsLeftOut);
   t.read = secondsSince(phase);
@@ -430,7 +434,8 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
   const imaging::FodCostSampler sampler(fod, imaging::defaultFodSamplingDirections(g), o.fod.cost);
   const imaging::FodStencilMetric metric = imaging::fodStencilMetric(sampler, &inDomain, o.threads);
   const double metricCpu = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
-  const unsigned threads = threadCountFor(o.threads, voxels);
+  const unsigned threads =
+      threadCountFor(o.threads, (voxels + imaging::kFodMetricBlockVoxels - 1) / imaging::kFodMetricBlockVoxels);
   t.metric = secondsSince(phase);
 
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), inDomain, o.connectivity);

@@ -9,6 +9,8 @@
 // with one are refused in one line with nothing written.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>

@@ -28,8 +28,8 @@ std::vector<OptionDeclaration> declarations() {
       {shBasisName(ShBasis::Descoteaux07Legacy), "DIPY descoteaux07, legacy=True (DIPY 1.6's CSD default)"}};
   basis.choiceLayout = ChoiceLayout::Lines;
   basis.help =
-      "the input is an FOD image (spherical-harmonic coefficients, X Y Z N with N = 1, 6, 15, ..., 91: lmax 0 "
-      "to 12) in this basis:\n{choices}.\nThe cost is F* of docs/fod.md, tabulated per voxel along the 26 "
+      "the input is an FOD image (spherical-harmonic coefficients, X Y Z N with N = 15, 28, 45, 66 or 91: lmax "
+      "4 to 12) in this basis:\n{choices}.\nThe cost is F* of docs/fod.md, tabulated per voxel along the 26 "
       "neighbour directions (on --threads); only --method dijkstra.";
   table.push_back(basis);
 

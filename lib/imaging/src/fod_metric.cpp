@@ -63,7 +63,7 @@ FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vect
   std::vector<FodStencilNorm::VertexParams> params(n);
   // Each voxel's table depends on that voxel alone, so blocks of voxels
   // run on any thread and the result is the same for every thread count.
-  const std::size_t blockSize = 256, blocks = (n + blockSize - 1) / blockSize;
+  const std::size_t blockSize = kFodMetricBlockVoxels, blocks = (n + blockSize - 1) / blockSize;
   forEachTaskInParallel(blocks, threads, [&](std::size_t block) {
     FodUnitBall ball;
     const std::size_t end = std::min(n, (block + 1) * blockSize);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -64,6 +65,10 @@ struct FodStencilNorm {
 };
 
 using FodStencilMetric = MetricField<FodStencilNorm>;
+
+/// fodStencilMetric hands voxels to its threads in blocks of this many
+/// (so a grid of n voxels keeps at most ceil(n / block) threads busy).
+inline constexpr std::size_t kFodMetricBlockVoxels = 256;
 
 /// The metric of an FOD on its own grid: F* of `sampler` (default
 /// sampling directions of the field's grid) along the 26 neighbour
