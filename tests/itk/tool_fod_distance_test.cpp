@@ -126,6 +126,30 @@ TEST_F(ToolFodDistance, FloorAndPowerChangeTheCost) {
   EXPECT_LT(corner("f.nii"), corner("d.nii") - 10.0);
 }
 
+TEST_F(ToolFodDistance, AMaskKeepsTheRunInsideItsVoxelsAndASeedPointFindsItsVoxel) {
+  // The mask is bundle 0 only: its far end is reached as before, bundle 1's
+  // is not reached (the unreachable value), and a seed outside it is refused.
+  HandGeometry g;
+  g.size = {kN, kN, 3};
+  std::vector<float> mask(std::size_t(kN) * kN * 3, 0.f);
+  for (int k = 0; k < 3; ++k)
+    for (int j = kC - kHalfWidth; j <= kC + kHalfWidth; ++j)
+      for (int i = 0; i < kN; ++i) mask[i + kN * (j + kN * k)] = 1.f;
+  writeScalarNiftiByHand(path("mask.nii"), g, mask);
+  // Voxel (0, 12, 1) is at LPS (0, 12, 1): RAS (0, -12, 1).
+  const ToolRun r = runTool({"distance", path("fod.nii"), "-q", "--fod-basis", "tournier07", "--seed-point", "0,-12,1",
+                             "--mask", path("mask.nii"), "-o", path("m.nii")});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const imaging::ScalarImage map = imaging::readScalarImage(path("m.nii"));
+  const auto at = [&](int i, int j, int k) { return map.values[i + kN * (j + kN * k)]; };
+  EXPECT_EQ(at(0, kC, 1), 0.f);
+  EXPECT_NEAR(at(kN - 1, kC, 1), 24.0, 24e-3);
+  EXPECT_EQ(at(kC, kN - 1, 1), -1.f);
+  expectRefused({"distance", path("fod.nii"), "--fod-basis", "tournier07", "--seed-voxel", "12,24,1", "--mask",
+                 path("mask.nii"), "-o", path("refused.nii")},
+                4, "outside the mask");
+}
+
 TEST_F(ToolFodDistance, BadInputsAreRefusedInOneLineWithNothingWritten) {
   const std::string fod = path("fod.nii"), out = path("refused.nii");
   expectRefused({"distance", fod, "--fod-basis", "tournier08", "--seed-voxel", "0,12,1", "-o", out}, 2,
