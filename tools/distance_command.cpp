@@ -239,6 +239,8 @@ RunStatistics commitDistanceOutputs(const DistanceOptions& o, const GridGeometry
       vdb::DistanceGridOptions grid;
       grid.background = std::isfinite(o.unreachableValue) ? o.unreachableValue : -1.f;
       vdb::writeDistanceGrid(outputs, o.output, g, result.distance, grid);
+#else
+      (void)result;  // refused when parsing the options
 #endif
     } else {
       imaging::writeScalarImage(outputs, o.output, g, values);
