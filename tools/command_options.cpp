@@ -9,6 +9,7 @@
 #include "stvd/front_end/propagation_choice_options.hpp"
 #include "stvd/front_end/region_connectivity_options.hpp"
 #include "stvd/imaging/seed_options.hpp"
+#include "stvd/imaging/fod_input_options.hpp"
 #include "stvd/imaging/tensor_input_options.hpp"
 #include "stvd/tetmesh/tet_mesh_options.hpp"
 
@@ -126,7 +127,8 @@ const char* const kHelpOrder[] = {
     "--target-point", "--targets", "--labels", "--threads", "--method", "--steiner", "--k", "--chain-measure",
     "--stencil", "--domain-connectivity", "--max-distance", "--no-memory-check", "--tensor-order",
     "--tensor-frame", "--mask", "--tensor-kind", "--diffusion-metric", "--max-anisotropy", "--fa-threshold",
-    "--accept-implausible-tensors", "--accept-misaligned-tensors", "--metric", "--anisotropy", "--tensors",
+    "--accept-implausible-tensors", "--accept-misaligned-tensors", "--fod-basis", "--fod-frame", "--fod-floor",
+    "--fod-power", "--metric", "--anisotropy", "--tensors",
     "--tensor-attribute", "--outside-image", "--step", "--smooth", "--no-refine", "--discrete", "--output", "--reference",
     "--tsv", "--matrix", "--matrix-index", "--region-matrix", "--region-maps", "--nearest-region",
     "--unreachable-value", "--stats", "--report", "--voxel", "--quiet", "--help"};
@@ -136,6 +138,7 @@ std::vector<OptionDeclaration> allDeclarations() {
   for (const auto* table :
        {&imaging::seedOptionDeclarations(), &meshOptionDeclarations(), &regionConnectivityOptionDeclarations(),
         &propagationOptionDeclarations(), &imaging::tensorInputOptionDeclarations(),
+        &imaging::fodInputOptionDeclarations(),
         &tetmesh::tetMeshOptionDeclarations(), &pathTracingOptionDeclarations()})
     all.insert(all.end(), table->begin(), table->end());
   const std::vector<OptionDeclaration> own = toolDeclarations();

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
+#include <functional>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -31,6 +33,13 @@
 #include "stvd/system/files/output_destination.hpp"
 #include "stvd/imaging/seed_options.hpp"
 #include "stvd/imaging/tensor_input_options.hpp"
+#include "stvd/imaging/fod_input_options.hpp"
+#include "stvd/imaging/fod_metric.hpp"
+#include "stvd/itk/fod_volume_io.hpp"
+#include "stvd/itk/image_grid.hpp"
+#include "stvd/errors.hpp"
+#include "stvd/front_end/region_connectivity_options.hpp"
+#include "stvd/system/parallel_tasks.hpp"
 #include "stvd/front_end/propagation_choice_options.hpp"
 #include "subcommands.hpp"
 #include "surface_distance_command.hpp"
@@ -77,6 +86,11 @@ std::string volumeHelp() {
          "Propagation:\n" +
          optionHelp(kDistanceCommand, {OptionGroup::Propagation}) + "\n" + tensorInputHelp(kDistanceCommand) +
          "\n"
+         "FOD file (fibre orientation distributions, docs/fod.md): with --fod-basis the input is an FOD\n"
+         "  image, X Y Z N spherical-harmonic coefficients (.mif, .mif.gz, .mih, .nii, .nii.gz); --mask\n"
+         "  and the seed options as for tensors.\n" +
+         optionHelp(kDistanceCommand, {OptionGroup::FodFile, OptionGroup::Regions}) +
+         "\n"
          "Output:\n" +
          optionHelp(kDistanceCommand, {OptionGroup::Output}) +
          "\n"
@@ -105,6 +119,8 @@ struct DistanceOptions : SeedOptions, PropagationChoice {
   std::string output;
   double maxDistance = std::numeric_limits<double>::infinity();
   TensorInputOptions tensor;
+  imaging::FodInputOptions fod;  ///< given(): the input is an FOD image
+  unsigned threads = 0;          ///< of the FOD metric's table (0: one per core)
   float unreachableValue = static_cast<float>(kDefaultUnreachableValue);
   std::string statsPath;
   std::string reportPath;
@@ -142,6 +158,26 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   if (o.seedVoxels.empty() && o.seedPoints.empty() && o.seedLabels.empty())
     usageError(imaging::noSeedMessage(OptionNaming::Flags));
   checkPropagationChoice(o, /*lanthierAllowed=*/true);
+  o.fod = imaging::fodInputOptionsOf(v);
+  o.threads = regionThreadsOf(v);
+  if (!o.fod.given()) {
+    if (v.has("--threads")) usageError("--threads applies to FOD images (--fod-basis)");
+    return o;
+  }
+  for (const OptionDeclaration& d : imaging::tensorInputOptionDeclarations())
+    if (d.flag != "--mask" && v.has(d.flag))
+      usageError(d.flag + " applies to tensor images, not to an FOD image (--fod-basis)");
+  // Dijkstra over the 26-neighbour stencil measures every step by F* along
+  // a tabulated direction: a path that exists. STVD's candidates and
+  // Lanthier's segments are not yet measured against exact FOD distances.
+  if (o.lanthier || (v.has("--method") && o.method != Method::Dijkstra))
+    usageError("--method " + *v.text("--method") +
+               ": not measured on FOD metrics yet (docs/fod.md); use --method dijkstra, the default for FOD images");
+  o.method = Method::Dijkstra;
+  if (o.stencil != "6" && o.stencil != "18" && o.stencil != "26")
+    usageError("--stencil " + o.stencil +
+               ": the FOD metric is tabulated along the 26 neighbour directions; use 6, 18 or 26");
+  if (!o.reportPath.empty()) usageError("--report does not draw runs on FOD images yet");
   return o;
 }
 
@@ -179,6 +215,49 @@ class ProgressBar {
 struct Timings {
   double read = 0, metric = 0, propagate = 0, write = 0, total = 0;
 };
+
+/// The map's values: distances, the unreachable value where none.
+std::vector<float> distanceValues(const DistanceOptions& o, const PropagationResult& result) {
+  std::vector<float> values(result.distance.size());
+  for (std::size_t v = 0; v < values.size(); ++v)
+    values[v] = std::isfinite(result.distance[v]) ? static_cast<float>(result.distance[v]) : o.unreachableValue;
+  return values;
+}
+
+/// Writes the map and the statistics file together or not at all (one
+/// output transaction); `statistics` makes the run's record once the write
+/// time is known. `phase`: when writing began.
+RunStatistics commitDistanceOutputs(const DistanceOptions& o, const GridGeometry& g, const PropagationResult& result,
+                                    const std::vector<float>& values, Timings& t, Clock::time_point start,
+                                    Clock::time_point phase,
+                                    const std::function<RunStatistics(const Timings&)>& statistics) {
+  files::OutputTransaction outputs;
+  RunStatistics run;
+  try {
+    if (isVdbPath(o.output)) {
+#ifdef STVD_WITH_VDB_OUTPUT
+      vdb::DistanceGridOptions grid;
+      grid.background = std::isfinite(o.unreachableValue) ? o.unreachableValue : -1.f;
+      vdb::writeDistanceGrid(outputs, o.output, g, result.distance, grid);
+#else
+      (void)result;  // refused when parsing the options
+#endif
+    } else {
+      imaging::writeScalarImage(outputs, o.output, g, values);
+    }
+    t.write = secondsSince(phase);
+    t.total = secondsSince(start);
+    run = statistics(t);
+    if (!o.statsPath.empty()) {
+      const std::string json = statisticsJson(run);
+      outputs.write(o.statsPath, [&](const std::string& staging) { files::writeFileContents(staging, json); });
+    }
+    outputs.commit();
+  } catch (const files::OutputError& e) {
+    throw ToolError(kExitOutput, e.what());
+  }
+  return run;
+}
 
 /// The statistics file's record of the run.
 RunStatistics runStatistics(const DistanceOptions& o, const std::string& commandLine, const TensorInput& input,
@@ -282,6 +361,164 @@ void writeDistanceReport(ReportRequest& report, const DistanceOptions& o, const 
   report.write({"--stats", statsPath, "--distance", mapPath}, o.quiet);
 }
 
+/// One line for a file the tensor reader refused that reads as an FOD
+/// image: its basis must be stated. Empty when it is no FOD image either.
+std::string fodWithoutBasisMessage(const std::string& path) {
+  try {
+    imaging::FodReadOptions probe;
+    probe.basis = imaging::shBasisName(imaging::ShBasis::Tournier07);  // any basis: only the layout counts here
+    const imaging::FodField fod = imaging::readFodVolume(path, probe);
+    if (fod.lmax < 4) return "";
+    return path + ": " + std::to_string(fod.coefficientCount()) + " volumes, an FOD image of lmax " +
+           std::to_string(fod.lmax) +
+           "? state its basis with --fod-basis: mrtrix3 for MRtrix's dwi2fod, DIPY's basis name for its fits "
+           "(docs/fod.md)";
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+/// `stvd distance FOD --fod-basis NAME`: Dijkstra under the convexified FOD
+/// norm F*, tabulated per voxel along the 26 neighbour directions
+/// (docs/fod.md), the map written as for tensors.
+int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_point start) {
+  Timings t;
+  RunFiles files;
+  files.inputImage("FOD input", o.input);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("seed labels", o.seedLabels);
+  if (isVdbPath(o.output))
+    files.outputFile("distance map", o.output);
+  else
+    files.outputImage("distance map", o.output);
+  files.outputFile("statistics file", o.statsPath);
+  files.check();
+
+  Clock::time_point phase = Clock::now();
+  const imaging::FodField fod = imaging::readFodVolume(o.input, o.fod.read);
+  // Six coefficients are also a tensor image's six components, and lmax 0
+  // has no direction: the tool takes lmax 4 and up (CSD's range).
+  if (fod.lmax < 4)
+    throw InputError(o.input + ": " + std::to_string(fod.coefficientCount()) + " volume" +
+                     (fod.lmax ? "s" : "") + " (lmax " + std::to_string(fod.lmax) + "): " +
+                     (fod.lmax == 2 ? "six volumes are a tensor image's; drop --fod-basis to read tensors"
+                                    : "no orientation") +
+                     " (FOD images have lmax 4 to 12)");
+  const GridGeometry& g = fod.geometry;
+  // The seeds' and the mask's readers take the grid as a tensor input's.
+  TensorInput grid;
+  grid.read.volume.geometry = g;
+  if (!o.tensor.maskPath.empty())
+    imaging::addMask(grid, imaging::readScalarImageOnGrid(o.tensor.maskPath, g, "the mask is", o.input),
+                     o.tensor.maskPath, o.input);
+  noteInputWarnings(grid.warnings);
+  const std::uint64_t voxels = g.voxelCount();
+  const std::vector<std::uint8_t> inDomain = grid.mask.empty() ? std::vector<std::uint8_t>(voxels, 1) : grid.mask;
+  imaging::MetricVoxelCounts counts;
+  counts.total = voxels;
+  for (const std::uint8_t inside : inDomain) counts.domain += inside != 0;
+  counts.masked = voxels - counts.domain;
+  if (counts.domain == 0)
+    throw NothingToCompute(o.input + ": the domain is empty: no voxel inside the mask " + o.tensor.maskPath);
+  std::size_t labelSeedsLeftOut = 0;
+  const std::vector<Seed> seeds = resolveSeeds(o.input, o, grid, o.tensor.metric, inDomain, labelSeedsLeftOut);
+  t.read = secondsSince(phase);
+
+  const std::uint64_t needed = gridRunMemoryEstimate(o, voxels, counts.domain) + kOutputBytesPerVoxel * voxels +
+                               sizeof(imaging::FodStencilNorm::VertexParams) * voxels;
+  const MemoryCheck memory = checkMemory(
+      o.input, needed, methodText(o, memoryDepthOf<VoxelGridDomain>(o)) + " on " + withThousands(counts.domain) +
+                           " domain voxels of an FOD image",
+      !o.memoryCheck);
+
+  phase = Clock::now();
+  const std::clock_t cpuStart = std::clock();  // the process's CPU time, all threads
+  const imaging::FodCostSampler sampler(fod, imaging::defaultFodSamplingDirections(g), o.fod.cost);
+  const imaging::FodStencilMetric metric = imaging::fodStencilMetric(sampler, &inDomain, o.threads);
+  const double metricCpu = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
+  const unsigned threads =
+      threadCountFor(o.threads, (voxels + imaging::kFodMetricBlockVoxels - 1) / imaging::kFodMetricBlockVoxels);
+  t.metric = secondsSince(phase);
+
+  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), inDomain, o.connectivity);
+  const std::vector<VertexId> sources = imaging::sourceVertices(domain, seeds);
+  phase = Clock::now();
+  PropagationOptions options = propagationOptions(o);
+  options.maxDistance = o.maxDistance;
+  ProgressBar bar(!o.quiet);
+  options.progress = [&bar](const PropagationProgress& p) {
+    bar.update(p.domainVertices ? double(p.finalizedVertices) / double(p.domainVertices) : 0.0);
+    return true;
+  };
+  const PropagationResult result = propagate(domain, metric, sources, options);
+  bar.finish();
+  t.propagate = secondsSince(phase);
+
+  phase = Clock::now();
+  const std::vector<float> values = distanceValues(o, result);
+  const DistanceStatistics stats = summariseDistances(result.distance);
+  const std::string basis = imaging::shBasisName(fod.basis), frame = imaging::fodFrameName(fod.frame);
+  commitDistanceOutputs(o, g, result, values, t, start, phase, [&](const Timings& timings) {
+    RunStatistics run;
+    run.command = "distance";
+    run.commandLine = commandLineText(argc, argv);
+    run.input = o.input;
+    run.output = o.output;
+    run.choice = &o;
+    run.tensor = &o.tensor;  // its mask
+    run.tensorInput = &grid;
+    run.counts = counts;
+    run.maxDistance = o.maxDistance;
+    run.seedLabels = o.seedLabels;
+    run.withUnreachableValue = true;
+    run.unreachableValue = o.unreachableValue;
+    run.seeds = &seeds;
+    run.labelSeedsLeftOut = labelSeedsLeftOut;
+    run.result = &result;
+    run.memory = &memory;
+    run.metricParameters = {
+        "\"metric\": \"fod\"",
+        "\"fod_basis\": " + jsonString(basis),
+        "\"fod_basis_given\": " + jsonString(o.fod.read.basis),
+        "\"fod_frame\": " + jsonString(frame),
+        "\"fod_frame_stated\": " + std::string(o.fod.read.frame ? "true" : "false"),
+        "\"fod_lmax\": " + std::to_string(fod.lmax),
+        "\"fod_floor\": " + jsonNumber(o.fod.cost.floor),
+        "\"fod_power\": " + jsonNumber(o.fod.cost.power),
+        "\"fod_directions\": " + std::to_string(sampler.directions().size()),
+        "\"fod_norm\": \"convexified F* along the 26 neighbour directions\""};
+    run.extraMembers = {"\"fod_precomputation\": {\"seconds\": " + jsonNumber(t.metric) +
+                        ", \"cpu_seconds\": " + jsonNumber(metricCpu) + ", \"threads\": " +
+                        std::to_string(threads) + ", \"voxels\": " + std::to_string(counts.domain) + "}"};
+    run.seconds = {{"read", timings.read}, {"metric", timings.metric}, {"propagate", timings.propagate},
+                   {"write", timings.write}, {"total", timings.total}};
+    return run;
+  });
+  if (!o.quiet) {
+    std::ostringstream s;
+    s << "Read " << o.input << " (FOD, lmax " << fod.lmax << ", basis " << basis << " in the " << frame
+      << " frame): " << g.size[0] << " x " << g.size[1] << " x " << g.size[2] << " voxels of "
+      << fixed(g.spacing[0], 2) << " x " << fixed(g.spacing[1], 2) << " x " << fixed(g.spacing[2], 2)
+      << " mm, orientation " << orientationCode(g) << ". Cost: the convexified FOD norm F* (floor "
+      << jsonNumber(o.fod.cost.floor) << ", power " << jsonNumber(o.fod.cost.power) << ", "
+      << sampler.directions().size() << " directions) along the 26 neighbour directions of "
+      << withThousands(counts.domain) << " domain voxels";
+    if (!grid.maskDescription.empty()) s << " (mask: " << grid.maskDescription << ")";
+    s << ", tabulated in " << fixed(t.metric, 2) << " s (" << fixed(metricCpu, 2) << " s CPU on " << threads
+      << (threads == 1 ? " thread" : " threads") << "). " << (seeds.size() == 1 ? "Seed" : "Seeds") << ": "
+      << withThousands(seeds.size()) << " voxel" << (seeds.size() == 1 ? "" : "s") << ". Method: Dijkstra on the "
+      << o.stencil << "-neighbour stencil";
+    if (std::isfinite(o.maxDistance)) s << ", stopping at " << fixed(o.maxDistance, 1) << " mm";
+    s << ". Reached " << withThousands(stats.reached) << " of " << withThousands(counts.domain) << " domain voxels";
+    if (stats.reached)
+      s << "; distances from 0 to " << fixed(stats.maximum, 1) << " mm, median " << fixed(stats.median, 1) << " mm";
+    s << ". Took " << fixed(t.total, 2) << " s. Wrote " << o.output;
+    if (!o.statsPath.empty()) s << " and " << o.statsPath;
+    std::cout << s.str() << "." << std::endl;
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int runDistance(int argc, char** argv) {
@@ -293,6 +530,7 @@ int runDistance(int argc, char** argv) {
   if (isSurfaceDistanceCall(argc, argv)) return runSurfaceDistance(argc, argv);
   const Clock::time_point start = Clock::now();
   const DistanceOptions o = parseDistanceOptions(argc, argv);
+  if (o.fod.given()) return runFodDistance(o, argc, argv, start);
   Timings t;
 
   // Output problems are found before the work, not after it.
@@ -311,7 +549,16 @@ int runDistance(int argc, char** argv) {
   report.start(o.reportPath);
 
   Clock::time_point phase = Clock::now();
-  const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
+  const TensorInput input = [&] {
+    try {
+      return readTensorInputNotingWarnings(o.input, o.tensor);
+    } catch (const stvd::Error& e) {
+      if (e.kind() != stvd::ErrorKind::Input) throw;
+      const std::string fod = fodWithoutBasisMessage(o.input);  // an FOD image given without its basis
+      if (fod.empty()) throw;
+      throw InputError(fod);
+    }
+  }();
   const GridGeometry& g = input.read.volume.geometry;
   t.read = secondsSince(phase);
 
@@ -366,35 +613,12 @@ int runDistance(int argc, char** argv) {
 
   report.requireReady();  // nothing is written when the report could not be drawn
   phase = Clock::now();
-  std::vector<float> values(result.distance.size());
-  for (std::size_t v = 0; v < values.size(); ++v)
-    values[v] = std::isfinite(result.distance[v]) ? static_cast<float>(result.distance[v]) : o.unreachableValue;
+  const std::vector<float> values = distanceValues(o, result);
   const DistanceStatistics stats = summariseDistances(result.distance);
-  // The map and the statistics appear together or not at all.
-  files::OutputTransaction outputs;
-  RunStatistics run;
-  try {
-    if (isVdbPath(o.output)) {
-#ifdef STVD_WITH_VDB_OUTPUT
-      vdb::DistanceGridOptions grid;
-      grid.background = std::isfinite(o.unreachableValue) ? o.unreachableValue : -1.f;
-      vdb::writeDistanceGrid(outputs, o.output, g, result.distance, grid);
-#endif
-    } else {
-      imaging::writeScalarImage(outputs, o.output, g, values);
-    }
-    t.write = secondsSince(phase);
-    t.total = secondsSince(start);
-    run = runStatistics(o, commandLineText(argc, argv), input, built.counts, seeds, labelSeedsLeftOut, result, memory,
-                        t);
-    if (!o.statsPath.empty()) {
-      const std::string json = statisticsJson(run);
-      outputs.write(o.statsPath, [&](const std::string& staging) { files::writeFileContents(staging, json); });
-    }
-    outputs.commit();
-  } catch (const files::OutputError& e) {
-    throw ToolError(kExitOutput, e.what());
-  }
+  const RunStatistics run = commitDistanceOutputs(o, g, result, values, t, start, phase, [&](const Timings& timings) {
+    return runStatistics(o, commandLineText(argc, argv), input, built.counts, seeds, labelSeedsLeftOut, result, memory,
+                         timings);
+  });
   if (!o.quiet)
     std::cout << summaryParagraph(o, input, built.counts, seeds, labelSeedsLeftOut, result, stats, t) << std::endl;
   if (report.requested()) writeDistanceReport(report, o, run, g, values);

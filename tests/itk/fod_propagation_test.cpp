@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "stvd/imaging/fod_cost.hpp"
@@ -117,6 +119,33 @@ TEST_P(FodDijkstra, ASeedReachesTheFarEndOfItsOwnBundleAlongIt) {
 }
 
 INSTANTIATE_TEST_SUITE_P(CrossingAngles, FodDijkstra, ::testing::Values(90.0, 45.0));
+
+// The table on several threads is the table on one: every voxel's F* is its
+// own, whichever thread computes it, so the distances are bit-equal (on a
+// domain mask too, whose voxels outside get the floor's cost).
+TEST(FodStencilMetricThreads, TheDistancesAreBitEqualForAnyThreadCount) {
+  const Bundles b = bundles(60.0);
+  const FodCostSampler sampler(b.field, defaultFodSamplingDirections(b.field.geometry));
+  std::vector<std::uint8_t> inDomain(b.field.geometry.voxelCount(), 1);
+  for (std::size_t v = 0; v < inDomain.size(); v += 7) inDomain[v] = 0;
+  inDomain[kC * kN + kN * kN] = 1;  // the seed (0, kC, 1)
+  const VoxelGridDomain domain(b.field.geometry, Stencil::full26(), inDomain);
+  PropagationOptions options;
+  options.method = Method::Dijkstra;
+  const VertexId seed = domain.vertexAt(0, kC, 1);
+  const std::vector<double> one = propagate(domain, fodStencilMetric(sampler, &inDomain, 1), {seed}, options).distance;
+  for (const unsigned threads : {2u, 3u, 0u}) {
+    const std::vector<double> more =
+        propagate(domain, fodStencilMetric(sampler, &inDomain, threads), {seed}, options).distance;
+    ASSERT_EQ(more.size(), one.size());
+    std::size_t reached = 0;
+    for (std::size_t v = 0; v < one.size(); ++v) {
+      reached += std::isfinite(one[v]);
+      ASSERT_EQ(std::memcmp(&one[v], &more[v], sizeof(double)), 0) << "voxel " << v << " on " << threads << " threads";
+    }
+    EXPECT_GT(reached, one.size() / 2);
+  }
+}
 
 }  // namespace
 }  // namespace stvd::testing

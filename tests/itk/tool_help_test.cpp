@@ -16,6 +16,7 @@
 #include "command_options.hpp"
 #include "stvd/cell_mesh/cell_mesh_propagation.hpp"
 #include "stvd/front_end/propagation_choice.hpp"
+#include "stvd/imaging/fod_cost.hpp"
 #include "stvd/imaging/tensor_input.hpp"
 #include "stvd/imaging/tensor_input_options.hpp"
 #include "stvd/surface/surface_propagation.hpp"
@@ -76,7 +77,12 @@ std::map<std::string, std::string> libraryDefaults(const std::string& command) {
     d["--stencil"] = choice.stencil;
     d["--domain-connectivity"] = std::to_string(static_cast<int>(choice.connectivity));
   }
-  if (command == "distance") d["--unreachable-value"] = number(kDefaultUnreachableValue);
+  if (command == "distance") {
+    d["--unreachable-value"] = number(kDefaultUnreachableValue);
+    const imaging::FodCostOptions fod;
+    d["--fod-floor"] = number(fod.floor);
+    d["--fod-power"] = number(fod.power);
+  }
   if (command == "path") {
     d["--step"] = number(tracing.stepFraction);
     d["--smooth"] = std::to_string(tracing.smoothingPasses);

@@ -1,9 +1,11 @@
 #include "stvd/imaging/fod_metric.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "stvd/propagation/propagation_definition.hpp"
+#include "stvd/system/parallel_tasks.hpp"
 #include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd::imaging {
@@ -45,7 +47,8 @@ std::string FodStencilNorm::invalidReason(const VertexParams& p) {
   return {};
 }
 
-FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vector<std::uint8_t>* inDomain) {
+FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vector<std::uint8_t>* inDomain,
+                                  unsigned threads) {
   const GridGeometry& g = sampler.field().geometry;
   const std::size_t n = g.voxelCount();
   if (inDomain && inDomain->size() != n)
@@ -58,19 +61,25 @@ FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vect
   const std::vector<Vec3d> queries = neighbourDirections26(g);
   const float floorCost = static_cast<float>(1.0 / std::pow(sampler.options().floor, sampler.options().power));
   std::vector<FodStencilNorm::VertexParams> params(n);
-  FodUnitBall ball;
-  for (std::size_t v = 0; v < n; ++v) {
-    FodStencilNorm::VertexParams& p = params[v];
-    std::copy(toIndex, toIndex + 9, p.toIndex);
-    if (inDomain && !(*inDomain)[v]) {
-      std::fill(p.cost, p.cost + 26, floorCost);
-      continue;
+  // Each voxel's table depends on that voxel alone, so blocks of voxels
+  // run on any thread and the result is the same for every thread count.
+  const std::size_t blockSize = kFodMetricBlockVoxels, blocks = (n + blockSize - 1) / blockSize;
+  forEachTaskInParallel(blocks, threads, [&](std::size_t block) {
+    FodUnitBall ball;
+    const std::size_t end = std::min(n, (block + 1) * blockSize);
+    for (std::size_t v = block * blockSize; v < end; ++v) {
+      FodStencilNorm::VertexParams& p = params[v];
+      std::copy(toIndex, toIndex + 9, p.toIndex);
+      if (inDomain && !(*inDomain)[v]) {
+        std::fill(p.cost, p.cost + 26, floorCost);
+        continue;
+      }
+      sampler.unitBall(v, ball);
+      for (int q = 0; q < 26; ++q)
+        p.cost[q] = q >= 13 ? p.cost[25 - q]  // the opposite direction: F* is symmetric
+                            : static_cast<float>(convexHullGauge(ball.points.data(), ball.points.size(), queries[q]));
     }
-    sampler.unitBall(v, ball);
-    for (int q = 0; q < 26; ++q)
-      p.cost[q] = q >= 13 ? p.cost[25 - q]  // the opposite direction: F* is symmetric
-                          : static_cast<float>(convexHullGauge(ball.points.data(), ball.points.size(), queries[q]));
-  }
+  });
   return FodStencilMetric(std::move(params), inDomain);
 }
 

@@ -52,6 +52,7 @@ enum class OptionGroup {
   Propagation,
   TensorFile,
   Metric,
+  FodFile,
   SurfaceMetric,
   MeshMetric,
   Paths,

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -65,11 +66,17 @@ struct FodStencilNorm {
 
 using FodStencilMetric = MetricField<FodStencilNorm>;
 
+/// fodStencilMetric hands voxels to its threads in blocks of this many
+/// (so a grid of n voxels keeps at most ceil(n / block) threads busy).
+inline constexpr std::size_t kFodMetricBlockVoxels = 256;
+
 /// The metric of an FOD on its own grid: F* of `sampler` (default
 /// sampling directions of the field's grid) along the 26 neighbour
 /// directions of every voxel with a non-zero `inDomain` entry (every voxel
-/// when null; the others get the floor's isotropic cost).
-FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vector<std::uint8_t>* inDomain = nullptr);
+/// when null; the others get the floor's isotropic cost), computed on
+/// `threads` threads (0: one per core); the table is the same for any count.
+FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vector<std::uint8_t>* inDomain = nullptr,
+                                  unsigned threads = 1);
 
 }  // namespace stvd::imaging
 

@@ -1,0 +1,184 @@
+// `stvd distance FOD --fod-basis NAME` (docs/fod.md, "The tool"): a crossing
+// written as an FOD image by the test, through the tool. Two bundles, 5
+// voxels wide, cross at 90 degrees in the middle of a 25 x 25 x 3 grid; each
+// voxel's FOD (lmax 8, tournier07 in DIPY's voxel frame) has one lobe per
+// bundle it lies in, none outside. The map the tool writes has the far end
+// of the seed's own bundle at the bundle's length, the other bundle's far
+// end at the two legs' length, the input's grid, and the same bytes on 1
+// and 2 threads; wrong bases, FOD images without a basis and tensor images
+// with one are refused in one line with nothing written.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "stvd/imaging/spherical_harmonics.hpp"
+#include "stvd/itk/scalar_image_io.hpp"
+#include "test_support.hpp"
+
+namespace stvd::testing {
+namespace {
+
+constexpr int kN = 25, kC = 12, kHalfWidth = 2, kCoefficients = 45;
+
+std::string fileText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class ToolFodDistance : public ScratchFolderTest {
+ protected:
+  void SetUp() override {
+    ScratchFolderTest::SetUp();
+    // Index axes are the LPS axes; the coefficients are in the voxel frame
+    // (DIPY's, the default for its basis names in NIfTI), so bundle 0 runs
+    // along i and bundle 1 along j.
+    HandGeometry g;
+    g.size = {kN, kN, 3};
+    g.spacing = {1.0, 1.0, 1.0};
+    const std::size_t voxels = std::size_t(kN) * kN * 3;
+    std::vector<float> values(voxels * kCoefficients, 0.f);  // volume-major: coefficient j of voxel v at j * voxels + v
+    const double axis[2][3] = {{1, 0, 0}, {0, 1, 0}};
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < kN; ++j)
+        for (int i = 0; i < kN; ++i)
+          for (int b = 0; b < 2; ++b) {
+            if (std::abs(b == 0 ? j - kC : i - kC) > kHalfWidth) continue;
+            const std::vector<double> y =
+                imaging::evaluateShBasis(imaging::ShBasis::Tournier07, 8, axis[b][0], axis[b][1], axis[b][2]);
+            const std::size_t v = std::size_t(i) + kN * (std::size_t(j) + kN * std::size_t(k));
+            for (int l = 0; l <= 8; l += 2)
+              for (int m = -l; m <= l; ++m) {
+                const int c = l * (l + 1) / 2 + m;
+                values[std::size_t(c) * voxels + v] += static_cast<float>(std::exp(-0.02 * l * (l + 1)) * y[c]);
+              }
+          }
+    writeScalarNiftiByHand(path("fod.nii"), g, values, kCoefficients);
+  }
+
+  ToolRun distance(const std::vector<std::string>& extra) const {
+    std::vector<std::string> arguments{"distance", path("fod.nii"), "-q", "--seed-voxel", "0,12,1"};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    return runTool(arguments);
+  }
+
+  /// A refused run: exit code `code`, one line on stderr holding `words`, no output.
+  void expectRefused(const std::vector<std::string>& arguments, int code, const std::string& words) const {
+    const ToolRun r = runTool(arguments);
+    EXPECT_EQ(r.exitCode, code) << r.err;
+    EXPECT_NE(r.err.find(words), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(path("refused.nii")));
+  }
+};
+
+TEST_F(ToolFodDistance, TheSeedsOwnBundleIsReachedAtItsLengthOnTheInputsGrid) {
+  const ToolRun r = distance({"--fod-basis", "tournier07", "-o", path("d.nii"), "--stats", path("d.json")});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const imaging::ScalarImage map = imaging::readScalarImage(path("d.nii"));
+  const GridGeometry input = HandGeometry{{kN, kN, 3}}.grid();
+  ASSERT_EQ(map.geometry.size, input.size);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_DOUBLE_EQ(map.geometry.spacing[a], input.spacing[a]);
+    EXPECT_NEAR(map.geometry.origin[a], input.origin[a], 1e-9);
+  }
+  const auto at = [&](int i, int j, int k) { return map.values[i + kN * (j + kN * k)]; };
+  EXPECT_EQ(at(0, kC, 1), 0.f);
+  // Along its own bundle, straight through the crossing: 24 mm at 1 per mm.
+  EXPECT_NEAR(at(kN - 1, kC, 1), 24.0, 24e-3);
+  // The other bundle's far end: along bundle 0 to the crossing, then along bundle 1.
+  EXPECT_NEAR(at(kC, kN - 1, 1), 24.0, 0.02 * 24.0);
+  // A voxel of neither bundle costs the floor's 10 per mm to reach across.
+  EXPECT_GT(at(kN - 1, kN - 1, 1), at(kC, kN - 1, 1) + 20.0);
+
+  const std::string stats = fileText(path("d.json"));
+  for (const char* member : {"\"metric\": \"fod\"", "\"fod_basis\": \"tournier07\"", "\"fod_frame\": \"voxel\"",
+                             "\"fod_lmax\": 8", "\"fod_floor\": 0.1", "\"fod_power\": 1", "\"fod_directions\": 668",
+                             "\"method\": \"dijkstra\"", "\"fod_precomputation\": {\"seconds\": ", "\"cpu_seconds\": "})
+    EXPECT_NE(stats.find(member), std::string::npos) << member << "\n" << stats;
+}
+
+TEST_F(ToolFodDistance, TheMapIsTheSameOnOneAndTwoThreads) {
+  ASSERT_EQ(distance({"--fod-basis", "tournier07", "--threads", "1", "-o", path("one.nii")}).exitCode, 0);
+  ASSERT_EQ(distance({"--fod-basis", "tournier07", "--threads", "2", "-o", path("two.nii")}).exitCode, 0);
+  const std::string one = fileText(path("one.nii")), two = fileText(path("two.nii"));
+  ASSERT_FALSE(one.empty());
+  EXPECT_EQ(one, two);
+}
+
+TEST_F(ToolFodDistance, FloorAndPowerChangeTheCost) {
+  // A higher floor makes leaving the bundles cheaper: the corner is nearer.
+  ASSERT_EQ(distance({"--fod-basis", "tournier07", "-o", path("d.nii")}).exitCode, 0);
+  ASSERT_EQ(distance({"--fod-basis", "tournier07", "--fod-floor", "0.5", "--fod-power", "1", "-o", path("f.nii")})
+                .exitCode,
+            0);
+  const auto corner = [&](const std::string& name) {
+    return imaging::readScalarImage(path(name)).values[(kN - 1) + kN * ((kN - 1) + kN * 1)];
+  };
+  EXPECT_LT(corner("f.nii"), corner("d.nii") - 10.0);
+}
+
+TEST_F(ToolFodDistance, AMaskKeepsTheRunInsideItsVoxelsAndASeedPointFindsItsVoxel) {
+  // The mask is bundle 0 only: its far end is reached as before, bundle 1's
+  // is not reached (the unreachable value), and a seed outside it is refused.
+  HandGeometry g;
+  g.size = {kN, kN, 3};
+  std::vector<float> mask(std::size_t(kN) * kN * 3, 0.f);
+  for (int k = 0; k < 3; ++k)
+    for (int j = kC - kHalfWidth; j <= kC + kHalfWidth; ++j)
+      for (int i = 0; i < kN; ++i) mask[i + kN * (j + kN * k)] = 1.f;
+  writeScalarNiftiByHand(path("mask.nii"), g, mask);
+  // Voxel (0, 12, 1) is at LPS (0, 12, 1): RAS (0, -12, 1).
+  const ToolRun r = runTool({"distance", path("fod.nii"), "-q", "--fod-basis", "tournier07", "--seed-point", "0,-12,1",
+                             "--mask", path("mask.nii"), "-o", path("m.nii")});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const imaging::ScalarImage map = imaging::readScalarImage(path("m.nii"));
+  const auto at = [&](int i, int j, int k) { return map.values[i + kN * (j + kN * k)]; };
+  EXPECT_EQ(at(0, kC, 1), 0.f);
+  EXPECT_NEAR(at(kN - 1, kC, 1), 24.0, 24e-3);
+  EXPECT_EQ(at(kC, kN - 1, 1), -1.f);
+  expectRefused({"distance", path("fod.nii"), "--fod-basis", "tournier07", "--seed-voxel", "12,24,1", "--mask",
+                 path("mask.nii"), "-o", path("refused.nii")},
+                4, "outside the mask");
+}
+
+TEST_F(ToolFodDistance, BadInputsAreRefusedInOneLineWithNothingWritten) {
+  const std::string fod = path("fod.nii"), out = path("refused.nii");
+  expectRefused({"distance", fod, "--fod-basis", "tournier08", "--seed-voxel", "0,12,1", "-o", out}, 2,
+                "--fod-basis");
+  // An FOD image without its basis: the tensor reader refuses it, the tool says what it is.
+  expectRefused({"distance", fod, "--seed-voxel", "0,12,1", "-o", out}, 3, "state its basis with --fod-basis");
+  expectRefused({"distance", fod, "--fod-basis", "tournier07", "--method", "stvd", "--seed-voxel", "0,12,1", "-o",
+                 out},
+                2, "use --method dijkstra");
+  expectRefused({"distance", fod, "--fod-floor", "0.2", "--seed-voxel", "0,12,1", "-o", out}, 2,
+                "--fod-floor applies to FOD images");
+  expectRefused({"distance", fod, "--fod-basis", "tournier07", "--tensor-order", "fsl", "--seed-voxel", "0,12,1",
+                 "-o", out},
+                2, "--tensor-order applies to tensor images");
+  expectRefused({"distance", fod, "--fod-basis", "tournier07", "--seed-voxel", "30,12,1", "-o", out}, 4,
+                "outside the image");
+
+  // A tensor image given with --fod-basis: six volumes are no FOD.
+  HandGeometry g;
+  g.size = {3, 3, 3};
+  writeNiftiByHand(path("t6.nii"), g, NiftiTensorLayout::SixVolumes4D,
+                   std::vector<std::array<float, 6>>(27, {1, 0, 0, 1, 0, 1}));
+  expectRefused({"distance", path("t6.nii"), "--fod-basis", "tournier07", "--seed-voxel", "1,1,1", "-o", out}, 3,
+                "a tensor image's");
+  writeNiftiByHand(path("t5.nii"), g, NiftiTensorLayout::SymMatrix5D,
+                   std::vector<std::array<float, 6>>(27, {1, 0, 0, 1, 0, 1}));
+  expectRefused({"distance", path("t5.nii"), "--fod-basis", "tournier07", "--seed-voxel", "1,1,1", "-o", out}, 3,
+                path("t5.nii"));
+}
+
+}  // namespace
+}  // namespace stvd::testing
