@@ -38,6 +38,7 @@
 #include "stvd/imaging/tensor_input.hpp"
 #include "stvd/imaging/tensor_metric.hpp"
 #include "stvd/itk/fod_volume_io.hpp"
+#include "stvd/system/interrupter.hpp"
 #include "stvd/system/parallel_tasks.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
@@ -196,7 +197,10 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
     options.progress = relay.hook();
     result = propagate(domain, metric, imaging::sourceVertices(domain, seeds), options);
   }
-  relay.rethrowIfFailed();
+  relay.rethrowIfFailed();  // Ctrl-C or the callback's exception first
+  // stvd.fod_distance returns a map only: a cancelled run has none to give.
+  if (result.termination == Termination::Cancelled)
+    throw Cancelled("fod_distance was cancelled by the progress function: no map");
 
   py::array_t<double> distance = newFortranArray(g.size);
   py::array_t<float> map = newFortranFloatArray(g.size);

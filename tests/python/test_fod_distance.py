@@ -217,3 +217,27 @@ def test_a_mask_and_a_higher_floor(crossing):
     high = values(stvd.fod_distance(coefficients, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(),
                                     fod_floor=0.5))
     assert high[20, 20, 1] < low[20, 20, 1]
+
+
+def test_progress_is_relayed_and_a_cancel_gives_no_map(crossing):
+    fit, _ = crossing
+    calls = []
+    image = stvd.fod_distance(fit, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(),
+                              progress=lambda *report: calls.append(report))
+    # The propagation's reports: at the start and at the end, every one of
+    # the 1,323 voxels finalised.
+    assert calls[0][:2] == (0, 21 * 21 * 3) and calls[-1][0] == 21 * 21 * 3
+    assert [c[0] for c in calls] == sorted(c[0] for c in calls)
+    assert all(0 <= c[2] <= np.max(values(image)) for c in calls)
+    with pytest.raises(RuntimeError, match="cancelled by the progress function"):
+        stvd.fod_distance(fit, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(),
+                          progress=lambda *report: False)
+
+    class Stop(Exception):
+        pass
+
+    def fail(*report):
+        raise Stop("enough")
+
+    with pytest.raises(Stop, match="enough"):
+        stvd.fod_distance(fit, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), progress=fail)
