@@ -26,10 +26,10 @@ from ._regions import long_table, read_label_names, region_names, square_table
 __version__ = _core.__version__
 NO_VERTEX = _core.NO_VERTEX
 
-__all__ = ["defaults", "distance", "fod_distance", "propagate", "Propagation", "trace_paths", "Paths", "tractogram",
-           "connectivity", "Connectivity", "read_label_names", "check_tensor_frame", "tet_mesh_distance",
-           "surface_distance", "NO_VERTEX", "OutputFiles", "FileConflictError", "OutputError", "read_surface",
-           "read_surface_values", "read_surface_regions", "region_vertices", "write_surface_values",
+__all__ = ["defaults", "distance", "fod_distance", "propagate", "Propagation", "trace_paths", "Paths",
+           "tractogram", "connectivity", "Connectivity", "read_label_names", "check_tensor_frame",
+           "tet_mesh_distance", "surface_distance", "NO_VERTEX", "OutputFiles", "FileConflictError", "OutputError",
+           "read_surface", "read_surface_values", "read_surface_regions", "region_vertices", "write_surface_values",
            "surface_region_distances", "SurfaceSolver"]
 
 
@@ -310,9 +310,9 @@ def fod_distance(fod, seeds=None, *, fod_basis=None, affine=None, seed_points=No
     --fod-basis NAME`` computes it: Dijkstra over the voxel grid with the
     convexified FOD norm F* (docs/fod.md), the same map, bit for bit.
 
-    fod: spherical-harmonic coefficients, one voxel after another:
-        a path (``.mif``, ``.mif.gz``, ``.mih``, ``.nii``, ``.nii.gz``: X, Y,
-        Z, N), a NiBabel image, a NumPy array ``(X, Y, Z, N)`` with
+    fod: spherical-harmonic coefficients per voxel: a path (``.mif``,
+        ``.mif.gz``, ``.mih``, ``.nii``, ``.nii.gz``: X, Y, Z, N), a NiBabel
+        image, a NumPy array ``(X, Y, Z, N)`` with
         ``affine=`` (4x4, voxel index to RAS millimetres), or a DIPY
         spherical-harmonic fit (``SphHarmFit``, what
         ``ConstrainedSphericalDeconvModel.fit`` returns: its ``shm_coeff``,

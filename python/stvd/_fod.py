@@ -7,7 +7,8 @@ import os
 import numpy as np
 
 from . import _core
-from ._inputs import image_name, image_zooms, is_image, is_path, scalar_image_spec
+from ._inputs import image_name, image_zooms, is_image, is_path, point_list, scalar_image_spec, voxel_list
+from ._progress import progress_reporter
 
 # DIPY's (basis_type, legacy) and stvd's name for the same functions
 # (docs/fod.md, "The bases").
@@ -74,9 +75,6 @@ def fod_distance_run(fod, seeds, seed_points, seed_labels, lps, affine, fod_basi
     """The extension's run, a dict: "distance" (float64, inf where not
     reached), "distance_map" (float32 as the tool writes it), "affine", the
     seeds and the figures of the run."""
-    from ._inputs import point_list, voxel_list
-    from ._progress import progress_reporter
-
     coefficients, affine, zooms, name, path, basis = fod_arguments(fod, affine, fod_basis)
     if threads is not None and (isinstance(threads, bool) or int(threads) != threads or threads < 0):
         raise ValueError(f"threads={threads!r}: expected a count of threads (0 or None: one per core)")
