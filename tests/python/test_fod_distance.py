@@ -149,6 +149,38 @@ def test_a_rotated_and_flipped_affine_gives_the_same_distances(crossing):
     assert relative.max() < 0.082 and relative.mean() < 0.01, (relative.max(), relative.mean())
 
 
+def write_mif(path, data, affine):
+    """An MRtrix image written byte by byte (float32, axes in order, the
+    transform of a NIfTI-style affine), as test_fod.py writes them."""
+    spacing = np.linalg.norm(affine[:3, :3], axis=0)
+    rotation = affine[:3, :3] / spacing
+    lines = ["mrtrix image", "dim: " + ",".join(map(str, data.shape)),
+             "vox: " + ",".join(f"{s:.17g}" for s in spacing) + ",1",
+             "layout: +0,+1,+2,+3", "datatype: Float32LE"]
+    for r in range(3):
+        lines.append("transform: " + ",".join(f"{v:.17g}" for v in [*rotation[r], affine[r, 3]]))
+    head = "\n".join(lines) + "\n"
+    offset = (len(head) + 32 + 3) // 4 * 4
+    header = (head + f"file: . {offset}\nEND\n").ljust(offset)
+    path.write_bytes(header.encode() + np.asarray(data, "<f4").tobytes(order="F"))
+
+
+def test_an_mrtrix_file_gives_the_same_map_on_its_own_grid(tmp_path, crossing):
+    # The same coefficients as a .mif file (the frame stated: a .mif is in
+    # the scanner frame unless told) under the rotated, flipped affine: the
+    # NIfTI image's map, and a NiBabel image of the file's grid, which
+    # NiBabel cannot read itself.
+    fit, _ = crossing
+    coefficients = fit.shm_coeff.astype(np.float32)
+    path = tmp_path / "crossing_fod.mif"
+    write_mif(path, coefficients, rotated_flipped_affine())
+    from_mif = stvd.fod_distance(path, (0, 10, 1), fod_basis=BASIS, fod_frame="voxel")
+    from_nifti = stvd.fod_distance(nib.Nifti1Image(coefficients, rotated_flipped_affine()), (0, 10, 1),
+                                   fod_basis=BASIS)
+    assert values(from_mif).tobytes() == values(from_nifti).tobytes()
+    assert np.allclose(from_mif.affine, rotated_flipped_affine(), atol=1e-6)
+
+
 def test_bad_input_is_refused_in_one_clear_line(tmp_path, crossing):
     fit, _ = crossing
     coefficients = fit.shm_coeff.astype(np.float32)
