@@ -273,3 +273,26 @@ def test_progress_is_relayed_and_a_cancel_gives_no_map(crossing):
 
     with pytest.raises(Stop, match="enough"):
         stvd.fod_distance(fit, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), progress=fail)
+
+
+def test_runs_in_threads_give_the_serial_maps(crossing):
+    # The library works without the GIL: calls from several Python threads
+    # run side by side, each with the map it has alone.
+    import threading
+
+    fit, _ = crossing
+    seeds = [(0, 10, 1), (10, 0, 1), (20, 10, 2)]
+    serial = [values(stvd.fod_distance(fit, s, fod_basis=BASIS, affine=identity_affine(), threads=1))
+              for s in seeds]
+    parallel = [None] * len(seeds)
+
+    def compute(n):
+        parallel[n] = values(stvd.fod_distance(fit, seeds[n], fod_basis=BASIS, affine=identity_affine(), threads=1))
+
+    threads = [threading.Thread(target=compute, args=(n,)) for n in range(len(seeds))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for a, b in zip(serial, parallel):
+        assert a.tobytes() == b.tobytes()
