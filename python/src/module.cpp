@@ -30,7 +30,8 @@ const std::pair<stvd::OptionCommand, const char*> kCommandNames[] = {
     {stvd::kDistanceCommand, "distance"},       {stvd::kPathCommand, "path"},
     {stvd::kConnectivityCommand, "connectivity"}, {stvd::kSurfaceDistanceCommand, "surface"},
     {stvd::kTetMeshDistanceCommand, "tet-mesh"},  {stvd::kInfoCommand, "info"},
-    {stvd::kCohortCommand, "cohort"}};
+    {stvd::kCohortCommand, "cohort"},
+    {stvd::kFodDistanceCommand, "fod-distance"}};
 
 py::list commandNames(stvd::OptionCommands commands) {
   py::list names;
@@ -145,4 +146,5 @@ PYBIND11_MODULE(_core, m) {
   stvd::python::bindVolumes(m);
   stvd::python::bindMeshes(m);
   stvd::python::bindSurfaceFiles(m);
+  stvd::python::bindFod(m);
 }

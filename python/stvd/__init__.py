@@ -16,6 +16,7 @@ import os
 import numpy as np
 
 from . import _core
+from ._fod import fod_distance_run
 from ._inputs import index_list, is_image, is_path, point_list, scalar_image_spec, tensor_field, voxel_list
 from ._outputs import FileConflictError, OutputError, OutputFiles, input_file_of
 from ._paths import Paths, tractogram
@@ -25,10 +26,10 @@ from ._regions import long_table, read_label_names, region_names, square_table
 __version__ = _core.__version__
 NO_VERTEX = _core.NO_VERTEX
 
-__all__ = ["defaults", "distance", "propagate", "Propagation", "trace_paths", "Paths", "tractogram",
-           "connectivity", "Connectivity", "read_label_names", "check_tensor_frame", "tet_mesh_distance",
-           "surface_distance", "NO_VERTEX", "OutputFiles", "FileConflictError", "OutputError", "read_surface",
-           "read_surface_values", "read_surface_regions", "region_vertices", "write_surface_values",
+__all__ = ["defaults", "distance", "fod_distance", "propagate", "Propagation", "trace_paths", "Paths",
+           "tractogram", "connectivity", "Connectivity", "read_label_names", "check_tensor_frame",
+           "tet_mesh_distance", "surface_distance", "NO_VERTEX", "OutputFiles", "FileConflictError", "OutputError",
+           "read_surface", "read_surface_values", "read_surface_regions", "region_vertices", "write_surface_values",
            "surface_region_distances", "SurfaceSolver"]
 
 
@@ -291,6 +292,60 @@ def distance(tensors, seeds=None, *, affine=None, seed_points=None, seed_labels=
                        accept_misaligned_tensors=accept_misaligned_tensors,
                        domain_connectivity=domain_connectivity, memory_check=memory_check)
     return result.distance_map(unreachable_value)
+
+
+class _GridOf:
+    """The grid of a run, for _image_template (an MRtrix file's affine)."""
+
+    def __init__(self, affine):
+        self.affine = affine
+
+
+def fod_distance(fod, seeds=None, *, fod_basis=None, affine=None, seed_points=None, seed_labels=None, lps=False,
+                 mask=None, fod_frame=None, fod_floor=None, fod_power=None, method=None, stencil=None,
+                 domain_connectivity=None, max_distance=None, unreachable_value=None, threads=None, progress=None,
+                 memory_check=True):
+    """The geodesic distance (millimetres) from seeds under the metric of a
+    fibre orientation distribution (FOD) image, as ``stvd distance FOD
+    --fod-basis NAME`` computes it: Dijkstra over the voxel grid with the
+    convexified FOD norm F* (docs/fod.md), the same map, bit for bit.
+
+    fod: spherical-harmonic coefficients per voxel: a path (``.mif``,
+        ``.mif.gz``, ``.mih``, ``.nii``, ``.nii.gz``: X, Y, Z, N), a NiBabel
+        image, a NumPy array ``(X, Y, Z, N)`` with
+        ``affine=`` (4x4, voxel index to RAS millimetres), or a DIPY
+        spherical-harmonic fit (``SphHarmFit``, what
+        ``ConstrainedSphericalDeconvModel.fit`` returns: its ``shm_coeff``,
+        with ``affine=`` of the data it was fitted to). N is 15, 28, 45, 66
+        or 91 (lmax 4 to 12).
+    fod_basis: required (an FOD's coefficients do not say their basis):
+        ``'mrtrix3'`` (MRtrix3's dwi2fod, scanner frame), ``'tournier07'``,
+        ``'tournier07_legacy'``, ``'descoteaux07'``,
+        ``'descoteaux07_legacy'`` (DIPY's names; DIPY 1.6's CSD fits are
+        ``'descoteaux07_legacy'``, and its fit objects do not record it, so
+        it is required for them too).
+    fod_frame: ``'scanner'`` or ``'voxel'``; unset: scanner for .mif files and
+        ``'mrtrix3'``, voxel (DIPY's) for DIPY's names.
+    fod_floor, fod_power: the cost (docs/fod.md, "The cost").
+    seeds, seed_points, seed_labels, lps, mask, stencil (6, 18 or 26),
+        domain_connectivity, max_distance, unreachable_value, progress,
+        memory_check: as for ``stvd.distance``.
+    method: ``'dijkstra'`` only (the default here); STVD and Lanthier's
+        method are not measured on FOD metrics yet and raise ValueError.
+    threads: threads of the per-voxel table of F* (None or 0: one per core);
+        the map is the same for any count.
+
+    Returns the float32 distance map on the FOD's grid as a NiBabel image with
+    the input's affine (a NumPy array when NiBabel is not installed), voxels
+    not reached holding ``unreachable_value``.
+    """
+    if unreachable_value is None:
+        unreachable_value = defaults.unreachable_value
+    run = fod_distance_run(fod, seeds, seed_points, seed_labels, lps, affine, fod_basis, fod_frame, fod_floor,
+                           fod_power, mask, method, stencil, domain_connectivity, max_distance, unreachable_value,
+                           threads, progress, memory_check)
+    template = _image_template(fod, _GridOf(run["affine"]), affine)
+    return template(run["distance_map"]) if template else run["distance_map"]
 
 
 def trace_paths(result, targets=None, *, target_points=None, target_labels=None, lps=False, step=None, smooth=None,

@@ -36,8 +36,8 @@ def test_cmake_install_puts_the_package_under_the_prefix(tmp_path):
     subprocess.run(["cmake", "--install", str(BUILD), "--prefix", str(prefix)], check=True, capture_output=True)
     site = prefix / "lib" / f"python{sys.version_info.major}.{sys.version_info.minor}" / "dist-packages"
     assert sorted(p.name for p in (site / "stvd").iterdir() if p.suffix == ".py") == [
-        "__init__.py", "_files.py", "_inputs.py", "_interruption.py", "_manifest.py", "_outputs.py", "_paths.py",
-        "_progress.py", "_regions.py", "_report_matrix.py",
+        "__init__.py", "_files.py", "_fod.py", "_inputs.py", "_interruption.py", "_manifest.py", "_outputs.py",
+        "_paths.py", "_progress.py", "_regions.py", "_report_matrix.py",
         "_report_page.py", "_report_slices.py", "_subject.py", "cohort.py", "interfaces.py", "report.py"]
     version, farthest = run_isolated(site, tmp_path)
     assert farthest == "91.6"

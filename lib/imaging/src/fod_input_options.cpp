@@ -18,6 +18,8 @@ std::vector<OptionDeclaration> declarations() {
   basis.type = OptionType::Choice;
   basis.group = OptionGroup::FodFile;
   basis.commands = kDistanceCommand;
+  basis.keyword = "fod_basis";
+  basis.keywordCommands = kFodDistanceCommand;
   // "mrtrix3" is a choice of its own, not an alias: it names the frame too
   // (scanner), where tournier07 in a NIfTI file is DIPY's (voxel frame).
   basis.choices = {
@@ -39,6 +41,8 @@ std::vector<OptionDeclaration> declarations() {
   frame.type = OptionType::Choice;
   frame.group = OptionGroup::FodFile;
   frame.commands = kDistanceCommand;
+  frame.keyword = "fod_frame";
+  frame.keywordCommands = kFodDistanceCommand;
   frame.choices = {{fodFrameName(FodFrame::Scanner), "the scanner's RAS axes (MRtrix3)"},
                    {fodFrameName(FodFrame::Voxel), "the image's index axes as stored (DIPY)"}};
   frame.choiceLayout = ChoiceLayout::Lines;
@@ -53,6 +57,8 @@ std::vector<OptionDeclaration> declarations() {
   floor.type = OptionType::Number;
   floor.group = OptionGroup::FodFile;
   floor.commands = kDistanceCommand;
+  floor.keyword = "fod_floor";
+  floor.keywordCommands = kFodDistanceCommand;
   floor.range = {0.0, 1.0, /*minExcluded=*/true, /*maxExcluded=*/false};
   floor.help =
       "smallest normalised FOD amplitude counted: no direction costs more than F^-P per mm, the voxel's best one "
@@ -66,6 +72,8 @@ std::vector<OptionDeclaration> declarations() {
   power.type = OptionType::Number;
   power.group = OptionGroup::FodFile;
   power.commands = kDistanceCommand;
+  power.keyword = "fod_power";
+  power.keywordCommands = kFodDistanceCommand;
   power.range = {0.0, 8.0, /*minExcluded=*/true, /*maxExcluded=*/false};
   power.help = "exponent P of the normalised amplitude: above 1 sharpens the lobes (default {default}).";
   power.defaults = {defaults.power, defaults.power, defaults.power};

@@ -1,8 +1,8 @@
 // How the tool reads an FOD image and makes its cost (--fod-basis,
 // --fod-frame, --fod-floor, --fod-power), declared once
 // (stvd/front_end/option_declarations.hpp) with the defaults of
-// FodCostOptions (docs/fod.md). `stvd distance` takes them; the Python
-// package has no keywords for them yet.
+// FodCostOptions (docs/fod.md). `stvd distance` takes them, and
+// stvd.fod_distance as fod_basis, fod_frame, fod_floor and fod_power.
 #pragma once
 
 #include <optional>
