@@ -216,6 +216,22 @@ struct Timings {
   double read = 0, metric = 0, propagate = 0, write = 0, total = 0;
 };
 
+/// Checks the run's files before the work (RunFiles): `inputRole` names
+/// the input in messages; paths not given are left out.
+void checkRunFiles(const DistanceOptions& o, const std::string& inputRole) {
+  RunFiles files;
+  files.inputImage(inputRole, o.input);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("seed labels", o.seedLabels);
+  if (isVdbPath(o.output))
+    files.outputFile("distance map", o.output);
+  else
+    files.outputImage("distance map", o.output);
+  files.outputFile("statistics file", o.statsPath);
+  files.outputFile("QC report", o.reportPath);
+  files.check();
+}
+
 /// The map's values: distances, the unreachable value where none.
 std::vector<float> distanceValues(const DistanceOptions& o, const PropagationResult& result) {
   std::vector<float> values(result.distance.size());
@@ -383,16 +399,7 @@ std::string fodWithoutBasisMessage(const std::string& path) {
 /// (docs/fod.md), the map written as for tensors.
 int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_point start) {
   Timings t;
-  RunFiles files;
-  files.inputImage("FOD input", o.input);
-  files.inputImage("mask", o.tensor.maskPath);
-  files.inputImage("seed labels", o.seedLabels);
-  if (isVdbPath(o.output))
-    files.outputFile("distance map", o.output);
-  else
-    files.outputImage("distance map", o.output);
-  files.outputFile("statistics file", o.statsPath);
-  files.check();
+  checkRunFiles(o, "FOD input");
 
   Clock::time_point phase = Clock::now();
   const imaging::FodField fod = imaging::readFodVolume(o.input, o.fod.read);
@@ -534,17 +541,7 @@ int runDistance(int argc, char** argv) {
   Timings t;
 
   // Output problems are found before the work, not after it.
-  RunFiles files;
-  files.inputImage("tensor input", o.input);
-  files.inputImage("mask", o.tensor.maskPath);
-  files.inputImage("seed labels", o.seedLabels);
-  if (isVdbPath(o.output))
-    files.outputFile("distance map", o.output);
-  else
-    files.outputImage("distance map", o.output);
-  files.outputFile("statistics file", o.statsPath);
-  files.outputFile("QC report", o.reportPath);
-  files.check();
+  checkRunFiles(o, "tensor input");
   ReportRequest report;
   report.start(o.reportPath);
 

@@ -26,6 +26,7 @@ from dipy.direction import peak_directions
 from dipy.reconst.csdeconv import ConstrainedSphericalDeconvModel
 from dipy.reconst.shm import real_sh_tournier, sh_to_sf
 from dipy.sims.voxel import multi_tensor
+from fod_phantoms import crossing_fit
 
 BUILD = pathlib.Path(os.environ.get("STVD_BUILD_DIR", pathlib.Path(__file__).resolve().parents[2] / "build"))
 PROBE = pathlib.Path(os.environ.get("STVD_FOD_PROBE", BUILD / "tests" / "itk" / "stvd_fod_probe"))
@@ -258,37 +259,9 @@ def test_hostile_files_are_refused_in_one_line(tmp_path):
 
 
 def crossing_phantom(angle):
-    """A 21 x 21 x 3 phantom: bundle 0 along the voxel axis i through j = 10,
-    bundle 1 at `angle` to it in the i-j plane through the centre, each 5
-    voxels wide; DIPY's multi_tensor signal (one fibre direction per bundle a
-    voxel lies in, two in the crossing, equal fractions) fitted by DIPY's
-    CSD inside the bundles (zero coefficients outside, as a fit's mask
-    leaves them)."""
-    sphere = get_sphere("repulsion100")
-    gtab = gradient_table(np.r_[0.0, np.full(100, 3000.0)], np.r_[np.zeros((1, 3)), sphere.vertices])
-    evals = np.array([0.0017, 0.0002, 0.0002])
-    axes = [np.array([1.0, 0.0, 0.0]), np.array([np.cos(np.radians(angle)), np.sin(np.radians(angle)), 0.0])]
-
-    def in_bundle(b, i, j):
-        x = np.array([i - 10.0, j - 10.0, 0.0])
-        return np.linalg.norm(x - (x @ axes[b]) * axes[b]) <= 2 + 1e-9
-
-    signals = {}
-    for key, angles in (((0,), [(90, 0), (90, 0)]), ((1,), [(90, angle), (90, angle)]),
-                        ((0, 1), [(90, 0), (90, angle)])):
-        signals[key], _ = multi_tensor(gtab, np.array([evals, evals]), S0=100, angles=angles, fractions=[50, 50],
-                                       snr=None)
-    data = np.zeros((21, 21, 3, 101))
-    mask = np.zeros((21, 21, 3), bool)
-    for i in range(21):
-        for j in range(21):
-            key = tuple(b for b in (0, 1) if in_bundle(b, i, j))
-            if key:
-                data[i, j, :] = signals[key]
-                mask[i, j, :] = True
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        fit = ConstrainedSphericalDeconvModel(gtab, (evals, 100.0), sh_order=8).fit(data, mask=mask)
+    """The crossing phantom's CSD coefficients (zero outside the bundles,
+    as a fit's mask leaves them), its axes and in_bundle (fod_phantoms.py)."""
+    fit, axes, in_bundle = crossing_fit(angle)
     return fit.shm_coeff.astype(np.float32), axes, in_bundle
 
 
