@@ -292,7 +292,9 @@ VertexRegions readAnnot(const std::string& path, std::size_t vertexCount) {
       regions.name[e] = name;
     }
   } else {
-    const std::int32_t version = -entries;
+    // A negative count is minus the table's version (in 64 bits: the
+    // negation of INT32_MIN does not fit an int32).
+    const std::int64_t version = -static_cast<std::int64_t>(entries);
     if (version != 2) throw MeshFileError(path + ": colour table version " + std::to_string(version) + " (2 expected)");
     r.int32("the colour table's size");
     string("the colour table's file name");
