@@ -120,7 +120,6 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
     usageError("--method " + *v.text("--method") +
                ": connectivity on FOD images runs Dijkstra; use --method dijkstra, the default for FOD images");
   o.method = Method::Dijkstra;
-  if (!o.reportPath.empty()) usageError("--report does not draw runs on FOD images yet");
   return o;
 }
 

@@ -173,7 +173,6 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
     usageError("--method " + *v.text("--method") +
                ": not measured on FOD metrics yet (docs/fod.md); use --method dijkstra, the default for FOD images");
   o.method = Method::Dijkstra;
-  if (!o.reportPath.empty()) usageError("--report does not draw runs on FOD images yet");
   return o;
 }
 
@@ -379,6 +378,8 @@ void writeDistanceReport(ReportRequest& report, const DistanceOptions& o, const 
 int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_point start) {
   Timings t;
   checkRunFiles(o, "FOD input");
+  ReportRequest report;
+  report.start(o.reportPath);
 
   Clock::time_point phase = Clock::now();
   const FodInput in = readFodInput(o.input, o.fod, o.tensor.maskPath);
@@ -417,10 +418,11 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
   bar.finish();
   t.propagate = secondsSince(phase);
 
+  report.requireReady();  // nothing is written when the report could not be drawn
   phase = Clock::now();
   const std::vector<float> values = distanceValues(o, result);
   const DistanceStatistics stats = summariseDistances(result.distance);
-  commitDistanceOutputs(o, g, result, values, t, start, phase, [&](const Timings& timings) {
+  const RunStatistics run = commitDistanceOutputs(o, g, result, values, t, start, phase, [&](const Timings& timings) {
     RunStatistics run;
     run.command = "distance";
     run.commandLine = commandLineText(argc, argv);
@@ -457,6 +459,7 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
     if (!o.statsPath.empty()) s << " and " << o.statsPath;
     std::cout << s.str() << "." << std::endl;
   }
+  if (report.requested()) writeDistanceReport(report, o, run, g, values);
   return kExitOk;
 }
 

@@ -154,7 +154,6 @@ PathOptions parsePathOptions(int argc, char** argv) {
                  ": paths on FOD images are the propagation's discrete paths, whose F*-length is the reported "
                  "length; they are not traced or refined (docs/fod.md)");
   o.discrete = true;
-  if (!o.reportPath.empty()) usageError("--report does not draw runs on FOD images yet");
   return o;
 }
 

@@ -197,7 +197,6 @@ TEST_F(ToolFodPaths, BadPathInputsAreRefusedInOneLineWithNothingWritten) {
   expectRefused(with({"--fod-basis", "tournier07", "--no-refine"}), 2, "not traced or refined");
   expectRefused(with({"--fod-basis", "tournier07", "--method", "stvd"}), 2, "use --method dijkstra");
   expectRefused(with({"--fod-basis", "tournier07", "--tensor-order", "fsl"}), 2, "applies to tensor images");
-  expectRefused(with({"--fod-basis", "tournier07", "--report", path("refused.html")}), 2, "--report");
   expectRefused(with({"--fod-basis", "tournier08"}), 2, "--fod-basis");
   expectRefused(with({"--fod-floor", "0.2"}), 2, "--fod-floor applies to FOD images");
   expectRefused(with({"--threads", "2"}), 2, "--threads applies to FOD images");

@@ -8,6 +8,7 @@ its polyline's F*-length; STVD, tracing keywords and missing bases are
 refused."""
 
 import csv
+import re
 import subprocess
 
 import nibabel as nib
@@ -124,3 +125,38 @@ def test_bad_calls_are_refused(crossing):
         stvd.fod_paths(path, SEED, TARGETS, fod_basis=BASIS, step=0.5)  # no tracing: no such keyword
     with pytest.raises(ValueError, match="method='dijkstra'"):
         stvd.fod_connectivity(path, np.ones((21, 21, 3)), fod_basis=BASIS, method="lanthier")
+
+
+def test_report_pages_of_fod_runs_state_the_metric_and_draw_the_run(tmp_path, crossing):
+    """`--report` of FOD runs (docs/report.md): the page states the metric
+    (FOD, basis, frame, lmax, floor, power), draws the map, the paths or
+    the regions as for tensors, and links and embeds nothing from outside
+    (data: URIs only; docs/reliability.md, "Security")."""
+    _, path, _ = crossing
+    labels = np.zeros((21, 21, 3), np.int16)
+    labels[0, 10, 1], labels[20, 10, 1], labels[10, 0, 1], labels[10, 20, 1] = 1, 2, 3, 4
+    nib.save(nib.Nifti1Image(labels, AFFINE), tmp_path / "ends.nii.gz")
+    fod = ["--fod-basis", BASIS, "--fod-floor", "0.2", "--fod-power", "2"]
+    tool("distance", path, *fod, "--seed-voxel", "0,10,1", "-o", tmp_path / "d.nii.gz", "--report",
+         tmp_path / "distance.html")
+    tool("path", path, *fod, "--seed-voxel", "0,10,1", "--target-voxel", "20,10,1", "-o", tmp_path / "p.tck",
+         "--report", tmp_path / "path.html")
+    tool("connectivity", path, *fod, "--labels", tmp_path / "ends.nii.gz", "-o", tmp_path / "c.tsv", "--report",
+         tmp_path / "connectivity.html")
+    note = (f"FOD image read in the basis {BASIS}, in the voxel frame (the default for this basis and format), lmax 8; "
+            "metric: the convexified FOD norm F* (floor 0.2, power 2, 668 sampling directions)")
+    for name in ("distance", "path", "connectivity"):
+        text = (tmp_path / f"{name}.html").read_text()
+        assert note in text, name
+        # The statistics table lists the parameters too.
+        assert f"<tr><th>parameters.fod_basis</th><td class=\"mono\">{BASIS}</td></tr>" in text, name
+        assert "<tr><th>parameters.metric</th><td class=\"mono\">fod</td></tr>" in text, name
+        for link in re.findall(r"(?:src|href)=\"([^\"]*)\"", text):
+            assert link.startswith(("data:", "#")), (name, link[:40])
+        assert "http://" not in text and "https://" not in text, name
+    distance_page = (tmp_path / "distance.html").read_text()
+    assert "Slices through voxel (0, 10, 1): distance map over the background" in distance_page
+    assert "Background: none: an FOD run has no tensors" in distance_page
+    path_page = (tmp_path / "path.html").read_text()
+    assert "<table id=\"stvd-paths\">" in path_page and "voxel (20, 10, 1)" in path_page
+    assert "geodesic distance heat map" in (tmp_path / "connectivity.html").read_text()
