@@ -171,7 +171,7 @@ struct PathRunMetric {
   std::function<TracedPath(const VoxelGridDomain&, const PropagationResult&, VertexId)> trace;
   std::function<std::vector<float>()> fa;  ///< FA per voxel, or none
   /// The metric's sections of the statistics and the summary's first
-  /// sentence (FOD runs; after the propagation, which makes their table).
+  /// sentence (FOD runs; asked for once `prepare` has made their table).
   std::function<std::vector<std::string>()> metricParameters, extraMembers;
   std::function<std::string()> inputText;
 };
