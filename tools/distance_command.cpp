@@ -14,6 +14,7 @@
 
 #include "command_line.hpp"
 #include "command_options.hpp"
+#include "fod_input.hpp"
 #include "geodesic_options.hpp"
 #include "memory_check.hpp"
 #include "option_help.hpp"
@@ -164,9 +165,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
     if (v.has("--threads")) usageError("--threads applies to FOD images (--fod-basis)");
     return o;
   }
-  for (const OptionDeclaration& d : imaging::tensorInputOptionDeclarations())
-    if (d.flag != "--mask" && v.has(d.flag))
-      usageError(d.flag + " applies to tensor images, not to an FOD image (--fod-basis)");
+  checkFodRunOptions(v, o.stencil);
   // Dijkstra over the 26-neighbour stencil measures every step by F* along
   // a tabulated direction: a path that exists. STVD's candidates and
   // Lanthier's segments are not yet measured against exact FOD distances.
@@ -174,10 +173,6 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
     usageError("--method " + *v.text("--method") +
                ": not measured on FOD metrics yet (docs/fod.md); use --method dijkstra, the default for FOD images");
   o.method = Method::Dijkstra;
-  if (o.stencil != "6" && o.stencil != "18" && o.stencil != "26")
-    usageError("--stencil " + o.stencil +
-               ": the FOD metric is tabulated along the 26 neighbour directions; use 6, 18 or 26");
-  if (!o.reportPath.empty()) usageError("--report does not draw runs on FOD images yet");
   return o;
 }
 
@@ -377,56 +372,22 @@ void writeDistanceReport(ReportRequest& report, const DistanceOptions& o, const 
   report.write({"--stats", statsPath, "--distance", mapPath}, o.quiet);
 }
 
-/// One line for a file the tensor reader refused that reads as an FOD
-/// image: its basis must be stated. Empty when it is no FOD image either.
-std::string fodWithoutBasisMessage(const std::string& path) {
-  try {
-    imaging::FodReadOptions probe;
-    probe.basis = imaging::shBasisName(imaging::ShBasis::Tournier07);  // any basis: only the layout counts here
-    const imaging::FodField fod = imaging::readFodVolume(path, probe);
-    if (fod.lmax < 4) return "";
-    return path + ": " + std::to_string(fod.coefficientCount()) + " volumes, an FOD image of lmax " +
-           std::to_string(fod.lmax) +
-           "? state its basis with --fod-basis: mrtrix3 for MRtrix's dwi2fod, DIPY's basis name for its fits "
-           "(docs/fod.md)";
-  } catch (const std::exception&) {
-    return "";
-  }
-}
-
 /// `stvd distance FOD --fod-basis NAME`: Dijkstra under the convexified FOD
 /// norm F*, tabulated per voxel along the 26 neighbour directions
 /// (docs/fod.md), the map written as for tensors.
 int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_point start) {
   Timings t;
   checkRunFiles(o, "FOD input");
+  ReportRequest report;
+  report.start(o.reportPath);
 
   Clock::time_point phase = Clock::now();
-  const imaging::FodField fod = imaging::readFodVolume(o.input, o.fod.read);
-  // Six coefficients are also a tensor image's six components, and lmax 0
-  // has no direction: the tool takes lmax 4 and up (CSD's range).
-  if (fod.lmax < 4)
-    throw InputError(o.input + ": " + std::to_string(fod.coefficientCount()) + " volume" +
-                     (fod.lmax ? "s" : "") + " (lmax " + std::to_string(fod.lmax) + "): " +
-                     (fod.lmax == 2 ? "six volumes are a tensor image's; drop --fod-basis to read tensors"
-                                    : "no orientation") +
-                     " (FOD images have lmax 4 to 12)");
-  const GridGeometry& g = fod.geometry;
-  // The seeds' and the mask's readers take the grid as a tensor input's.
-  TensorInput grid;
-  grid.read.volume.geometry = g;
-  if (!o.tensor.maskPath.empty())
-    imaging::addMask(grid, imaging::readScalarImageOnGrid(o.tensor.maskPath, g, "the mask is", o.input),
-                     o.tensor.maskPath, o.input);
-  noteInputWarnings(grid.warnings);
+  const FodInput in = readFodInput(o.input, o.fod, o.tensor.maskPath);
+  const GridGeometry& g = in.fod.geometry;
+  const TensorInput& grid = in.grid;
+  const std::vector<std::uint8_t>& inDomain = in.inDomain;
+  const imaging::MetricVoxelCounts& counts = in.counts;
   const std::uint64_t voxels = g.voxelCount();
-  const std::vector<std::uint8_t> inDomain = grid.mask.empty() ? std::vector<std::uint8_t>(voxels, 1) : grid.mask;
-  imaging::MetricVoxelCounts counts;
-  counts.total = voxels;
-  for (const std::uint8_t inside : inDomain) counts.domain += inside != 0;
-  counts.masked = voxels - counts.domain;
-  if (counts.domain == 0)
-    throw NothingToCompute(o.input + ": the domain is empty: no voxel inside the mask " + o.tensor.maskPath);
   std::size_t labelSeedsLeftOut = 0;
   const std::vector<Seed> seeds = resolveSeeds(o.input, o, grid, o.tensor.metric, inDomain, labelSeedsLeftOut);
   t.read = secondsSince(phase);
@@ -439,12 +400,8 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
       !o.memoryCheck);
 
   phase = Clock::now();
-  const std::clock_t cpuStart = std::clock();  // the process's CPU time, all threads
-  const imaging::FodCostSampler sampler(fod, imaging::defaultFodSamplingDirections(g), o.fod.cost);
-  const imaging::FodStencilMetric metric = imaging::fodStencilMetric(sampler, &inDomain, o.threads);
-  const double metricCpu = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
-  const unsigned threads =
-      threadCountFor(o.threads, (voxels + imaging::kFodMetricBlockVoxels - 1) / imaging::kFodMetricBlockVoxels);
+  const FodTable table = makeFodTable(in, o.fod.cost, o.threads);
+  const imaging::FodStencilMetric& metric = table.metric;
   t.metric = secondsSince(phase);
 
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), inDomain, o.connectivity);
@@ -461,11 +418,11 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
   bar.finish();
   t.propagate = secondsSince(phase);
 
+  report.requireReady();  // nothing is written when the report could not be drawn
   phase = Clock::now();
   const std::vector<float> values = distanceValues(o, result);
   const DistanceStatistics stats = summariseDistances(result.distance);
-  const std::string basis = imaging::shBasisName(fod.basis), frame = imaging::fodFrameName(fod.frame);
-  commitDistanceOutputs(o, g, result, values, t, start, phase, [&](const Timings& timings) {
+  const RunStatistics run = commitDistanceOutputs(o, g, result, values, t, start, phase, [&](const Timings& timings) {
     RunStatistics run;
     run.command = "distance";
     run.commandLine = commandLineText(argc, argv);
@@ -483,36 +440,15 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
     run.labelSeedsLeftOut = labelSeedsLeftOut;
     run.result = &result;
     run.memory = &memory;
-    run.metricParameters = {
-        "\"metric\": \"fod\"",
-        "\"fod_basis\": " + jsonString(basis),
-        "\"fod_basis_given\": " + jsonString(o.fod.read.basis),
-        "\"fod_frame\": " + jsonString(frame),
-        "\"fod_frame_stated\": " + std::string(o.fod.read.frame ? "true" : "false"),
-        "\"fod_lmax\": " + std::to_string(fod.lmax),
-        "\"fod_floor\": " + jsonNumber(o.fod.cost.floor),
-        "\"fod_power\": " + jsonNumber(o.fod.cost.power),
-        "\"fod_directions\": " + std::to_string(sampler.directions().size()),
-        "\"fod_norm\": \"convexified F* along the 26 neighbour directions\""};
-    run.extraMembers = {"\"fod_precomputation\": {\"seconds\": " + jsonNumber(t.metric) +
-                        ", \"cpu_seconds\": " + jsonNumber(metricCpu) + ", \"threads\": " +
-                        std::to_string(threads) + ", \"voxels\": " + std::to_string(counts.domain) + "}"};
+    run.metricParameters = fodMetricParameters(in, o.fod, table);
+    run.extraMembers = {fodPrecomputationMember(in, table)};
     run.seconds = {{"read", timings.read}, {"metric", timings.metric}, {"propagate", timings.propagate},
                    {"write", timings.write}, {"total", timings.total}};
     return run;
   });
   if (!o.quiet) {
     std::ostringstream s;
-    s << "Read " << o.input << " (FOD, lmax " << fod.lmax << ", basis " << basis << " in the " << frame
-      << " frame): " << g.size[0] << " x " << g.size[1] << " x " << g.size[2] << " voxels of "
-      << fixed(g.spacing[0], 2) << " x " << fixed(g.spacing[1], 2) << " x " << fixed(g.spacing[2], 2)
-      << " mm, orientation " << orientationCode(g) << ". Cost: the convexified FOD norm F* (floor "
-      << jsonNumber(o.fod.cost.floor) << ", power " << jsonNumber(o.fod.cost.power) << ", "
-      << sampler.directions().size() << " directions) along the 26 neighbour directions of "
-      << withThousands(counts.domain) << " domain voxels";
-    if (!grid.maskDescription.empty()) s << " (mask: " << grid.maskDescription << ")";
-    s << ", tabulated in " << fixed(t.metric, 2) << " s (" << fixed(metricCpu, 2) << " s CPU on " << threads
-      << (threads == 1 ? " thread" : " threads") << "). " << (seeds.size() == 1 ? "Seed" : "Seeds") << ": "
+    s << fodInputText(o.input, in, o.fod, table) << ". " << (seeds.size() == 1 ? "Seed" : "Seeds") << ": "
       << withThousands(seeds.size()) << " voxel" << (seeds.size() == 1 ? "" : "s") << ". Method: Dijkstra on the "
       << o.stencil << "-neighbour stencil";
     if (std::isfinite(o.maxDistance)) s << ", stopping at " << fixed(o.maxDistance, 1) << " mm";
@@ -523,6 +459,7 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
     if (!o.statsPath.empty()) s << " and " << o.statsPath;
     std::cout << s.str() << "." << std::endl;
   }
+  if (report.requested()) writeDistanceReport(report, o, run, g, values);
   return kExitOk;
 }
 

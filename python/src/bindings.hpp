@@ -24,7 +24,7 @@ void bindFiles(pybind11::module_& m);
 /// GIfTI and FreeSurfer surfaces, per-vertex values and regions
 /// (surface_file_bindings.cpp).
 void bindSurfaceFiles(pybind11::module_& m);
-/// stvd.fod_distance's FOD images (fod_bindings.cpp).
+/// stvd.fod_distance, fod_paths and fod_connectivity (fod_bindings.cpp).
 void bindFod(pybind11::module_& m);
 
 }  // namespace stvd::python

@@ -1,9 +1,11 @@
-// FOD images from Python (stvd.fod_distance): the coefficients of a file, an
-// array or a NiBabel image on their grid, the convexified FOD norm F*
-// tabulated per voxel along the 26 neighbour directions, and Dijkstra from
-// seeds, composed in the order `stvd distance FOD --fod-basis NAME` composes
-// them (tools/distance_command.cpp, runFodDistance; docs/fod.md), so that
-// the map is the tool's. The GIL is released while the library works.
+// FOD images from Python (stvd.fod_distance, stvd.fod_paths,
+// stvd.fod_connectivity): the coefficients of a file, an array or a NiBabel
+// image on their grid, the convexified FOD norm F* tabulated per voxel along
+// the 26 neighbour directions, and Dijkstra from seeds or regions, composed
+// in the order `stvd distance|path|connectivity FOD --fod-basis NAME`
+// composes them (tools/*_command.cpp, tools/fod_input.cpp; docs/fod.md), so
+// that the maps, paths and tables are the tool's. The GIL is released while
+// the library works.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -18,6 +20,7 @@
 #include <vector>
 
 #include "array_access.hpp"
+#include "path_records.hpp"
 #include "bindings.hpp"
 #include "progress_relay.hpp"
 #include "propagation_keywords.hpp"
@@ -31,6 +34,8 @@
 #include "stvd/imaging/fod_field.hpp"
 #include "stvd/imaging/fod_input_options.hpp"
 #include "stvd/imaging/fod_metric.hpp"
+#include "stvd/imaging/fod_paths.hpp"
+#include "stvd/imaging/scalar_image.hpp"
 #include "stvd/imaging/seed_options.hpp"
 #include "stvd/imaging/seed_voxels.hpp"
 #include "stvd/imaging/streamline_io.hpp"
@@ -38,8 +43,10 @@
 #include "stvd/imaging/tensor_input.hpp"
 #include "stvd/imaging/tensor_metric.hpp"
 #include "stvd/itk/fod_volume_io.hpp"
+#include "stvd/itk/image_grid.hpp"
 #include "stvd/system/interrupter.hpp"
 #include "stvd/system/parallel_tasks.hpp"
+#include "stvd/voxel_grid/label_regions.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
 #include "stvd/voxel_grid/voxel_grid_propagation.hpp"
@@ -99,6 +106,82 @@ imaging::FodField fodFieldOfArray(const py::handle& coefficients, const py::hand
                                       frame, imaging::lpsToFodFrame(frame, g));
 }
 
+/// The FOD input of a call: the field (a file when `path` is given, the
+/// array otherwise; lmax 4 to 12, as the tool), its grid with the mask as
+/// the seeds' and labels' readers take a tensor input's, the domain.
+struct FodCallInput {
+  std::string name;
+  imaging::FodField field;
+  imaging::TensorInput grid;
+  std::vector<std::uint8_t> inDomain;
+  std::uint64_t domainVoxels = 0;
+};
+
+FodCallInput fodCallInput(const py::object& coefficients, const py::object& affine,
+                          const std::optional<std::array<double, 3>>& zooms, const std::string& givenName,
+                          const std::optional<std::string>& path, const imaging::FodInputOptions& fod,
+                          const py::object& mask) {
+  FodCallInput in;
+  in.name = path ? *path : givenName;
+  const std::string& name = in.name;
+  imaging::FodField& field = in.field;
+  if (path) {
+    py::gil_scoped_release release;
+    field = imaging::readFodVolume(*path, fod.read);
+  } else {
+    field = fodFieldOfArray(coefficients, affine, zooms, name, fod.read);
+  }
+  // Six coefficients are also a tensor's six components, and lmax 0 has no
+  // direction: lmax 4 and up (CSD's range), as the tool.
+  if (field.lmax < 4)
+    throw py::value_error(name + ": " + std::to_string(field.coefficientCount()) + " value" +
+                          (field.lmax ? "s" : "") + " per voxel (lmax " + std::to_string(field.lmax) + "): " +
+                          (field.lmax == 2 ? "six values are a tensor's components; tensors go to stvd.distance"
+                                           : "no orientation") +
+                          " (FOD images have lmax 4 to 12: 15, 28, 45, 66 or 91 coefficients)");
+  const GridGeometry& g = field.geometry;
+
+  // The seeds' and the mask's readers take the grid as a tensor input's.
+  imaging::TensorInput& grid = in.grid;
+  grid.read.volume.geometry = g;
+  if (!mask.is_none())
+    imaging::addMask(grid, scalarImageOf(mask, g, "the mask is", name), scalarImageName(mask), name);
+  const std::uint64_t voxels = g.voxelCount();
+  in.inDomain = grid.mask.empty() ? std::vector<std::uint8_t>(voxels, 1) : grid.mask;
+  for (const std::uint8_t inside : in.inDomain) in.domainVoxels += inside != 0;
+  if (in.domainVoxels == 0) throw NothingToCompute(name + ": the domain is empty: no voxel inside the mask");
+  return in;
+}
+
+/// F* tabulated along the 26 neighbour directions of the input's domain
+/// voxels (without the GIL), and what it cost.
+struct FodCallTable {
+  imaging::FodStencilMetric metric;
+  std::size_t directions = 0;
+  double seconds = 0.0;
+  unsigned threads = 1;
+};
+
+FodCallTable fodCallTable(const FodCallInput& in, const imaging::FodCostOptions& cost, unsigned threads) {
+  FodCallTable table;
+  const GridGeometry& g = in.field.geometry;
+  const auto start = std::chrono::steady_clock::now();
+  const imaging::FodCostSampler sampler(in.field, imaging::defaultFodSamplingDirections(g), cost);
+  table.directions = sampler.directions().size();
+  table.metric = imaging::fodStencilMetric(sampler, &in.inDomain, threads);
+  table.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  table.threads =
+      threadCountFor(threads, (g.voxelCount() + imaging::kFodMetricBlockVoxels - 1) / imaging::kFodMetricBlockVoxels);
+  return table;
+}
+
+/// F* is tabulated along the 26 neighbour directions: stencils 6, 18, 26.
+void checkFodStencil(const PropagationChoice& choice) {
+  if (choice.stencil != "6" && choice.stencil != "18" && choice.stencil != "26")
+    throw OptionError("stencil='" + choice.stencil +
+                      "': the FOD metric is tabulated along the 26 neighbour directions; use 6, 18 or 26");
+}
+
 /// stvd.fod_distance's work: the field (a file when `path` is given, the
 /// array otherwise), the domain, the seeds, the table of F*, Dijkstra.
 py::dict fodDistance(const py::object& coefficients, const py::object& affine,
@@ -121,48 +204,25 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
                       "': not measured on FOD metrics yet (docs/fod.md); use method='dijkstra', the default for FOD "
                       "images");
   choice.method = Method::Dijkstra;
-  if (choice.stencil != "6" && choice.stencil != "18" && choice.stencil != "26")
-    throw OptionError("stencil='" + choice.stencil +
-                      "': the FOD metric is tabulated along the 26 neighbour directions; use 6, 18 or 26");
+  checkFodStencil(choice);
   const double limit = maxDistanceOf(maxDistance);
   checkUnreachableValue(unreachable, py::str(py::float_(unreachable)), OptionNaming::Keywords);
   if (seedVoxels.empty() && seedPoints.empty() && seedLabels.is_none())
     throw OptionError(imaging::noSeedMessage(OptionNaming::Keywords));
 
-  const std::string name = path ? *path : givenName;
-  imaging::FodField field;
-  if (path) {
-    py::gil_scoped_release release;
-    field = imaging::readFodVolume(*path, fod.read);
-  } else {
-    field = fodFieldOfArray(coefficients, affine, zooms, name, fod.read);
-  }
-  // Six coefficients are also a tensor's six components, and lmax 0 has no
-  // direction: lmax 4 and up (CSD's range), as the tool.
-  if (field.lmax < 4)
-    throw py::value_error(name + ": " + std::to_string(field.coefficientCount()) + " value" +
-                          (field.lmax ? "s" : "") + " per voxel (lmax " + std::to_string(field.lmax) + "): " +
-                          (field.lmax == 2 ? "six values are a tensor's components; tensors go to stvd.distance"
-                                           : "no orientation") +
-                          " (FOD images have lmax 4 to 12: 15, 28, 45, 66 or 91 coefficients)");
+  FodCallInput in = fodCallInput(coefficients, affine, zooms, givenName, path, fod, mask);
+  const std::string& name = in.name;
+  const imaging::FodField& field = in.field;
   const GridGeometry& g = field.geometry;
-
-  // The seeds' and the mask's readers take the grid as a tensor input's.
-  imaging::TensorInput grid;
-  grid.read.volume.geometry = g;
-  if (!mask.is_none())
-    imaging::addMask(grid, scalarImageOf(mask, g, "the mask is", name), scalarImageName(mask), name);
+  const imaging::TensorInput& grid = in.grid;
+  const std::vector<std::uint8_t>& inDomain = in.inDomain;
   std::optional<imaging::ScalarImage> labels;
   std::string labelsName;
   if (!seedLabels.is_none()) {
     labels = scalarImageOf(seedLabels, g, "the seed labels are", name);
     labelsName = scalarImageName(seedLabels);
   }
-  const std::uint64_t voxels = g.voxelCount();
-  const std::vector<std::uint8_t> inDomain = grid.mask.empty() ? std::vector<std::uint8_t>(voxels, 1) : grid.mask;
-  std::uint64_t domainVoxels = 0;
-  for (const std::uint8_t inside : inDomain) domainVoxels += inside != 0;
-  if (domainVoxels == 0) throw NothingToCompute(name + ": the domain is empty: no voxel inside the mask");
+  const std::uint64_t voxels = g.voxelCount(), domainVoxels = in.domainVoxels;
   checkMemory(name,
               gridRunMemoryEstimate(choice, voxels, domainVoxels) + sizeof(float) * voxels +
                   sizeof(imaging::FodStencilNorm::VertexParams) * voxels,
@@ -184,13 +244,11 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
       const auto labelled = imaging::labelSeedVoxels(labelsName, *labels, name, g, inDomain, labelSeedsLeftOut);
       seeds.insert(seeds.end(), labelled.begin(), labelled.end());
     }
-    const auto start = std::chrono::steady_clock::now();
-    const imaging::FodCostSampler sampler(field, imaging::defaultFodSamplingDirections(g), fod.cost);
-    directions = sampler.directions().size();
-    const imaging::FodStencilMetric metric = imaging::fodStencilMetric(sampler, &inDomain, threads);
-    tableSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    tableThreads =
-        threadCountFor(threads, (voxels + imaging::kFodMetricBlockVoxels - 1) / imaging::kFodMetricBlockVoxels);
+    const FodCallTable table = fodCallTable(in, fod.cost, threads);
+    const imaging::FodStencilMetric& metric = table.metric;
+    directions = table.directions;
+    tableSeconds = table.seconds;
+    tableThreads = table.threads;
     const VoxelGridDomain domain(g, Stencil::byName(choice.stencil), inDomain, choice.connectivity);
     PropagationOptions options = propagationOptions(choice);
     options.maxDistance = limit;
@@ -245,9 +303,216 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
   return out;
 }
 
+/// The grid of FOD paths, which writes them as `stvd path` does
+/// (stvd.Paths.save).
+struct FodPathGrid {
+  GridGeometry geometry;
+};
+
+/// Paths and connectivity on FOD images run Dijkstra: its predecessor
+/// chains are the paths, whose F*-length is the length reported
+/// (docs/fod.md, "Paths and connectivity").
+PropagationChoice fodPathChoice(const std::optional<std::string>& method, const std::optional<std::string>& stencil,
+                                const std::optional<std::string>& domainConnectivity, const char* what) {
+  PropagationChoice choice = choiceOf(method, std::nullopt, std::nullopt, stencil, std::nullopt, domainConnectivity);
+  if (choice.lanthier || (method && choice.method != Method::Dijkstra))
+    throw OptionError("method='" + *method + "': " + what +
+                      " on FOD images run Dijkstra; use method='dijkstra', the default for FOD images");
+  choice.method = Method::Dijkstra;
+  checkFodStencil(choice);
+  return choice;
+}
+
+/// The FOD metric's parameters, as the tool's statistics state them.
+void describeFod(py::dict& out, const FodCallInput& in, const imaging::FodInputOptions& fod,
+                 const FodCallTable& table) {
+  out["fod_basis"] = imaging::shBasisName(in.field.basis);
+  out["fod_frame"] = imaging::fodFrameName(in.field.frame);
+  out["fod_lmax"] = in.field.lmax;
+  out["fod_floor"] = fod.cost.floor;
+  out["fod_power"] = fod.cost.power;
+  out["fod_directions"] = table.directions;
+  out["table_seconds"] = table.seconds;
+  out["table_threads"] = table.threads;
+  out["domain_voxels"] = in.domainVoxels;
+}
+
+/// stvd.fod_paths's work, as `stvd path FOD --fod-basis NAME` composes it
+/// (tools/path_command.cpp): the field, the domain, the seeds and targets,
+/// the table of F*, Dijkstra, one discrete path per target.
+py::dict fodPaths(const py::object& coefficients, const py::object& affine,
+                  const std::optional<std::array<double, 3>>& zooms, const std::string& givenName,
+                  const std::optional<std::string>& path, const std::optional<std::string>& basis,
+                  const std::optional<std::string>& frame, const std::optional<double>& floor,
+                  const std::optional<double>& power, const py::object& mask,
+                  const std::vector<std::array<int, 3>>& seedVoxels, const std::vector<std::array<double, 3>>& seedPoints,
+                  bool lps, const py::object& seedLabels, const std::vector<std::array<int, 3>>& targetVoxels,
+                  const std::vector<std::array<double, 3>>& targetPoints, const py::object& targetLabels,
+                  const std::optional<std::string>& method, const std::optional<std::string>& stencil,
+                  const std::optional<std::string>& domainConnectivity, unsigned threads, const py::object& progress,
+                  bool memoryCheck) {
+  const imaging::FodInputOptions fod = fodOptionsOf(basis, frame, floor, power);
+  const PropagationChoice choice = fodPathChoice(method, stencil, domainConnectivity, "paths");
+  if (seedVoxels.empty() && seedPoints.empty() && seedLabels.is_none())
+    throw OptionError(imaging::noSeedMessage(OptionNaming::Keywords));
+  if (targetVoxels.empty() && targetPoints.empty() && targetLabels.is_none())
+    throw OptionError(imaging::noTargetMessage(OptionNaming::Keywords));
+  const FodCallInput in = fodCallInput(coefficients, affine, zooms, givenName, path, fod, mask);
+  const std::string& name = in.name;
+  const GridGeometry& g = in.field.geometry;
+  std::optional<imaging::ScalarImage> seedImage;
+  std::optional<imaging::LabelImage> targetImage;
+  if (!seedLabels.is_none()) seedImage = scalarImageOf(seedLabels, g, "the seed labels are", name);
+  if (!targetLabels.is_none()) targetImage = labelImageOf(targetLabels, g, "the target labels are", name);
+  const std::string seedLabelsName = seedLabels.is_none() ? "" : scalarImageName(seedLabels);
+  const std::string targetLabelsName = targetLabels.is_none() ? "" : scalarImageName(targetLabels);
+  const std::uint64_t voxels = g.voxelCount();
+  checkMemory(name,
+              propagationMemoryEstimate(voxels, in.domainVoxels) + 2 * sizeof(float) * voxels +
+                  sizeof(imaging::FodStencilNorm::VertexParams) * voxels,
+              methodText(choice, memoryDepthOf<VoxelGridDomain>(choice)) + " on " +
+                  text::withThousands(in.domainVoxels) + " domain voxels of an FOD image",
+              memoryCheck);
+
+  ProgressRelay relay(progress);
+  std::optional<FodCallTable> table;
+  std::optional<VoxelGridDomain> domain;
+  PropagationResult result;
+  std::vector<imaging::PathTarget> targets;
+  std::vector<TracedPath> paths;
+  {
+    py::gil_scoped_release release;
+    std::vector<imaging::SeedVoxel> seeds =
+        imaging::seedVoxelsAt(name, seedVoxels, seedPoints, lps, in.grid, imaging::MetricOptions{}, in.inDomain);
+    std::size_t leftOut = 0;
+    if (seedImage) {
+      const auto labelled = imaging::labelSeedVoxels(seedLabelsName, *seedImage, name, g, in.inDomain, leftOut);
+      seeds.insert(seeds.end(), labelled.begin(), labelled.end());
+    }
+    const std::vector<imaging::SeedVoxel> targetSeeds = imaging::seedVoxelsAt(
+        name, targetVoxels, targetPoints, lps, in.grid, imaging::MetricOptions{}, in.inDomain, "target");
+    table.emplace(fodCallTable(in, fod.cost, threads));
+    domain.emplace(g, Stencil::byName(choice.stencil), in.inDomain, choice.connectivity);
+    PropagationOptions options = propagationOptions(choice);
+    options.progress = relay.hook();
+    result = propagate(*domain, table->metric, imaging::sourceVertices(*domain, seeds), options);
+    if (result.termination != Termination::Cancelled) {
+      for (const imaging::SeedVoxel& t : targetSeeds)
+        targets.push_back({domain->vertexAt(t.index.i, t.index.j, t.index.k), t.givenAs});
+      if (targetImage) {
+        const auto fromLabels =
+            imaging::labelTargets(targetLabelsName, *targetImage, name, g, in.inDomain, result.distance);
+        targets.insert(targets.end(), fromLabels.begin(), fromLabels.end());
+      }
+      imaging::requireReachable(name, targets, result.distance);
+      for (const imaging::PathTarget& t : targets)
+        paths.push_back(imaging::fodGeodesicPath(*domain, table->metric, result, t.vertex));
+    }
+  }
+  relay.rethrowIfFailed();  // Ctrl-C or the callback's exception first
+  if (result.termination == Termination::Cancelled)
+    throw Cancelled("fod_paths was cancelled by the progress function: no paths");
+
+  py::list records;
+  for (std::size_t n = 0; n < targets.size(); ++n) records.append(pathRecord(*domain, targets[n], paths[n], nullptr));
+  py::dict out;
+  out["paths"] = records;
+  out["grid"] = FodPathGrid{g};
+  const std::array<double, 16> ras = imaging::voxelToRas(g);
+  py::array_t<double> affineOut({4, 4});
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) affineOut.mutable_at(r, c) = ras[4 * r + c];
+  out["affine"] = affineOut;
+  out["shape"] = py::make_tuple(g.size[0], g.size[1], g.size[2]);
+  out["zooms"] = py::make_tuple(g.spacing[0], g.spacing[1], g.spacing[2]);
+  out["axis_codes"] = imaging::rasAxisCodes(g);
+  out["method"] = methodName(choice);
+  out["stencil"] = choice.stencil;
+  describeFod(out, in, fod, *table);
+  return out;
+}
+
+/// stvd.fod_connectivity's work, as `stvd connectivity FOD --fod-basis
+/// NAME` composes it (tools/connectivity_command.cpp).
+py::dict fodConnectivity(const py::object& coefficients, const py::object& affine,
+                         const std::optional<std::array<double, 3>>& zooms, const std::string& givenName,
+                         const std::optional<std::string>& path, const std::optional<std::string>& basis,
+                         const std::optional<std::string>& frame, const std::optional<double>& floor,
+                         const std::optional<double>& power, const py::object& mask, const py::object& labelsSpec,
+                         const std::optional<std::string>& method, const std::optional<std::string>& stencil,
+                         const std::optional<std::string>& domainConnectivity, unsigned threads,
+                         const py::object& progress, bool memoryCheck) {
+  const imaging::FodInputOptions fod = fodOptionsOf(basis, frame, floor, power);
+  const PropagationChoice choice = fodPathChoice(method, stencil, domainConnectivity, "connectivity and its paths");
+  const FodCallInput in = fodCallInput(coefficients, affine, zooms, givenName, path, fod, mask);
+  const GridGeometry& g = in.field.geometry;
+  const imaging::LabelImage labels = labelImageOf(labelsSpec, g, "the labels are", in.name);
+  const std::string labelsName = scalarImageName(labelsSpec);
+  ProgressRelay relay(progress);
+  std::vector<LabelRegion> regions;
+  std::size_t leftOut = 0;
+  RegionConnectivity connectivity;
+  std::optional<FodCallTable> table;
+  bool cancelled = false;
+  {
+    py::gil_scoped_release release;
+    imaging::requireSameGrid(labels.geometry, g, labelsName, "the labels are", in.name);
+    regions = regionsInDomain(labelRegions(labels.labels, in.inDomain), labelsName, in.name, leftOut);
+    const unsigned threadCount = threadCountFor(threads, regions.size());
+    checkMemory(in.name,
+                threadCount * propagationMemoryEstimate(g.voxelCount(), in.domainVoxels) +
+                    sizeof(imaging::FodStencilNorm::VertexParams) * g.voxelCount(),
+                std::to_string(threadCount) + (threadCount == 1 ? " propagation" : " propagations at once") +
+                    " on " + text::withThousands(in.domainVoxels) + " domain voxels of an FOD image",
+                memoryCheck);
+    table.emplace(fodCallTable(in, fod.cost, threads));
+    std::vector<std::vector<VertexId>> voxels;
+    for (const LabelRegion& r : regions) voxels.push_back(r.voxels);
+    const VoxelGridDomain domain(g, Stencil::byName(choice.stencil), in.inDomain, choice.connectivity);
+    PropagationOptions options = propagationOptions(choice);
+    options.progress = relay.hook();
+    options.interrupter = relay.interrupter();  // Ctrl-C between the propagations
+    try {
+      connectivity = imaging::fodRegionConnectivity(domain, table->metric, voxels, options, threads);
+    } catch (const Cancelled&) {
+      cancelled = true;
+    }
+  }
+  relay.rethrowIfFailed();  // Ctrl-C or the callback's exception first
+  if (cancelled)  // the callback returned False: no partial table
+    throw Cancelled("region connectivity was cancelled by the progress function: no table");
+  py::dict out = connectivityDict(regions, connectivity, leftOut);
+  describeFod(out, in, fod, *table);
+  return out;
+}
+
 }  // namespace
 
 void bindFod(py::module_& m) {
+  py::class_<FodPathGrid>(m, "FodPathGrid", "The grid of FOD paths (stvd.fod_paths), which writes them.")
+      .def(
+          "write_paths",
+          [](const FodPathGrid& grid, files::OutputTransaction& outputs, const std::string& path, const py::list& lines,
+             const std::vector<double>& geodesic, const std::vector<double>& euclidean,
+             const std::optional<std::vector<double>>& meanFa, const py::object& fa) {
+            writePathsOnGrid(grid.geometry, outputs, path, lines, geodesic, euclidean, meanFa, fa);
+          },
+          py::arg("outputs"), py::arg("path"), py::arg("lines"), py::arg("geodesic_mm"), py::arg("euclidean_mm"),
+          py::arg("mean_fa") = py::none(), py::arg("fa") = py::none(),
+          "Stages the paths (RAS millimetres) in `outputs` as `stvd path` writes them.");
+  m.def("fod_paths", &fodPaths, py::arg("coefficients"), py::arg("affine"), py::arg("zooms"), py::arg("name"),
+        py::arg("path"), py::arg("fod_basis"), py::arg("fod_frame"), py::arg("fod_floor"), py::arg("fod_power"),
+        py::arg("mask"), py::arg("seeds"), py::arg("seed_points"), py::arg("lps"), py::arg("seed_labels"),
+        py::arg("targets"), py::arg("target_points"), py::arg("target_labels"), py::arg("method"),
+        py::arg("stencil"), py::arg("domain_connectivity"), py::arg("threads"), py::arg("progress"),
+        py::arg("memory_check"),
+        "Paths under the convexified FOD norm, as `stvd path FOD --fod-basis NAME` (stvd.fod_paths).");
+  m.def("fod_connectivity", &fodConnectivity, py::arg("coefficients"), py::arg("affine"), py::arg("zooms"),
+        py::arg("name"), py::arg("path"), py::arg("fod_basis"), py::arg("fod_frame"), py::arg("fod_floor"),
+        py::arg("fod_power"), py::arg("mask"), py::arg("labels"), py::arg("method"), py::arg("stencil"),
+        py::arg("domain_connectivity"), py::arg("threads"), py::arg("progress"), py::arg("memory_check"),
+        "Region connectivity under the convexified FOD norm, as `stvd connectivity FOD --fod-basis NAME` "
+        "(stvd.fod_connectivity).");
   m.def("fod_distance", &fodDistance, py::arg("coefficients"), py::arg("affine"), py::arg("zooms"),
         py::arg("name"), py::arg("path"), py::arg("fod_basis"), py::arg("fod_frame"), py::arg("fod_floor"),
         py::arg("fod_power"), py::arg("mask"), py::arg("seeds"), py::arg("seed_points"), py::arg("lps"),

@@ -16,7 +16,7 @@ import os
 import numpy as np
 
 from . import _core
-from ._fod import fod_distance_run
+from ._fod import FodPathsSource, fod_connectivity_run, fod_distance_run, fod_paths_run
 from ._inputs import index_list, is_image, is_path, point_list, scalar_image_spec, tensor_field, voxel_list
 from ._outputs import FileConflictError, OutputError, OutputFiles, input_file_of
 from ._paths import Paths, tractogram
@@ -26,7 +26,7 @@ from ._regions import long_table, read_label_names, region_names, square_table
 __version__ = _core.__version__
 NO_VERTEX = _core.NO_VERTEX
 
-__all__ = ["defaults", "distance", "fod_distance", "propagate", "Propagation", "trace_paths", "Paths",
+__all__ = ["defaults", "distance", "fod_distance", "fod_paths", "fod_connectivity", "propagate", "Propagation", "trace_paths", "Paths",
            "tractogram", "connectivity", "Connectivity", "read_label_names", "check_tensor_frame",
            "tet_mesh_distance", "surface_distance", "NO_VERTEX", "OutputFiles", "FileConflictError", "OutputError",
            "read_surface", "read_surface_values", "read_surface_regions", "region_vertices", "write_surface_values",
@@ -346,6 +346,56 @@ def fod_distance(fod, seeds=None, *, fod_basis=None, affine=None, seed_points=No
                            threads, progress, memory_check)
     template = _image_template(fod, _GridOf(run["affine"]), affine)
     return template(run["distance_map"]) if template else run["distance_map"]
+
+
+def fod_paths(fod, seeds=None, targets=None, *, fod_basis=None, affine=None, seed_points=None, seed_labels=None,
+              target_points=None, target_labels=None, lps=False, mask=None, fod_frame=None, fod_floor=None,
+              fod_power=None, method=None, stencil=None, domain_connectivity=None, threads=None, progress=None,
+              memory_check=True):
+    """Geodesic paths from targets back to the seeds under the metric of an
+    FOD image, as ``stvd path FOD --fod-basis NAME`` computes them: Dijkstra
+    under the convexified FOD norm F*, and for each target the propagation's
+    discrete path (voxel centres), whose F*-length is its ``geodesic_mm``
+    (docs/fod.md, "Paths and connectivity"). No gradient descent or
+    refinement: they would report a polyline whose F*-length is not the
+    length reported.
+
+    fod, fod_basis, affine, fod_frame, fod_floor, fod_power, seeds,
+        seed_points, seed_labels, lps, mask, stencil, domain_connectivity,
+        threads, progress, memory_check: as for ``stvd.fod_distance``.
+    targets, target_points, target_labels: as for ``stvd.trace_paths``
+        (voxel indices, RAS millimetres, one path per label).
+    method: ``'dijkstra'`` only (the default here).
+
+    Returns ``stvd.Paths`` (``metric_length_mm`` the polyline's F*-length,
+    ``mean_fa`` NaN); ``save`` writes the tool's file, byte for byte.
+    """
+    run = fod_paths_run(fod, seeds, targets, seed_points, seed_labels, target_points, target_labels, lps, affine,
+                        fod_basis, fod_frame, fod_floor, fod_power, mask, method, stencil, domain_connectivity,
+                        threads, progress, memory_check)
+    inputs = [("FOD input", input_file_of(fod)), ("mask", input_file_of(mask)),
+              ("seed labels", input_file_of(seed_labels)), ("target labels", input_file_of(target_labels))]
+    return Paths(run["paths"], run["affine"], run["shape"], run["zooms"], run["axis_codes"],
+                 FodPathsSource(run["grid"]), inputs)
+
+
+def fod_connectivity(fod, labels, *, fod_basis=None, affine=None, label_names=None, mask=None, fod_frame=None,
+                     fod_floor=None, fod_power=None, method=None, stencil=None, domain_connectivity=None,
+                     threads=None, progress=None, memory_check=True):
+    """Region-to-region connectivity under the metric of an FOD image, as
+    ``stvd connectivity FOD --fod-basis NAME`` computes it: one Dijkstra
+    propagation under F* from each region of ``labels`` (a path, image or
+    array on the FOD's grid), the path of each pair the discrete one
+    (docs/fod.md, "Paths and connectivity"). ``threads``: the table of F*
+    and the regions at once (None: one per core; the result does not
+    depend on it). The other keywords as for ``stvd.fod_distance`` and
+    ``stvd.connectivity``. Returns ``stvd.Connectivity``, with the metric's
+    figures in ``fod_basis``, ``fod_frame``, ``fod_lmax``, ``fod_floor``,
+    ``fod_power``."""
+    names = read_label_names(label_names)
+    values = fod_connectivity_run(fod, labels, affine, fod_basis, fod_frame, fod_floor, fod_power, mask, method,
+                                  stencil, domain_connectivity, threads, progress, memory_check)
+    return Connectivity(values, names)
 
 
 def trace_paths(result, targets=None, *, target_points=None, target_labels=None, lps=False, step=None, smooth=None,

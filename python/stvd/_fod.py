@@ -88,3 +88,54 @@ def fod_distance_run(fod, seeds, seed_points, seed_labels, lps, affine, fod_basi
             float(unreachable_value), int(threads or 0), reporter.callback, bool(memory_check))
         reporter.finish(run["finalized_vertices"])
     return run
+
+
+def _threads_of(threads):
+    if threads is not None and (isinstance(threads, bool) or int(threads) != threads or threads < 0):
+        raise ValueError(f"threads={threads!r}: expected a count of threads (0 or None: one per core)")
+    return int(threads or 0)
+
+
+def _cost_of(fod_floor, fod_power):
+    return (None if fod_floor is None else float(fod_floor), None if fod_power is None else float(fod_power))
+
+
+def fod_paths_run(fod, seeds, targets, seed_points, seed_labels, target_points, target_labels, lps, affine, fod_basis,
+                  fod_frame, fod_floor, fod_power, mask, method, stencil, domain_connectivity, threads, progress,
+                  memory_check):
+    """The extension's run of stvd.fod_paths, a dict: "paths" (one record
+    per target, as stvd.Paths takes them), "grid" (which writes them), the
+    grid's affine, shape, zooms and axis codes, and the metric's figures."""
+    coefficients, affine, zooms, name, path, basis = fod_arguments(fod, affine, fod_basis)
+    floor, power = _cost_of(fod_floor, fod_power)
+    with progress_reporter(progress) as reporter:
+        run = _core.fod_paths(
+            coefficients, affine, zooms, name, path, basis, fod_frame, floor, power, scalar_image_spec(mask, "mask"),
+            voxel_list(seeds, "seeds", "seed_points"), point_list(seed_points, "seed_points"), bool(lps),
+            scalar_image_spec(seed_labels, "seed_labels"), voxel_list(targets, "targets", "target_points"),
+            point_list(target_points, "target_points"), scalar_image_spec(target_labels, "target_labels"), method,
+            stencil, None if domain_connectivity is None else str(domain_connectivity), _threads_of(threads),
+            reporter.callback, bool(memory_check))
+    return run
+
+
+def fod_connectivity_run(fod, labels, affine, fod_basis, fod_frame, fod_floor, fod_power, mask, method, stencil,
+                         domain_connectivity, threads, progress, memory_check):
+    """The extension's run of stvd.fod_connectivity: the dict
+    stvd.Connectivity takes, with the metric's figures."""
+    coefficients, affine, zooms, name, path, basis = fod_arguments(fod, affine, fod_basis)
+    floor, power = _cost_of(fod_floor, fod_power)
+    with progress_reporter(progress) as reporter:
+        return _core.fod_connectivity(
+            coefficients, affine, zooms, name, path, basis, fod_frame, floor, power, scalar_image_spec(mask, "mask"),
+            scalar_image_spec(labels, "labels"), method, stencil,
+            None if domain_connectivity is None else str(domain_connectivity), _threads_of(threads),
+            reporter.callback, bool(memory_check))
+
+
+class FodPathsSource:
+    """What stvd.Paths.save writes FOD paths with (the grid of the run): the
+    place a stvd.Propagation holds for tensor paths."""
+
+    def __init__(self, grid):
+        self._result = grid

@@ -202,6 +202,8 @@ def reviewer_warnings(content):
     if _count(regions.get("left_out")):
         warnings.append(f"{_count(regions['left_out'])} labelled regions have no voxel in the domain and were left "
                         "out.")
+    if parameters.get("metric") == "fod":
+        notes.insert(0, fod_metric_note(parameters))
     layout, order, frame = (parameters.get("tensor_layout"), parameters.get("tensor_order"),
                             parameters.get("tensor_frame"))
     if layout or order or frame:
@@ -219,6 +221,19 @@ def reviewer_warnings(content):
         notes.insert(0, f"Tensors read as {layout or '?'}, component order {order_text}, in the {frame or '?'} "
                         f"frame{how}; metric {parameters.get('metric_formula', '?')}{cap}.")
     return warnings, notes
+
+
+def fod_metric_note(parameters):
+    """What an FOD run's metric was (docs/fod.md): basis (as given), frame,
+    lmax, the cost's floor and power, the convexified norm."""
+    basis, given = parameters.get("fod_basis", "?"), parameters.get("fod_basis_given")
+    stated = parameters.get("fod_frame_stated")
+    frame_how = "" if stated is None else (" (stated)" if stated else " (the default for this basis and format)")
+    return (f"FOD image read in the basis {basis}" + (f" (given as {given})" if given and given != basis else "") +
+            f", in the {parameters.get('fod_frame', '?')} frame{frame_how}, lmax {parameters.get('fod_lmax', '?')}; "
+            f"metric: the convexified FOD norm F* (floor {parameters.get('fod_floor', '?')}, power "
+            f"{parameters.get('fod_power', '?')}, {parameters.get('fod_directions', '?')} sampling directions) along "
+            "the 26 neighbour directions, Dijkstra (docs/fod.md).")
 
 
 def _cap_text(cap):
@@ -312,9 +327,11 @@ def _render(content, subject, convention):
         orientation += f", oblique by {oblique:.1f} degrees (each slice is the voxel plane nearest to it)"
     orientation += "."
     source_voxel = _centre_voxel(content)
-    what = "distance map over FA" if content.distance is not None else "FA"
+    fod = s.get("parameters", {}).get("metric") == "fod"  # no tensors, no FA (docs/fod.md)
+    background = "the background" if fod else "FA"
+    what = f"distance map over {background}" if content.distance is not None else background
     body.append(f"<h2>Slices through voxel ({', '.join(str(int(c)) for c in source_voxel)}): {what}</h2>")
-    body.append(f"<p>{orientation} FA: {page.escape(content.fa_source)}.</p>")
+    body.append(f"<p>{orientation} {'Background' if fod else 'FA'}: {page.escape(content.fa_source)}.</p>")
     legend = []
     if content.distance is not None:
         import matplotlib
@@ -323,7 +340,7 @@ def _render(content, subject, convention):
         stops = [matplotlib.colors.to_hex(viridis(x)) for x in np.linspace(0, 1, 9)]
         legend.append("Distance " + page.colour_bar(stops, "0", f"{layers.distance_max:.1f}", "mm") +
                       (f"; white contours every {layers.contour_step:g} mm" if layers.contour_step else "") +
-                      "; not reached: FA only.")
+                      f"; not reached: {background} only.")
     if len(content.seeds) or content.seed_region is not None:
         legend.append(f"Seeds: <span class=\"swatch\" style=\"background:{page.escape(SEED_COLOUR)}\"></span> magenta "
                       "ring (the seed voxels in the slice) and outline (label seeds).")
@@ -526,6 +543,23 @@ def _fa_of_tensors(tensors, parameters, mask):
     return field
 
 
+def _fod_grid(distance, labels, mask):
+    """The grid of an FOD run's page and its background: the distance map's
+    grid (distance and path runs) or the labels' (connectivity), and the
+    mask (0.3 inside) or nothing, since an FOD has no FA."""
+    source, role = (distance, "distance map") if distance is not None else (labels, "label")
+    if source is None:
+        raise ReportError("the page of an FOD run draws its distance map or its labels: give --distance or --labels")
+    image = _load_nifti(source, role)
+    shape = tuple(int(n) for n in image.shape[:3])
+    background = np.zeros(shape)
+    text = "none: an FOD run has no tensors (black background)"
+    if mask is not None:
+        background = 0.3 * (_on_grid(_load_nifti(mask, "mask"), mask, "mask", image.affine, shape) != 0)
+        text = "none: an FOD run has no tensors (the mask in grey)"
+    return image.affine, shape, background, text
+
+
 def _content_from_files(statistics_path, distance, paths, paths_table, table, labels, fa):
     try:
         statistics = json.loads(read_regular_text(statistics_path, RECORD_BYTES))
@@ -544,18 +578,26 @@ def _content_from_files(statistics_path, distance, paths, paths_table, table, la
     kind = statistics.get("command", "distance")
     tensors = _resolve(statistics["input"], folder)
     mask = _resolve(parameters.get("mask"), folder)
-    field = _fa_of_tensors(tensors, parameters, mask)
-    affine, shape = field.affine, field.shape
+    if distance is None and kind == "distance":
+        distance = _resolve(statistics.get("output"), folder)
+    if kind == "connectivity":
+        labels = labels or _resolve(parameters.get("labels"), folder)
+    if parameters.get("metric") == "fod":
+        # An FOD image has no tensors and no FA: the grid is the run's
+        # distance map's (or its labels'), on the FOD's grid by construction.
+        affine, shape, background, fa_source = _fod_grid(distance, labels, mask)
+    else:
+        field = _fa_of_tensors(tensors, parameters, mask)
+        affine, shape = field.affine, field.shape
+        background = None
+        fa_source = "computed from the tensors (0 outside the domain)"
     if fa is not None:
         fa_data = _on_grid(_load_nifti(fa, "FA"), fa, "FA", affine, shape).astype(np.float64)
         fa_source = f"the image {fa}"
     else:
-        fa_data = np.array(field.fractional_anisotropy, dtype=np.float64)
-        fa_source = "computed from the tensors (0 outside the domain)"
+        fa_data = background if background is not None else np.array(field.fractional_anisotropy, dtype=np.float64)
     content = _RunContent(kind, statistics, affine, shape, fa_data, fa_source)
 
-    if distance is None and kind == "distance":
-        distance = _resolve(statistics.get("output"), folder)
     if distance is not None:
         values = _on_grid(_load_nifti(distance, "distance map"), distance, "distance map", affine, shape)
         values = values.astype(np.float64)
@@ -588,10 +630,10 @@ def _content_from_files(statistics_path, distance, paths, paths_table, table, la
         table = _resolve(statistics.get("output"), folder)
     if table is not None:
         content.connectivity = connectivity_from_table(table)
-        labels = labels or _resolve(parameters.get("labels"), folder)
     if labels is not None:
         content.regions = _on_grid(_load_nifti(labels, "label"), labels, "label", affine, shape).astype(np.int64)
-    inputs = {"tensor input": tensors, "statistics file": statistics_path, "distance map": distance, "paths": paths,
+    inputs = {"FOD input" if parameters.get("metric") == "fod" else "tensor input": tensors,
+              "statistics file": statistics_path, "distance map": distance, "paths": paths,
               "paths table": paths_table, "connectivity table": table, "label image": labels, "FA image": fa,
               "mask": mask, "seed labels": seed_labels, "target labels": target_labels}
     return content, inputs

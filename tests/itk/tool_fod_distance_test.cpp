@@ -18,14 +18,14 @@
 #include <string>
 #include <vector>
 
-#include "stvd/imaging/spherical_harmonics.hpp"
+#include "fod_crossing.hpp"
 #include "stvd/itk/scalar_image_io.hpp"
 #include "test_support.hpp"
 
 namespace stvd::testing {
 namespace {
 
-constexpr int kN = 25, kC = 12, kHalfWidth = 2, kCoefficients = 45;
+constexpr int kN = kCrossingSize, kC = kCrossingCentre, kHalfWidth = kCrossingHalfWidth;
 
 std::string fileText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -38,30 +38,7 @@ class ToolFodDistance : public ScratchFolderTest {
  protected:
   void SetUp() override {
     ScratchFolderTest::SetUp();
-    // Index axes are the LPS axes; the coefficients are in the voxel frame
-    // (DIPY's, the default for its basis names in NIfTI), so bundle 0 runs
-    // along i and bundle 1 along j.
-    HandGeometry g;
-    g.size = {kN, kN, 3};
-    g.spacing = {1.0, 1.0, 1.0};
-    const std::size_t voxels = std::size_t(kN) * kN * 3;
-    std::vector<float> values(voxels * kCoefficients, 0.f);  // volume-major: coefficient j of voxel v at j * voxels + v
-    const double axis[2][3] = {{1, 0, 0}, {0, 1, 0}};
-    for (int k = 0; k < 3; ++k)
-      for (int j = 0; j < kN; ++j)
-        for (int i = 0; i < kN; ++i)
-          for (int b = 0; b < 2; ++b) {
-            if (std::abs(b == 0 ? j - kC : i - kC) > kHalfWidth) continue;
-            const std::vector<double> y =
-                imaging::evaluateShBasis(imaging::ShBasis::Tournier07, 8, axis[b][0], axis[b][1], axis[b][2]);
-            const std::size_t v = std::size_t(i) + kN * (std::size_t(j) + kN * std::size_t(k));
-            for (int l = 0; l <= 8; l += 2)
-              for (int m = -l; m <= l; ++m) {
-                const int c = l * (l + 1) / 2 + m;
-                values[std::size_t(c) * voxels + v] += static_cast<float>(std::exp(-0.02 * l * (l + 1)) * y[c]);
-              }
-          }
-    writeScalarNiftiByHand(path("fod.nii"), g, values, kCoefficients);
+    writeFodCrossing(path("fod.nii"));  // 90 degrees: bundle 0 along i, bundle 1 along j
   }
 
   ToolRun distance(const std::vector<std::string>& extra) const {

@@ -76,13 +76,11 @@ std::map<std::string, std::string> libraryDefaults(const std::string& command) {
     d["--k"] = std::to_string(defaultMemoryDepth<VoxelGridDomain>());
     d["--stencil"] = choice.stencil;
     d["--domain-connectivity"] = std::to_string(static_cast<int>(choice.connectivity));
-  }
-  if (command == "distance") {
-    d["--unreachable-value"] = number(kDefaultUnreachableValue);
     const imaging::FodCostOptions fod;
     d["--fod-floor"] = number(fod.floor);
     d["--fod-power"] = number(fod.power);
   }
+  if (command == "distance") d["--unreachable-value"] = number(kDefaultUnreachableValue);
   if (command == "path") {
     d["--step"] = number(tracing.stepFraction);
     d["--smooth"] = std::to_string(tracing.smoothingPasses);

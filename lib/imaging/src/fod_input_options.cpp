@@ -17,7 +17,7 @@ std::vector<OptionDeclaration> declarations() {
   basis.valueName = "BASIS";
   basis.type = OptionType::Choice;
   basis.group = OptionGroup::FodFile;
-  basis.commands = kDistanceCommand;
+  basis.commands = kVolumeCommands;
   basis.keyword = "fod_basis";
   basis.keywordCommands = kFodDistanceCommand;
   // "mrtrix3" is a choice of its own, not an alias: it names the frame too
@@ -40,7 +40,7 @@ std::vector<OptionDeclaration> declarations() {
   frame.valueName = "FRAME";
   frame.type = OptionType::Choice;
   frame.group = OptionGroup::FodFile;
-  frame.commands = kDistanceCommand;
+  frame.commands = kVolumeCommands;
   frame.keyword = "fod_frame";
   frame.keywordCommands = kFodDistanceCommand;
   frame.choices = {{fodFrameName(FodFrame::Scanner), "the scanner's RAS axes (MRtrix3)"},
@@ -56,7 +56,7 @@ std::vector<OptionDeclaration> declarations() {
   floor.valueName = "F";
   floor.type = OptionType::Number;
   floor.group = OptionGroup::FodFile;
-  floor.commands = kDistanceCommand;
+  floor.commands = kVolumeCommands;
   floor.keyword = "fod_floor";
   floor.keywordCommands = kFodDistanceCommand;
   floor.range = {0.0, 1.0, /*minExcluded=*/true, /*maxExcluded=*/false};
@@ -71,7 +71,7 @@ std::vector<OptionDeclaration> declarations() {
   power.valueName = "P";
   power.type = OptionType::Number;
   power.group = OptionGroup::FodFile;
-  power.commands = kDistanceCommand;
+  power.commands = kVolumeCommands;
   power.keyword = "fod_power";
   power.keywordCommands = kFodDistanceCommand;
   power.range = {0.0, 8.0, /*minExcluded=*/true, /*maxExcluded=*/false};
