@@ -8,9 +8,10 @@ geodesic, traced back from the far end by steepest descent on the map's
 crossing its direction (the chord over 3 steps either side) stays within a
 stated angle of the true bundle direction. The angles are the ones measured
 per fitter and crossing (docs/fod.md gives them), not loosened: at 30
-degrees neither CSD resolves the two fibres at b = 3000 (one lobe between
-them), and the test holds what is then true, a path that stays in its own
-bundle with a larger angle inside the crossing."""
+degrees neither CSD resolves the two fibres at b = 3000 (one lobe on the
+bisector, which the test checks), and the oblique bundle's path runs along
+the other bundle through the crossing: that case is a strict expected
+failure, which fails the day the path keeps to its bundle."""
 
 import shutil
 import warnings
@@ -31,7 +32,7 @@ CENTRE = np.array([10.0, 10.0])
 HALF_LENGTH = 10.0  # voxels from the centre to a bundle's end
 WINDOW = 3  # steps either side of a path point for its direction
 
-# Measured (docs/fod.md, "Validation"), the same for both fitters: the
+# Measured (docs/fod.md, "Validation"), bounds for both fitters: the
 # largest angle (degrees) between the path's direction and its bundle's at
 # a voxel of the crossing, and the largest ratio of the map's distance
 # between the bundle's ends to their straight distance, per crossing angle

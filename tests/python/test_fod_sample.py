@@ -16,7 +16,6 @@ import warnings
 
 import nibabel as nib
 import numpy as np
-import pytest
 
 from conftest import MASK, SAMPLE, TOOL, DIPY_5D, FA
 
