@@ -197,6 +197,35 @@ TEST_P(ConvexifiedFodNorm, IsANormBelowTheCostAndEqualAlongTheFibres) {
 
 INSTANTIATE_TEST_SUITE_P(CrossingAngles, ConvexifiedFodNorm, ::testing::Values(90.0, 60.0, 45.0));
 
+TEST(FodCost, ARealVoxelWhoseProgramsAreDegenerateIsTabulated) {
+  // Voxel (35, 84, 10) of sample_data/fod_philips_biobank's slab (MRtrix3's
+  // dwi2fod, lmax 4, scanner frame) on its oblique LAS grid: its linear
+  // programs pass degenerate vertices, where the simplex method without
+  // Bland's leaving rule cycled until its step limit ("did not converge")
+  // and the tool stopped on the whole brain.
+  FodField field;
+  field.lmax = 4;
+  field.basis = ShBasis::Tournier07;
+  field.frame = FodFrame::Scanner;
+  field.geometry.spacing = {2.0, 2.0, 2.0};
+  field.geometry.direction = Matrix3{0.99825445158540937,  0.059016893932753715, -0.0022486292165245923,
+                                     0.058651516526000542, -0.99510477934092412, -0.079539157003847935,
+                                     0.0069317746006138442, -0.079268432325742766, 0.99682920611796066};
+  field.lpsToShFrame = lpsToFodFrame(FodFrame::Scanner, field.geometry);
+  field.coefficients = {0.139547899f,  -0.026279483f, -0.00782251824f, 0.124553949f,  0.0504755564f,
+                        -0.0782497674f, 0.0171500612f, 0.0142135806f,  -0.0130161447f, 0.0423713587f,
+                        0.0360934548f, 0.0268172808f,  -0.0354936384f, -0.0267123301f, 0.0139510734f};
+  const FodCostSampler sampler(field, defaultFodSamplingDirections(field.geometry));
+  const std::vector<Vec3d> queries = neighbourDirections26(field.geometry);
+  const std::vector<float> table = convexifiedFodNorms(sampler, queries);
+  FodUnitBall ball;
+  sampler.unitBall(0, ball);
+  for (std::size_t q = 0; q < 26; ++q) {
+    EXPECT_GE(table[q], 1.0 - 1e-6);
+    EXPECT_LE(table[q], sampler.cost(0, queries[q], ball.amplitudeMax) * (1 + 1e-6));
+  }
+}
+
 TEST(FodCost, TheTableAlongTheNeighboursIsFStarAndNeverAboveTheCost) {
   // Two voxels: a 60-degree crossing and an empty one, on a grid with
   // anisotropic, rotated voxels (the neighbour directions are physical).

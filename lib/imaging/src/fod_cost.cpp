@@ -265,10 +265,16 @@ double convexHullGauge(const Vec3d* w, std::size_t count, const Vec3d& v) {
                          inv[6] * a.x + inv[7] * a.y + inv[8] * a.z};
     int leaving = -1;
     double ratio = std::numeric_limits<double>::infinity();
+    // Leaving row: the smallest ratio; among ties an artificial column
+    // first, and under Bland's rule the smallest column index (Bland's
+    // leaving rule: without it a degenerate vertex, many points on one
+    // facet, can cycle; a real FOD voxel did).
     for (int k = 0; k < 3; ++k)
       if (d[k] > 1e-14) {
         const double r = x[k] / d[k];
-        if (r < ratio || (r == ratio && basis[k] >= count)) {
+        const bool tie = r == ratio && leaving >= 0;
+        const bool preferred = bland ? basis[k] < basis[leaving] : basis[k] >= count;
+        if (r < ratio || (tie && preferred)) {
           ratio = r;
           leaving = k;
         }
