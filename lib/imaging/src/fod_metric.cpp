@@ -66,6 +66,7 @@ FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vect
   const std::size_t blockSize = kFodMetricBlockVoxels, blocks = (n + blockSize - 1) / blockSize;
   forEachTaskInParallel(blocks, threads, [&](std::size_t block) {
     FodUnitBall ball;
+    ConvexHullGauges gauge;
     const std::size_t end = std::min(n, (block + 1) * blockSize);
     for (std::size_t v = block * blockSize; v < end; ++v) {
       FodStencilNorm::VertexParams& p = params[v];
@@ -75,9 +76,10 @@ FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vect
         continue;
       }
       sampler.unitBall(v, ball);
+      gauge.reset(ball.points.data(), ball.points.size());
       for (int q = 0; q < 26; ++q)
         p.cost[q] = q >= 13 ? p.cost[25 - q]  // the opposite direction: F* is symmetric
-                            : static_cast<float>(convexHullGauge(ball.points.data(), ball.points.size(), queries[q]));
+                            : static_cast<float>(gauge(queries[q]));
     }
   });
   return FodStencilMetric(std::move(params), inDomain);
