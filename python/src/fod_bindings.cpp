@@ -12,9 +12,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "array_access.hpp"
@@ -101,6 +103,24 @@ imaging::FodField fodFieldOfArray(const py::handle& coefficients, const py::hand
 
 /// stvd.fod_distance's work: the field (a file when `path` is given, the
 /// array otherwise), the domain, the seeds, the table of F*, Dijkstra.
+/// The FOD table's reports (an Interrupter) relayed to the progress hook as
+/// reports with no voxel final yet: the caller's function sees the table,
+/// and False or Ctrl-C stops it.
+class TableProgress final : public Interrupter {
+ public:
+  TableProgress(std::function<bool(const PropagationProgress&)> hook, std::uint64_t domainVoxels)
+      : hook_(std::move(hook)), domainVoxels_(domainVoxels) {}
+  bool wasInterrupted(int) override {
+    PropagationProgress p;
+    p.domainVertices = domainVoxels_;
+    return !hook_(p);
+  }
+
+ private:
+  std::function<bool(const PropagationProgress&)> hook_;
+  std::uint64_t domainVoxels_;
+};
+
 py::dict fodDistance(const py::object& coefficients, const py::object& affine,
                      const std::optional<std::array<double, 3>>& zooms, const std::string& givenName,
                      const std::optional<std::string>& path, const std::optional<std::string>& basis,
@@ -175,6 +195,7 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
   std::vector<imaging::SeedVoxel> seeds;
   std::size_t labelSeedsLeftOut = 0;
   double tableSeconds = 0;
+  bool tableCancelled = false;
   std::size_t directions = 0;
   unsigned tableThreads = 1;
   {
@@ -187,17 +208,30 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
     const auto start = std::chrono::steady_clock::now();
     const imaging::FodCostSampler sampler(field, imaging::defaultFodSamplingDirections(g), fod.cost);
     directions = sampler.directions().size();
-    const imaging::FodStencilMetric metric = imaging::fodStencilMetric(sampler, &inDomain, threads);
+    // The table reports to the progress function as the run's first
+    // reports, no voxel final yet (as Lanthier's setup does); False (or
+    // Ctrl-C) stops it.
+    TableProgress tableProgress(relay.hook(), domainVoxels);
+    std::optional<imaging::FodStencilMetric> table;
+    try {
+      table.emplace(imaging::fodStencilMetric(sampler, &inDomain, threads, &tableProgress));
+    } catch (const Cancelled&) {
+      tableCancelled = true;
+    }
     tableSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     tableThreads =
         threadCountFor(threads, (voxels + imaging::kFodMetricBlockVoxels - 1) / imaging::kFodMetricBlockVoxels);
-    const VoxelGridDomain domain(g, Stencil::byName(choice.stencil), inDomain, choice.connectivity);
-    PropagationOptions options = propagationOptions(choice);
-    options.maxDistance = limit;
-    options.progress = relay.hook();
-    result = propagate(domain, metric, imaging::sourceVertices(domain, seeds), options);
+    if (table) {
+      const VoxelGridDomain domain(g, Stencil::byName(choice.stencil), inDomain, choice.connectivity);
+      PropagationOptions options = propagationOptions(choice);
+      options.maxDistance = limit;
+      options.progress = relay.hook();
+      result = propagate(domain, *table, imaging::sourceVertices(domain, seeds), options);
+    }
   }
   relay.rethrowIfFailed();  // Ctrl-C or the callback's exception first
+  if (tableCancelled)
+    throw Cancelled("fod_distance was cancelled by the progress function during the FOD table: no map");
   // stvd.fod_distance returns a map only: a cancelled run has none to give.
   if (result.termination == Termination::Cancelled)
     throw Cancelled("fod_distance was cancelled by the progress function: no map");

@@ -8,9 +8,11 @@
 // never cutting through the voxels of neither.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "stvd/imaging/fod_cost.hpp"
@@ -18,6 +20,7 @@
 #include "stvd/imaging/fod_metric.hpp"
 #include "stvd/imaging/spherical_harmonics.hpp"
 #include "stvd/propagation/predecessor_path.hpp"
+#include "stvd/system/interrupter.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
 
@@ -145,6 +148,70 @@ TEST(FodStencilMetricThreads, TheDistancesAreBitEqualForAnyThreadCount) {
     }
     EXPECT_GT(reached, one.size() / 2);
   }
+}
+
+// The table reports to an Interrupter as an operation of its own and stops
+// when asked, with the usual error and no table.
+class CountingInterrupter : public Interrupter {
+ public:
+  explicit CountingInterrupter(int stopAt) : stopAt_(stopAt) {}
+  void start(const char* name) override {
+    names.push_back(name);
+    ++starts;
+  }
+  void end() override { ++ends; }
+  bool wasInterrupted(int percent) override {
+    percents.push_back(percent);
+    return static_cast<int>(percents.size()) >= stopAt_;
+  }
+  std::vector<std::string> names;
+  std::vector<int> percents;
+  int starts = 0, ends = 0;
+
+ private:
+  int stopAt_;
+};
+
+TEST(FodTableProgress, ReportsItsBlocksAndStopsWhenAskedWithTheUsualError) {
+  const Bundles b = bundles(90.0);  // 1,875 voxels: 8 blocks of 256
+  const FodCostSampler sampler(b.field, defaultFodSamplingDirections(b.field.geometry));
+  const std::size_t blocks = (b.field.geometry.voxelCount() + kFodMetricBlockVoxels - 1) / kFodMetricBlockVoxels;
+  ASSERT_GE(blocks, 6u);
+  // Never interrupted: "FOD table" from 0 to 100 %, every block reported
+  // on one thread (interval 0), and the same table as without a listener.
+  {
+    CountingInterrupter listener(1000);
+    const FodStencilMetric heard = fodStencilMetric(sampler, nullptr, 1, &listener, 0.0);
+    const FodStencilMetric silent = fodStencilMetric(sampler, nullptr, 1);
+    EXPECT_EQ(listener.names, std::vector<std::string>{"FOD table"});
+    EXPECT_EQ(listener.starts, 1);
+    EXPECT_EQ(listener.ends, 1);
+    ASSERT_EQ(listener.percents.size(), blocks + 2);
+    EXPECT_EQ(listener.percents.front(), 0);
+    EXPECT_EQ(listener.percents.back(), 100);
+    EXPECT_TRUE(std::is_sorted(listener.percents.begin(), listener.percents.end()));
+    for (std::size_t v = 0; v < heard.size(); ++v)
+      EXPECT_EQ(std::memcmp(heard[v].cost, silent[v].cost, sizeof heard[v].cost), 0) << "voxel " << v;
+  }
+  // Interrupted after 3 blocks, on 1 and on 2 threads: Cancelled, no
+  // further report, the operation ended once.
+  for (const unsigned threads : {1u, 2u}) {
+    CountingInterrupter listener(4);
+    try {
+      fodStencilMetric(sampler, nullptr, threads, &listener, 0.0);
+      ADD_FAILURE() << "the table was not interrupted on " << threads << " threads";
+    } catch (const Cancelled& e) {
+      EXPECT_STREQ(e.what(), "FOD table was interrupted");
+    }
+    EXPECT_EQ(listener.percents.size(), 4u);
+    EXPECT_LT(listener.percents.back(), 100);
+    EXPECT_EQ(listener.starts, 1);
+    EXPECT_EQ(listener.ends, 1);
+  }
+  // Asked to stop at its start: nothing computed.
+  CountingInterrupter atOnce(1);
+  EXPECT_THROW(fodStencilMetric(sampler, nullptr, 2, &atOnce), Cancelled);
+  EXPECT_EQ(atOnce.percents, std::vector<int>{0});
 }
 
 }  // namespace
