@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "stvd/imaging/spherical_harmonics.hpp"
+#include "stvd/imaging/tensor_frames.hpp"
 
 namespace stvd::imaging {
 
@@ -75,7 +76,13 @@ std::vector<Vec3d> neighbourDirections26(const GridGeometry& geometry) {
 }
 
 std::vector<Vec3d> defaultFodSamplingDirections(const GridGeometry& geometry, int subdivisions) {
+  // The icosphere turned with the grid's axes: the same directions relative
+  // to the voxels whatever the image's rotation, as the 26 neighbours are.
   std::vector<Vec3d> d = icosphereDirections(subdivisions);
+  const Matrix3 axes = voxelAxes(geometry);  // columns: the unit index axes in LPS
+  for (Vec3d& g : d)
+    g = normalised({axes[0] * g.x + axes[1] * g.y + axes[2] * g.z, axes[3] * g.x + axes[4] * g.y + axes[5] * g.z,
+                    axes[6] * g.x + axes[7] * g.y + axes[8] * g.z});
   const std::vector<Vec3d> n = neighbourDirections26(geometry);
   d.insert(d.end(), n.begin(), n.end());
   return d;
@@ -84,6 +91,9 @@ std::vector<Vec3d> defaultFodSamplingDirections(const GridGeometry& geometry, in
 FodCostSampler::FodCostSampler(const FodField& field, std::vector<Vec3d> directions, FodCostOptions options)
     : field_(field), directions_(std::move(directions)), options_(options) {
   options_.validate();
+  const Matrix3 axes = voxelAxes(field.geometry);
+  axisI_ = {axes[0], axes[3], axes[6]};
+  axisJ_ = {axes[1], axes[4], axes[7]};
   if (directions_.size() < 4) throw std::invalid_argument("FOD cost: at least 4 sampling directions are needed");
   const int count = field.coefficientCount();
   basis_.resize(directions_.size() * static_cast<std::size_t>(count));
@@ -322,7 +332,9 @@ Vec3d FodCostSampler::refinePeak(const float* c, Vec3d u, double* amplitude, boo
   // degrees; F* = F = 1 at the point found, however precise).
   double best = amplitudeAt(c, u, simple);
   for (double step = 0.5 * spacing_; step > 1e-3;) {
-    const Vec3d helper = std::abs(u.x) < 0.9 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0};
+    // Tangents from the grid's axes (not LPS's), so that the search turns
+    // with the image as the sampling directions do.
+    const Vec3d helper = std::abs(dot(u, axisI_)) < 0.9 ? axisI_ : axisJ_;
     const Vec3d t1 = normalised(helper - dot(helper, u) * u);
     const Vec3d t2{u.y * t1.z - u.z * t1.y, u.z * t1.x - u.x * t1.z, u.x * t1.y - u.y * t1.x};
     Vec3d next = u;

@@ -60,7 +60,11 @@ std::vector<Vec3d> neighbourDirections26(const GridGeometry& geometry);
 inline constexpr int kFodSamplingSubdivisions = 3;
 
 /// The sampling directions of the cost: icosphereDirections(subdivisions)
-/// (642 for 3, 2562 for 4) and the 26 neighbour directions of the grid.
+/// (642 for 3, 2562 for 4) turned with the grid's axes (the icosphere's x,
+/// y, z along the unit index axes i, j, k), and the 26 neighbour directions
+/// of the grid: the same directions relative to the voxels whatever the
+/// image's rotation, so that an FOD in the voxel frame gives the same table
+/// under any rotated or flipped affine.
 std::vector<Vec3d> defaultFodSamplingDirections(const GridGeometry& geometry, int subdivisions = kFodSamplingSubdivisions);
 
 /// Voxel v's unit ball {u : F(x, u) <= 1} as the convexification sees it:
@@ -121,6 +125,7 @@ class FodCostSampler {
   std::vector<double> basis_;                  // directions x coefficients, row-major
   std::vector<std::vector<int>> neighbours_;   // sampling directions within 1.5 spacings
   double spacing_ = 0.0;                       // sqrt(4 pi / count), radians
+  Vec3d axisI_{1, 0, 0}, axisJ_{0, 1, 0};      // the grid's unit i and j axes (LPS), for the refinement
   // unitBall: one row per direction up to sign, coefficient-major.
   std::size_t rows_ = 0;
   std::vector<double> basisByCoefficient_;     // coefficients x rows_
