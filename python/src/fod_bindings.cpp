@@ -101,8 +101,6 @@ imaging::FodField fodFieldOfArray(const py::handle& coefficients, const py::hand
                                       frame, imaging::lpsToFodFrame(frame, g));
 }
 
-/// stvd.fod_distance's work: the field (a file when `path` is given, the
-/// array otherwise), the domain, the seeds, the table of F*, Dijkstra.
 /// The FOD table's reports (an Interrupter) relayed to the progress hook as
 /// reports with no voxel final yet: the caller's function sees the table,
 /// and False or Ctrl-C stops it.
@@ -121,6 +119,8 @@ class TableProgress final : public Interrupter {
   std::uint64_t domainVoxels_;
 };
 
+/// stvd.fod_distance's work: the field (a file when `path` is given, the
+/// array otherwise), the domain, the seeds, the table of F*, Dijkstra.
 py::dict fodDistance(const py::object& coefficients, const py::object& affine,
                      const std::optional<std::array<double, 3>>& zooms, const std::string& givenName,
                      const std::optional<std::string>& path, const std::optional<std::string>& basis,

@@ -407,8 +407,8 @@ void FodCostSampler::unitBall(std::size_t v, FodUnitBall& ball) const {
   // What unitBallReference computes, faster: the amplitudes one row per
   // direction up to sign; a maximum whose opposite (or duplicate) was
   // refined already is that one's point turned round (an FOD is even), so
-  // each antipodal pair of maxima is refined once; the power skipped when
-  // it is 1; and the points that cannot be vertices of the hull marked.
+  // each antipodal pair of maxima is refined once, its four trial steps
+  // evaluated at once; the power skipped when it is 1.
   const int count = field_.coefficientCount();
   const float* c = field_.voxelCoefficients(v);
   const std::size_t n = directions_.size();
