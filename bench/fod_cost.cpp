@@ -2,8 +2,10 @@
 // the amplitudes along the 668 sampling directions (642 of a subdivided
 // icosahedron and the 26 neighbour directions) and the convexified norm F*
 // along the 26 neighbour directions (the simplex gauge of the hull of the
-// cost's sampled unit ball). Voxels hold two fibres crossing at angles from
-// 30 to 90 degrees in random planes. Counter: cpu_per_voxel (seconds).
+// cost's sampled unit ball), and the same by the simple computation the
+// tests hold it to (the "Reference" rows). Voxels hold two fibres crossing
+// at angles from 30 to 90 degrees in random planes. Counter: cpu_per_voxel
+// (seconds).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -81,6 +83,37 @@ void BM_ConvexifiedNormAlong26NeighboursPerVoxel(benchmark::State& state) {
                                                        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_ConvexifiedNormAlong26NeighboursPerVoxel)->Unit(benchmark::kMillisecond);
+
+// The same voxels by the simple computation the tests hold the fast one to
+// (FodCostSampler::unitBallReference, convexHullGauge per direction): the
+// table's cost before it was made fast, in the same run.
+void BM_FodUnitBallReferencePerVoxel(benchmark::State& state) {
+  const FodField f = crossings(256);
+  const FodCostSampler sampler(f, defaultFodSamplingDirections(f.geometry));
+  FodUnitBall ball;
+  std::size_t v = 0;
+  for (auto _ : state) {
+    sampler.unitBallReference(v, ball);
+    benchmark::DoNotOptimize(ball.points.data());
+    v = (v + 1) % 256;
+  }
+  state.counters["cpu_per_voxel"] = benchmark::Counter(static_cast<double>(state.iterations()),
+                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_FodUnitBallReferencePerVoxel);
+
+void BM_ConvexifiedNormReferencePerVoxel(benchmark::State& state) {
+  const FodField f = crossings(64);
+  const FodCostSampler sampler(f, defaultFodSamplingDirections(f.geometry));
+  const std::vector<Vec3d> queries = neighbourDirections26(f.geometry);
+  for (auto _ : state) {
+    const std::vector<float> table = convexifiedFodNormsReference(sampler, queries);
+    benchmark::DoNotOptimize(table.data());
+  }
+  state.counters["cpu_per_voxel"] = benchmark::Counter(static_cast<double>(state.iterations()) * 64,
+                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_ConvexifiedNormReferencePerVoxel)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -36,6 +36,7 @@
 #include "stvd/imaging/tensor_input_options.hpp"
 #include "stvd/imaging/fod_input_options.hpp"
 #include "stvd/imaging/fod_metric.hpp"
+#include "stvd/system/interrupter.hpp"
 #include "stvd/itk/fod_volume_io.hpp"
 #include "stvd/itk/image_grid.hpp"
 #include "stvd/errors.hpp"
@@ -180,7 +181,8 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
 /// than a second; erases it at the end.
 class ProgressBar {
  public:
-  explicit ProgressBar(bool enabled) : enabled_(enabled && ::isatty(STDERR_FILENO)), start_(Clock::now()) {}
+  explicit ProgressBar(bool enabled, const char* label = "propagating")
+      : enabled_(enabled && ::isatty(STDERR_FILENO)), label_(label), start_(Clock::now()) {}
   ~ProgressBar() { finish(); }
   void update(double fraction) {
     if (!enabled_ || secondsSince(start_) < 1.0) return;
@@ -189,7 +191,7 @@ class ProgressBar {
     lastPercent_ = percent;
     const int width = 40;
     const int filled = static_cast<int>(std::clamp(fraction, 0.0, 1.0) * width);
-    std::cerr << "\rpropagating [" << std::string(filled, '#') << std::string(width - filled, ' ') << "] "
+    std::cerr << "\r" << label_ << " [" << std::string(filled, '#') << std::string(width - filled, ' ') << "] "
               << percent << "% " << fixed(secondsSince(start_), 1) << " s"
               << std::flush;
     shown_ = true;
@@ -201,9 +203,25 @@ class ProgressBar {
 
  private:
   bool enabled_;
+  const char* label_;
   bool shown_ = false;
   int lastPercent_ = -1;
   Clock::time_point start_;
+};
+
+/// The FOD table's reports on a bar of their own (the tool never cancels
+/// from its bar; Ctrl-C ends the run through the signal thread).
+class TableBar final : public Interrupter {
+ public:
+  explicit TableBar(bool enabled) : bar_(enabled, "FOD table") {}
+  bool wasInterrupted(int percent) override {
+    if (percent >= 0) bar_.update(percent / 100.0);
+    return false;
+  }
+  void end() override { bar_.finish(); }
+
+ private:
+  ProgressBar bar_;
 };
 
 
@@ -400,7 +418,8 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
       !o.memoryCheck);
 
   phase = Clock::now();
-  const FodTable table = makeFodTable(in, o.fod.cost, o.threads);
+  TableBar tableBar(!o.quiet);
+  const FodTable table = makeFodTable(in, o.fod.cost, o.threads, &tableBar);
   const imaging::FodStencilMetric& metric = table.metric;
   t.metric = secondsSince(phase);
 

@@ -50,13 +50,14 @@ FodInput readFodInput(const std::string& path, const imaging::FodInputOptions& o
   return in;
 }
 
-FodTable makeFodTable(const FodInput& input, const imaging::FodCostOptions& cost, unsigned threads) {
+FodTable makeFodTable(const FodInput& input, const imaging::FodCostOptions& cost, unsigned threads,
+                      Interrupter* progress) {
   FodTable table;
   const auto start = std::chrono::steady_clock::now();
   const std::clock_t cpuStart = std::clock();  // the process's CPU time, all threads
   const GridGeometry& g = input.fod.geometry;
   const imaging::FodCostSampler sampler(input.fod, imaging::defaultFodSamplingDirections(g), cost);
-  table.metric = imaging::fodStencilMetric(sampler, &input.inDomain, threads);
+  table.metric = imaging::fodStencilMetric(sampler, &input.inDomain, threads, progress);
   table.cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
   table.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   table.directions = sampler.directions().size();

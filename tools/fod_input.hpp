@@ -13,6 +13,7 @@
 #include "stvd/imaging/fod_input_options.hpp"
 #include "stvd/imaging/fod_metric.hpp"
 #include "stvd/imaging/tensor_input.hpp"
+#include "stvd/system/interrupter.hpp"
 
 namespace stvd::tool {
 
@@ -44,7 +45,9 @@ struct FodTable {
   double cpuSeconds = 0.0;     ///< the process's CPU time, all threads
   unsigned threads = 1;
 };
-FodTable makeFodTable(const FodInput& input, const imaging::FodCostOptions& cost, unsigned threads);
+/// `progress` (may be null) sees the table's blocks and may stop it (Cancelled).
+FodTable makeFodTable(const FodInput& input, const imaging::FodCostOptions& cost, unsigned threads,
+                      Interrupter* progress = nullptr);
 
 /// The metric's parameters for RunStatistics::metricParameters ("metric":
 /// "fod", the basis as resolved and as given, frame, lmax, floor, power,

@@ -14,9 +14,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "array_access.hpp"
@@ -106,6 +108,24 @@ imaging::FodField fodFieldOfArray(const py::handle& coefficients, const py::hand
                                       frame, imaging::lpsToFodFrame(frame, g));
 }
 
+/// The FOD table's reports (an Interrupter) relayed to the progress hook as
+/// reports with no voxel final yet: the caller's function sees the table,
+/// and False or Ctrl-C stops it.
+class TableProgress final : public Interrupter {
+ public:
+  TableProgress(std::function<bool(const PropagationProgress&)> hook, std::uint64_t domainVoxels)
+      : hook_(std::move(hook)), domainVoxels_(domainVoxels) {}
+  bool wasInterrupted(int) override {
+    PropagationProgress p;
+    p.domainVertices = domainVoxels_;
+    return !hook_(p);
+  }
+
+ private:
+  std::function<bool(const PropagationProgress&)> hook_;
+  std::uint64_t domainVoxels_;
+};
+
 /// The FOD input of a call: the field (a file when `path` is given, the
 /// array otherwise; lmax 4 to 12, as the tool), its grid with the mask as
 /// the seeds' and labels' readers take a tensor input's, the domain.
@@ -154,7 +174,8 @@ FodCallInput fodCallInput(const py::object& coefficients, const py::object& affi
 }
 
 /// F* tabulated along the 26 neighbour directions of the input's domain
-/// voxels (without the GIL), and what it cost.
+/// voxels (without the GIL), and what it cost; `progress` (may be null)
+/// sees the table's blocks and may stop it (Cancelled).
 struct FodCallTable {
   imaging::FodStencilMetric metric;
   std::size_t directions = 0;
@@ -162,13 +183,14 @@ struct FodCallTable {
   unsigned threads = 1;
 };
 
-FodCallTable fodCallTable(const FodCallInput& in, const imaging::FodCostOptions& cost, unsigned threads) {
+FodCallTable fodCallTable(const FodCallInput& in, const imaging::FodCostOptions& cost, unsigned threads,
+                          Interrupter* progress = nullptr) {
   FodCallTable table;
   const GridGeometry& g = in.field.geometry;
   const auto start = std::chrono::steady_clock::now();
   const imaging::FodCostSampler sampler(in.field, imaging::defaultFodSamplingDirections(g), cost);
   table.directions = sampler.directions().size();
-  table.metric = imaging::fodStencilMetric(sampler, &in.inDomain, threads);
+  table.metric = imaging::fodStencilMetric(sampler, &in.inDomain, threads, progress);
   table.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   table.threads =
       threadCountFor(threads, (g.voxelCount() + imaging::kFodMetricBlockVoxels - 1) / imaging::kFodMetricBlockVoxels);
@@ -235,6 +257,7 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
   std::vector<imaging::SeedVoxel> seeds;
   std::size_t labelSeedsLeftOut = 0;
   double tableSeconds = 0;
+  bool tableCancelled = false;
   std::size_t directions = 0;
   unsigned tableThreads = 1;
   {
@@ -244,18 +267,31 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
       const auto labelled = imaging::labelSeedVoxels(labelsName, *labels, name, g, inDomain, labelSeedsLeftOut);
       seeds.insert(seeds.end(), labelled.begin(), labelled.end());
     }
-    const FodCallTable table = fodCallTable(in, fod.cost, threads);
-    const imaging::FodStencilMetric& metric = table.metric;
-    directions = table.directions;
-    tableSeconds = table.seconds;
-    tableThreads = table.threads;
-    const VoxelGridDomain domain(g, Stencil::byName(choice.stencil), inDomain, choice.connectivity);
-    PropagationOptions options = propagationOptions(choice);
-    options.maxDistance = limit;
-    options.progress = relay.hook();
-    result = propagate(domain, metric, imaging::sourceVertices(domain, seeds), options);
+    // The table reports to the progress function as the run's first
+    // reports, no voxel final yet (as Lanthier's setup does); False (or
+    // Ctrl-C) stops it.
+    TableProgress tableProgress(relay.hook(), in.domainVoxels);
+    std::optional<FodCallTable> table;
+    try {
+      table.emplace(fodCallTable(in, fod.cost, threads, &tableProgress));
+    } catch (const Cancelled&) {
+      tableCancelled = true;
+    }
+    if (table) {
+      const imaging::FodStencilMetric& metric = table->metric;
+      directions = table->directions;
+      tableSeconds = table->seconds;
+      tableThreads = table->threads;
+      const VoxelGridDomain domain(g, Stencil::byName(choice.stencil), inDomain, choice.connectivity);
+      PropagationOptions options = propagationOptions(choice);
+      options.maxDistance = limit;
+      options.progress = relay.hook();
+      result = propagate(domain, metric, imaging::sourceVertices(domain, seeds), options);
+    }
   }
   relay.rethrowIfFailed();  // Ctrl-C or the callback's exception first
+  if (tableCancelled)
+    throw Cancelled("fod_distance was cancelled by the progress function during the FOD table: no map");
   // stvd.fod_distance returns a map only: a cancelled run has none to give.
   if (result.termination == Termination::Cancelled)
     throw Cancelled("fod_distance was cancelled by the progress function: no map");

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <random>
 #include <vector>
@@ -279,6 +280,119 @@ TEST(FodCost, FloorAndPowerBoundTheCostAndAnEmptyVoxelCostsTheFloor) {
   options.floor = 0;
   EXPECT_THROW(options.validate(), std::invalid_argument);
   EXPECT_EQ(icosphereDirections(3).size(), 642u);
+}
+
+// The fast paths (FodCostSampler::unitBall, ConvexHullGauges and the table
+// made with them) against the simple computations kept as their reference.
+
+TEST(ConvexHullGauges, AgreeWithTheSimplexOnCloudsWithDegeneracies) {
+  // Star-shaped clouds with what trips a simplex: duplicated points,
+  // antipodal pairs, many points on one great circle (coplanar with the
+  // origin), and equal radii; many directions per cloud, as for a voxel's
+  // table.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> radius(0.1, 1.0);
+  ConvexHullGauges gauges;
+  for (int cloud = 0; cloud < 40; ++cloud) {
+    std::vector<Vec3d> w;
+    for (int i = 0; i < 60; ++i) {
+      const Vec3d g = randomDirection(rng);
+      const double r = cloud % 3 == 0 ? 0.5 : radius(rng);
+      w.push_back(r * g);
+      w.push_back(-r * g);
+    }
+    const Vec3d axis = randomDirection(rng);
+    const Vec3d u = unit(cross(axis, randomDirection(rng))), t = cross(axis, u);
+    for (int i = 0; i < 24; ++i) {
+      const double a = 2 * M_PI * i / 24;
+      w.push_back(radius(rng) * (std::cos(a) * u + std::sin(a) * t));
+    }
+    w.push_back(w[0]);
+    w.push_back(w[5]);
+    gauges.reset(w.data(), w.size());
+    for (int t2 = 0; t2 < 40; ++t2) {
+      const Vec3d v = t2 % 4 == 0 ? std::cos(0.3 * t2) * u + std::sin(0.3 * t2) * t : randomDirection(rng);
+      const double expected = convexHullGauge(w.data(), w.size(), v);
+      EXPECT_NEAR(gauges(v), expected, 1e-9 * expected) << "cloud " << cloud << ", direction " << t2;
+    }
+    EXPECT_EQ(gauges({0, 0, 0}), 0.0);
+  }
+  const std::vector<Vec3d> half = {{1, 0, 0.1}, {0, 1, 0.1}, {-1, -1, 0.1}};
+  gauges.reset(half.data(), half.size());
+  EXPECT_THROW(gauges({0, 0, -1}), std::invalid_argument);
+}
+
+/// Voxels with one to three fibres at random directions and weights (two
+/// crossing at 20 to 90 degrees in most), and an empty one, at lmax 8, on
+/// an anisotropic grid with rotated axes.
+FodField randomCrossings(std::size_t voxels, ShBasis basis, std::uint32_t seed) {
+  FodField f;
+  f.geometry.size = {voxels, 1, 1};
+  f.geometry.spacing = {1.0, 1.5, 2.0};
+  f.geometry.direction = {0.6, 0, 0.8, 0, 1, 0, -0.8, 0, 0.6};
+  f.lmax = 8;
+  f.basis = basis;
+  f.frame = FodFrame::Voxel;
+  f.lpsToShFrame = lpsToFodFrame(FodFrame::Voxel, f.geometry);
+  f.coefficients.assign(voxels * 45, 0.f);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> angle(20, 90), weight(0.3, 1.0);
+  for (std::size_t v = 0; v + 1 < voxels; ++v) {
+    const Vec3d a = randomDirection(rng);
+    const Vec3d p = unit(cross(a, randomDirection(rng)));
+    const double t = angle(rng) * M_PI / 180;
+    std::vector<Vec3d> fibres = {a, std::cos(t) * a + std::sin(t) * p};
+    if (v % 5 == 0) fibres.resize(1);
+    if (v % 7 == 0) fibres.push_back(randomDirection(rng));
+    for (const Vec3d& d : fibres) {
+      const double w = weight(rng);
+      const Vec3d s = f.toShFrame(d);
+      const std::vector<double> y = evaluateShBasis(basis, 8, s.x, s.y, s.z);
+      for (int l = 0; l <= 8; l += 2)
+        for (int m = -l; m <= l; ++m) {
+          const int j = l * (l + 1) / 2 + m;
+          // Each basis's own functions: a lobe along d whatever the basis.
+          const double scale = basis == ShBasis::Tournier07Legacy && m != 0 ? 2.0 : 1.0;
+          f.coefficients[v * 45 + j] += static_cast<float>(w * scale * std::exp(-0.02 * l * (l + 1)) * y[j]);
+        }
+    }
+  }
+  return f;
+}
+
+TEST(FodCostFastPath, TheUnitBallAndTheTableEqualTheReferenceOnRandomCrossings) {
+  const ShBasis bases[] = {ShBasis::Tournier07, ShBasis::Tournier07Legacy, ShBasis::Descoteaux07,
+                           ShBasis::Descoteaux07Legacy};
+  FodCostOptions sharper;
+  sharper.floor = 0.2;
+  sharper.power = 2.0;
+  std::uint32_t seed = 21;
+  for (const ShBasis basis : bases)
+    for (const FodCostOptions& options : {FodCostOptions{}, sharper}) {
+      const FodField f = randomCrossings(30, basis, seed++);
+      const FodCostSampler sampler(f, defaultFodSamplingDirections(f.geometry), options);
+      FodUnitBall fast, reference;
+      for (std::size_t v = 0; v < f.geometry.voxelCount(); ++v) {
+        sampler.unitBall(v, fast);
+        sampler.unitBallReference(v, reference);
+        EXPECT_NEAR(fast.amplitudeMax, reference.amplitudeMax, 1e-12 * std::abs(reference.amplitudeMax));
+        ASSERT_EQ(fast.peaks.size(), reference.peaks.size()) << "voxel " << v;
+        ASSERT_EQ(fast.points.size(), reference.points.size());
+        for (std::size_t i = 0; i < fast.points.size(); ++i)
+          EXPECT_LT(norm(fast.points[i] - reference.points[i]), 1e-9) << "voxel " << v << ", point " << i;
+        // A maximum whose opposite was refined is that one turned round: the
+        // same maximum of an even function as the reference finds, to the
+        // refinement's resolution.
+        for (std::size_t k = 0; k < fast.peaks.size(); ++k)
+          EXPECT_LT(norm(fast.peaks[k] - reference.peaks[k]), 1e-3) << "voxel " << v << ", peak " << k;
+      }
+      const std::vector<Vec3d> queries = neighbourDirections26(f.geometry);
+      const std::vector<float> table = convexifiedFodNorms(sampler, queries);
+      const std::vector<float> expected = convexifiedFodNormsReference(sampler, queries);
+      ASSERT_EQ(table.size(), expected.size());
+      for (std::size_t i = 0; i < table.size(); ++i)
+        EXPECT_NEAR(table[i], expected[i], 1e-6 * expected[i]) << "voxel " << i / 26 << ", direction " << i % 26;
+    }
 }
 
 }  // namespace

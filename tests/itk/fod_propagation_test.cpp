@@ -8,9 +8,12 @@
 // never cutting through the voxels of neither.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "stvd/imaging/fod_cost.hpp"
@@ -18,6 +21,7 @@
 #include "stvd/imaging/fod_metric.hpp"
 #include "stvd/imaging/spherical_harmonics.hpp"
 #include "stvd/propagation/predecessor_path.hpp"
+#include "stvd/system/interrupter.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
 
@@ -145,6 +149,118 @@ TEST(FodStencilMetricThreads, TheDistancesAreBitEqualForAnyThreadCount) {
     }
     EXPECT_GT(reached, one.size() / 2);
   }
+}
+
+// The sampling directions turn with the image's axes: the same FOD image
+// (coefficients in the voxel frame, as DIPY writes them) given a rotated
+// and flipped affine has the same table and the same distances, to float
+// rounding (with directions fixed in LPS they differed by up to 5.6 %).
+TEST(FodSamplingFrame, ARotatedAffineWithVoxelFrameCoefficientsGivesTheSameDistances) {
+  // The bundles lie in the i-j plane, where the scanner frame of an
+  // identity grid is the voxel frame turned by 180 degrees: the same even
+  // FOD read in the voxel frame.
+  Bundles b = bundles(60.0);
+  b.field.frame = FodFrame::Voxel;
+  b.field.geometry.spacing = {1.0, 1.25, 2.0};
+  b.field.lpsToShFrame = lpsToFodFrame(FodFrame::Voxel, b.field.geometry);
+  FodField turned = b.field;
+  // Columns: the index axes in LPS; 35 degrees about (1, 2, 2) / 3, then
+  // the j axis flipped (a left-handed grid, as many NIfTI files are).
+  const double a = 35 * M_PI / 180, c = std::cos(a), s = std::sin(a);
+  const double ux = 1.0 / 3, uy = 2.0 / 3, uz = 2.0 / 3;
+  const double r[9] = {c + ux * ux * (1 - c),      ux * uy * (1 - c) - uz * s, ux * uz * (1 - c) + uy * s,
+                       uy * ux * (1 - c) + uz * s, c + uy * uy * (1 - c),      uy * uz * (1 - c) - ux * s,
+                       uz * ux * (1 - c) - uy * s, uz * uy * (1 - c) + ux * s, c + uz * uz * (1 - c)};
+  for (int row = 0; row < 3; ++row)
+    for (int col = 0; col < 3; ++col) turned.geometry.direction[3 * row + col] = (col == 1 ? -1.0 : 1.0) * r[3 * row + col];
+  turned.geometry.origin = {-40.0, 12.5, 7.0};
+  turned.lpsToShFrame = lpsToFodFrame(FodFrame::Voxel, turned.geometry);
+
+  const FodCostSampler samplerA(b.field, defaultFodSamplingDirections(b.field.geometry));
+  const FodCostSampler samplerB(turned, defaultFodSamplingDirections(turned.geometry));
+  const FodStencilMetric metricA = fodStencilMetric(samplerA, nullptr, 2);
+  const FodStencilMetric metricB = fodStencilMetric(samplerB, nullptr, 2);
+  double worstTable = 0;
+  for (std::size_t v = 0; v < metricA.size(); ++v)
+    for (int q = 0; q < 26; ++q)
+      worstTable = std::max(worstTable, std::abs(double(metricB[v].cost[q]) - metricA[v].cost[q]) / metricA[v].cost[q]);
+  EXPECT_LT(worstTable, 1e-5);
+
+  const VoxelGridDomain domainA(b.field.geometry, Stencil::full26()), domainB(turned.geometry, Stencil::full26());
+  PropagationOptions options;
+  options.method = Method::Dijkstra;
+  const VertexId seed = domainA.vertexAt(0, kC, 1);
+  const std::vector<double> da = propagate(domainA, metricA, {seed}, options).distance;
+  const std::vector<double> db = propagate(domainB, metricB, {seed}, options).distance;
+  double worst = 0;
+  for (std::size_t v = 0; v < da.size(); ++v)
+    if (da[v] > 0) worst = std::max(worst, std::abs(db[v] - da[v]) / da[v]);
+  std::printf("rotated, flipped affine: table within %.2g, distances within %.2g\n", worstTable, worst);
+  EXPECT_LT(worst, 1e-5);
+}
+
+// The table reports to an Interrupter as an operation of its own and stops
+// when asked, with the usual error and no table.
+class CountingInterrupter : public Interrupter {
+ public:
+  explicit CountingInterrupter(int stopAt) : stopAt_(stopAt) {}
+  void start(const char* name) override {
+    names.push_back(name);
+    ++starts;
+  }
+  void end() override { ++ends; }
+  bool wasInterrupted(int percent) override {
+    percents.push_back(percent);
+    return static_cast<int>(percents.size()) >= stopAt_;
+  }
+  std::vector<std::string> names;
+  std::vector<int> percents;
+  int starts = 0, ends = 0;
+
+ private:
+  int stopAt_;
+};
+
+TEST(FodTableProgress, ReportsItsBlocksAndStopsWhenAskedWithTheUsualError) {
+  const Bundles b = bundles(90.0);  // 1,875 voxels: 8 blocks of 256
+  const FodCostSampler sampler(b.field, defaultFodSamplingDirections(b.field.geometry));
+  const std::size_t blocks = (b.field.geometry.voxelCount() + kFodMetricBlockVoxels - 1) / kFodMetricBlockVoxels;
+  ASSERT_GE(blocks, 6u);
+  // Never interrupted: "FOD table" from 0 to 100 %, every block reported
+  // on one thread (interval 0), and the same table as without a listener.
+  {
+    CountingInterrupter listener(1000);
+    const FodStencilMetric heard = fodStencilMetric(sampler, nullptr, 1, &listener, 0.0);
+    const FodStencilMetric silent = fodStencilMetric(sampler, nullptr, 1);
+    EXPECT_EQ(listener.names, std::vector<std::string>{"FOD table"});
+    EXPECT_EQ(listener.starts, 1);
+    EXPECT_EQ(listener.ends, 1);
+    ASSERT_EQ(listener.percents.size(), blocks + 2);
+    EXPECT_EQ(listener.percents.front(), 0);
+    EXPECT_EQ(listener.percents.back(), 100);
+    EXPECT_TRUE(std::is_sorted(listener.percents.begin(), listener.percents.end()));
+    for (std::size_t v = 0; v < heard.size(); ++v)
+      EXPECT_EQ(std::memcmp(heard[v].cost, silent[v].cost, sizeof heard[v].cost), 0) << "voxel " << v;
+  }
+  // Interrupted after 3 blocks, on 1 and on 2 threads: Cancelled, no
+  // further report, the operation ended once.
+  for (const unsigned threads : {1u, 2u}) {
+    CountingInterrupter listener(4);
+    try {
+      fodStencilMetric(sampler, nullptr, threads, &listener, 0.0);
+      ADD_FAILURE() << "the table was not interrupted on " << threads << " threads";
+    } catch (const Cancelled& e) {
+      EXPECT_STREQ(e.what(), "FOD table was interrupted");
+    }
+    EXPECT_EQ(listener.percents.size(), 4u);
+    EXPECT_LT(listener.percents.back(), 100);
+    EXPECT_EQ(listener.starts, 1);
+    EXPECT_EQ(listener.ends, 1);
+  }
+  // Asked to stop at its start: nothing computed.
+  CountingInterrupter atOnce(1);
+  EXPECT_THROW(fodStencilMetric(sampler, nullptr, 2, &atOnce), Cancelled);
+  EXPECT_EQ(atOnce.percents, std::vector<int>{0});
 }
 
 }  // namespace

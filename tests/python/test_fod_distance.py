@@ -238,6 +238,29 @@ def test_progress_is_relayed_and_a_cancel_gives_no_map(crossing):
         stvd.fod_distance(fit, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), progress=fail)
 
 
+def test_the_table_reports_to_the_progress_function_and_false_stops_it(crossing):
+    # The FOD table reports as the run's first reports, no voxel final yet:
+    # at its start and at its end, then the propagation's first report.
+    fit, _ = crossing
+    calls = []
+    stvd.fod_distance(fit, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), threads=1,
+                      progress=lambda *report: calls.append(report))
+    before = [c for c in calls if c[0] == 0]
+    assert len(before) >= 3 and all(c == (0, 21 * 21 * 3, 0.0) for c in before)
+    # False from the table's last report at the latest: cancelled there,
+    # no map, and the propagation never reported.
+    seen = []
+
+    def second_stops(*report):
+        seen.append(report)
+        return len(seen) < 2
+
+    with pytest.raises(RuntimeError, match="during the FOD table: no map"):
+        stvd.fod_distance(fit, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), threads=1,
+                          progress=second_stops)
+    assert seen == [(0, 21 * 21 * 3, 0.0)] * 2
+
+
 def test_runs_in_threads_give_the_serial_maps(crossing):
     # The library works without the GIL: calls from several Python threads
     # run side by side, each with the map it has alone.

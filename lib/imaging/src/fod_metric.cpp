@@ -1,7 +1,10 @@
 #include "stvd/imaging/fod_metric.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <mutex>
 #include <stdexcept>
 
 #include "stvd/propagation/propagation_definition.hpp"
@@ -48,7 +51,7 @@ std::string FodStencilNorm::invalidReason(const VertexParams& p) {
 }
 
 FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vector<std::uint8_t>* inDomain,
-                                  unsigned threads) {
+                                  unsigned threads, Interrupter* interrupter, double progressInterval) {
   const GridGeometry& g = sampler.field().geometry;
   const std::size_t n = g.voxelCount();
   if (inDomain && inDomain->size() != n)
@@ -64,8 +67,15 @@ FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vect
   // Each voxel's table depends on that voxel alone, so blocks of voxels
   // run on any thread and the result is the same for every thread count.
   const std::size_t blockSize = kFodMetricBlockVoxels, blocks = (n + blockSize - 1) / blockSize;
+  // Progress by blocks done, reported by one thread at a time (the others
+  // go on computing rather than wait for the report).
+  InterruptScope scope(interrupter, "FOD table", blocks, progressInterval);
+  std::mutex reportMutex;
+  std::atomic<std::uint64_t> blocksDone{0};
+  bool stopped = false;  // under reportMutex
   forEachTaskInParallel(blocks, threads, [&](std::size_t block) {
     FodUnitBall ball;
+    ConvexHullGauges gauge;
     const std::size_t end = std::min(n, (block + 1) * blockSize);
     for (std::size_t v = block * blockSize; v < end; ++v) {
       FodStencilNorm::VertexParams& p = params[v];
@@ -75,11 +85,25 @@ FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vect
         continue;
       }
       sampler.unitBall(v, ball);
+      gauge.reset(ball.points.data(), ball.points.size());
       for (int q = 0; q < 26; ++q)
         p.cost[q] = q >= 13 ? p.cost[25 - q]  // the opposite direction: F* is symmetric
-                            : static_cast<float>(convexHullGauge(ball.points.data(), ball.points.size(), queries[q]));
+                            : static_cast<float>(gauge(queries[q]));
+    }
+    const std::uint64_t done = blocksDone.fetch_add(1, std::memory_order_relaxed) + 1;
+    if (interrupter) {
+      std::unique_lock<std::mutex> lock(reportMutex, std::try_to_lock);
+      if (lock.owns_lock() && !stopped) {
+        try {
+          scope.check(done);
+        } catch (const Cancelled&) {
+          stopped = true;  // no other thread asks again; no further block starts
+          throw;
+        }
+      }
     }
   });
+  scope.finish();
   return FodStencilMetric(std::move(params), inDomain);
 }
 

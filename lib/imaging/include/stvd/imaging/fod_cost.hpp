@@ -60,7 +60,11 @@ std::vector<Vec3d> neighbourDirections26(const GridGeometry& geometry);
 inline constexpr int kFodSamplingSubdivisions = 3;
 
 /// The sampling directions of the cost: icosphereDirections(subdivisions)
-/// (642 for 3, 2562 for 4) and the 26 neighbour directions of the grid.
+/// (642 for 3, 2562 for 4) turned with the grid's axes (the icosphere's x,
+/// y, z along the unit index axes i, j, k), and the 26 neighbour directions
+/// of the grid: the same directions relative to the voxels whatever the
+/// image's rotation, so that an FOD in the voxel frame gives the same table
+/// under any rotated or flipped affine.
 std::vector<Vec3d> defaultFodSamplingDirections(const GridGeometry& geometry, int subdivisions = kFodSamplingSubdivisions);
 
 /// Voxel v's unit ball {u : F(x, u) <= 1} as the convexification sees it:
@@ -78,6 +82,10 @@ struct FodUnitBall {
   std::vector<Vec3d> peaks;
   /// rho(x, g_i) g_i for every sampling direction, then p for every peak.
   std::vector<Vec3d> points;
+
+  // Scratch space of unitBall, kept to spare allocations.
+  std::vector<double> rowAmplitudes, peakValues;
+  std::vector<int> peakOfDirection;
 };
 
 /// An FOD's cost sampled along fixed unit directions (LPS): the spherical
@@ -93,14 +101,23 @@ class FodCostSampler {
   const FodField& field() const { return field_; }
   std::size_t voxelCount() const { return field_.geometry.voxelCount(); }
 
-  /// Voxel v's unit ball (`ball` is reused to spare allocations).
+  /// Voxel v's unit ball (`ball` is reused to spare allocations): the
+  /// amplitudes one row per direction up to sign (an FOD is even), and
+  /// each antipodal pair of maxima refined once.
   void unitBall(std::size_t v, FodUnitBall& ball) const;
+  /// The same ball the simple way, kept as the tests' reference: every
+  /// direction's amplitude by its own row, every maximum refined on its
+  /// own.
+  void unitBallReference(std::size_t v, FodUnitBall& ball) const;
   /// F(x, d) for any non-zero d (LPS), with voxel v's amplitudeMax.
   double cost(std::size_t v, const Vec3d& d, double amplitudeMax) const;
 
  private:
-  double amplitudeAt(const float* coefficients, const Vec3d& unitLps) const;
-  Vec3d refinePeak(const float* coefficients, Vec3d start, double* amplitude) const;
+  // simple: by evaluateShBasis's array of functions (the reference);
+  // otherwise the same products summed as they are made (bit for bit).
+  double amplitudeAt(const float* coefficients, const Vec3d& unitLps, bool simple) const;
+  void amplitudesAt4(const float* coefficients, const Vec3d (&unitLps)[4], double (&out)[4]) const;
+  Vec3d refinePeak(const float* coefficients, Vec3d start, double* amplitude, bool simple) const;
 
   const FodField& field_;
   std::vector<Vec3d> directions_;
@@ -108,6 +125,13 @@ class FodCostSampler {
   std::vector<double> basis_;                  // directions x coefficients, row-major
   std::vector<std::vector<int>> neighbours_;   // sampling directions within 1.5 spacings
   double spacing_ = 0.0;                       // sqrt(4 pi / count), radians
+  Vec3d axisI_{1, 0, 0}, axisJ_{0, 1, 0};      // the grid's unit i and j axes (LPS), for the refinement
+  // unitBall: one row per direction up to sign, coefficient-major.
+  std::size_t rows_ = 0;
+  std::vector<double> basisByCoefficient_;     // coefficients x rows_
+  std::vector<int> rowOf_;                     // direction -> its row
+  std::vector<int> twin_;                      // the first earlier direction equal or opposite, or -1
+  std::vector<std::vector<int>> neighbourRows_;  // neighbours_ by row
 };
 
 /// The gauge of the convex hull of the points w (which must surround the
@@ -117,10 +141,43 @@ class FodCostSampler {
 /// v's direction.
 double convexHullGauge(const Vec3d* w, std::size_t count, const Vec3d& v);
 
+/// convexHullGauge of one point set along many directions, faster and with
+/// the same optimum (the same simplex start, every point's price checked at
+/// the end): pricing first the points that entered a basis or priced best
+/// before, all of them (in coordinate arrays) only when none of those
+/// improves; and a direction inside the cone of a facet found before
+/// answered by that facet (optimal for every direction in its cone). Not
+/// thread-safe: one per thread.
+class ConvexHullGauges {
+ public:
+  /// The points (they must surround the origin, as for convexHullGauge);
+  /// forgets the facets and active points of the last set.
+  void reset(const Vec3d* w, std::size_t count);
+  /// The gauge at v (0 for v = 0); throws as convexHullGauge.
+  double operator()(const Vec3d& v);
+
+ private:
+  double solve(const Vec3d& v);
+  void activate(std::size_t j);
+  struct Facet {
+    double inv[9];  // the inverse of its basis (columns: three points)
+  };
+  std::size_t count_ = 0;
+  std::vector<Vec3d> points_;
+  std::vector<double> px_, py_, pz_;
+  std::vector<unsigned char> active_;
+  std::vector<int> activeList_;
+  std::vector<Facet> facets_;
+  double scale_ = 0.0, bigM_ = 0.0;
+};
+
 /// F* of every voxel along each query direction (LPS, unit or not):
 /// result[v * queries.size() + q], float. The hull is that of the points of
 /// FodCostSampler::unitBall; with the queries among the sampling
 /// directions, F* <= F along each.
 std::vector<float> convexifiedFodNorms(const FodCostSampler& sampler, const std::vector<Vec3d>& queries);
+/// The same table the simple way (FodCostSampler::unitBallReference and
+/// convexHullGauge per direction), kept as the tests' reference.
+std::vector<float> convexifiedFodNormsReference(const FodCostSampler& sampler, const std::vector<Vec3d>& queries);
 
 }  // namespace stvd::imaging

@@ -13,6 +13,7 @@
 #include "stvd/imaging/fod_cost.hpp"
 #include "stvd/metric/metric_field.hpp"
 #include "stvd/propagation/propagation.hpp"
+#include "stvd/system/interrupter.hpp"
 #include "stvd/types.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
 
@@ -75,8 +76,17 @@ inline constexpr std::size_t kFodMetricBlockVoxels = 256;
 /// directions of every voxel with a non-zero `inDomain` entry (every voxel
 /// when null; the others get the floor's isotropic cost), computed on
 /// `threads` threads (0: one per core); the table is the same for any count.
+///
+/// `interrupter` (may be null) hears the table as an operation of its own,
+/// "FOD table": start, 0 %, then after blocks of voxels at least every
+/// `progressInterval` seconds (percent: the share of the blocks done), 100 %,
+/// end. The reports come one at a time, from whichever of the threads
+/// finished a block. When it asks to stop, no further block starts and the
+/// call throws stvd::Cancelled ("FOD table was interrupted"): a table with
+/// voxels left out is no metric.
 FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vector<std::uint8_t>* inDomain = nullptr,
-                                  unsigned threads = 1);
+                                  unsigned threads = 1, Interrupter* interrupter = nullptr,
+                                  double progressInterval = kDefaultInterruptInterval);
 
 }  // namespace stvd::imaging
 
