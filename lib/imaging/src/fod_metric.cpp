@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "stvd/propagation/propagation_definition.hpp"
 #include "stvd/system/parallel_tasks.hpp"
@@ -81,6 +82,38 @@ FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vect
     }
   });
   return FodStencilMetric(std::move(params), inDomain);
+}
+
+std::vector<float> convexifiedFodTable(const FodCostSampler& sampler, const std::vector<Vec3d>& queries,
+                                       const std::vector<std::uint8_t>* inDomain, unsigned threads) {
+  const std::size_t n = sampler.voxelCount(), q = queries.size();
+  if (inDomain && inDomain->size() != n)
+    throw std::invalid_argument("FOD table: the domain mask has " + std::to_string(inDomain->size()) +
+                                " voxels, the FOD " + std::to_string(n));
+  std::vector<std::size_t> opposite(q, q);
+  for (std::size_t a = 0; a < q; ++a)
+    for (std::size_t b = 0; b < a && opposite[a] == q; ++b)
+      if (queries[b].x == -queries[a].x && queries[b].y == -queries[a].y && queries[b].z == -queries[a].z)
+        opposite[a] = b;
+  const double floorCost = 1.0 / std::pow(sampler.options().floor, sampler.options().power);
+  std::vector<float> out(n * q);
+  const std::size_t blockSize = kFodMetricBlockVoxels, blocks = (n + blockSize - 1) / blockSize;
+  forEachTaskInParallel(blocks, threads, [&](std::size_t block) {
+    FodUnitBall ball;
+    const std::size_t end = std::min(n, (block + 1) * blockSize);
+    for (std::size_t v = block * blockSize; v < end; ++v) {
+      float* row = out.data() + v * q;
+      if (inDomain && !(*inDomain)[v]) {
+        for (std::size_t k = 0; k < q; ++k) row[k] = static_cast<float>(floorCost * norm(queries[k]));
+        continue;
+      }
+      sampler.unitBall(v, ball);
+      for (std::size_t k = 0; k < q; ++k)
+        row[k] = opposite[k] < k ? row[opposite[k]]
+                                 : static_cast<float>(convexHullGauge(ball.points.data(), ball.points.size(), queries[k]));
+    }
+  });
+  return out;
 }
 
 }  // namespace stvd::imaging
