@@ -11,6 +11,7 @@
 #include <iostream>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include "command_line.hpp"
 #include "command_options.hpp"
@@ -35,6 +36,7 @@
 #include "stvd/imaging/tensor_input_options.hpp"
 #include "stvd/imaging/fod_input_options.hpp"
 #include "stvd/imaging/fod_metric.hpp"
+#include "stvd/imaging/fod_segment_norm.hpp"
 #include "stvd/itk/fod_volume_io.hpp"
 #include "stvd/itk/image_grid.hpp"
 #include "stvd/errors.hpp"
@@ -167,13 +169,13 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   for (const OptionDeclaration& d : imaging::tensorInputOptionDeclarations())
     if (d.flag != "--mask" && v.has(d.flag))
       usageError(d.flag + " applies to tensor images, not to an FOD image (--fod-basis)");
-  // Dijkstra over the 26-neighbour stencil measures every step by F* along
-  // a tabulated direction: a path that exists. STVD's candidates and
-  // Lanthier's segments are not yet measured against exact FOD distances.
-  if (o.lanthier || (v.has("--method") && o.method != Method::Dijkstra))
-    usageError("--method " + *v.text("--method") +
-               ": not measured on FOD metrics yet (docs/fod.md); use --method dijkstra, the default for FOD images");
-  o.method = Method::Dijkstra;
+  // Dijkstra is the default for FOD images: its table (F* along the 26
+  // neighbour directions) costs a quarter of the segment norm's that STVD
+  // and Lanthier need (docs/fod.md, "STVD and Lanthier").
+  if (!v.has("--method")) {
+    o.method = Method::Dijkstra;
+    checkPropagationChoice(o, /*lanthierAllowed=*/true);  // --k and --chain-measure go with STVD only
+  }
   if (o.stencil != "6" && o.stencil != "18" && o.stencil != "26")
     usageError("--stencil " + o.stencil +
                ": the FOD metric is tabulated along the 26 neighbour directions; use 6, 18 or 26");
@@ -394,9 +396,10 @@ std::string fodWithoutBasisMessage(const std::string& path) {
   }
 }
 
-/// `stvd distance FOD --fod-basis NAME`: Dijkstra under the convexified FOD
-/// norm F*, tabulated per voxel along the 26 neighbour directions
-/// (docs/fod.md), the map written as for tensors.
+/// `stvd distance FOD --fod-basis NAME`: Dijkstra (the default), STVD or
+/// Lanthier under the convexified FOD norm F*, tabulated per voxel along the
+/// 26 neighbour directions for Dijkstra and along the lattice of order 2 for
+/// the others (docs/fod.md), the map written as for tensors.
 int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_point start) {
   Timings t;
   checkRunFiles(o, "FOD input");
@@ -431,8 +434,14 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
   const std::vector<Seed> seeds = resolveSeeds(o.input, o, grid, o.tensor.metric, inDomain, labelSeedsLeftOut);
   t.read = secondsSince(phase);
 
+  // STVD's candidates and Lanthier's segments are measured by the segment
+  // norm (F* along the lattice of order 2), Dijkstra's steps by F* along
+  // the 26 neighbour directions: the same values along those.
+  const bool segments = o.lanthier || o.method != Method::Dijkstra;
   const std::uint64_t needed = gridRunMemoryEstimate(o, voxels, counts.domain) + kOutputBytesPerVoxel * voxels +
-                               sizeof(imaging::FodStencilNorm::VertexParams) * voxels;
+                               (segments ? sizeof(imaging::FodSegmentNorm::VertexParams)
+                                         : sizeof(imaging::FodStencilNorm::VertexParams)) *
+                                   voxels;
   const MemoryCheck memory = checkMemory(
       o.input, needed, methodText(o, memoryDepthOf<VoxelGridDomain>(o)) + " on " + withThousands(counts.domain) +
                            " domain voxels of an FOD image",
@@ -441,25 +450,49 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
   phase = Clock::now();
   const std::clock_t cpuStart = std::clock();  // the process's CPU time, all threads
   const imaging::FodCostSampler sampler(fod, imaging::defaultFodSamplingDirections(g), o.fod.cost);
-  const imaging::FodStencilMetric metric = imaging::fodStencilMetric(sampler, &inDomain, o.threads);
-  const double metricCpu = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
+  double metricCpu = 0;
   const unsigned threads =
       threadCountFor(o.threads, (voxels + imaging::kFodMetricBlockVoxels - 1) / imaging::kFodMetricBlockVoxels);
-  t.metric = secondsSince(phase);
-
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), inDomain, o.connectivity);
   const std::vector<VertexId> sources = imaging::sourceVertices(domain, seeds);
-  phase = Clock::now();
-  PropagationOptions options = propagationOptions(o);
-  options.maxDistance = o.maxDistance;
-  ProgressBar bar(!o.quiet);
-  options.progress = [&bar](const PropagationProgress& p) {
-    bar.update(p.domainVertices ? double(p.finalizedVertices) / double(p.domainVertices) : 0.0);
-    return true;
+  PropagationResult result;
+  // The table of the method's metric, then the propagation on it.
+  const auto run = [&](const auto& metric) {
+    metricCpu = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
+    t.metric = secondsSince(phase);
+    phase = Clock::now();
+    PropagationOptions options = propagationOptions(o);
+    options.maxDistance = o.maxDistance;
+    ProgressBar bar(!o.quiet);
+    options.progress = [&bar](const PropagationProgress& p) {
+      bar.update(p.domainVertices ? double(p.finalizedVertices) / double(p.domainVertices) : 0.0);
+      return true;
+    };
+    // Lanthier runs on the segment metric only (compiled for it).
+    if constexpr (std::is_same_v<std::decay_t<decltype(metric)>, imaging::FodSegmentMetric>) {
+      if (o.lanthier) {
+        LanthierOptions steiner;
+        steiner.steinerPoints = o.steinerPoints;
+        steiner.maxDistance = o.maxDistance;
+        steiner.progress = options.progress;
+        try {
+          result = lanthierPropagate(domain, metric, sources, steiner);
+        } catch (const std::invalid_argument& e) {  // too large a graph
+          throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
+        }
+      } else {
+        result = propagate(domain, metric, sources, options);
+      }
+    } else {
+      result = propagate(domain, metric, sources, options);
+    }
+    bar.finish();
+    t.propagate = secondsSince(phase);
   };
-  const PropagationResult result = propagate(domain, metric, sources, options);
-  bar.finish();
-  t.propagate = secondsSince(phase);
+  if (segments)
+    run(imaging::fodSegmentMetric(sampler, &inDomain, o.threads));
+  else
+    run(imaging::fodStencilMetric(sampler, &inDomain, o.threads));
 
   phase = Clock::now();
   const std::vector<float> values = distanceValues(o, result);
@@ -493,7 +526,10 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
         "\"fod_floor\": " + jsonNumber(o.fod.cost.floor),
         "\"fod_power\": " + jsonNumber(o.fod.cost.power),
         "\"fod_directions\": " + std::to_string(sampler.directions().size()),
-        "\"fod_norm\": \"convexified F* along the 26 neighbour directions\""};
+        segments ? "\"fod_norm\": \"convexified F* along the lattice directions of order " +
+                       std::to_string(imaging::kFodLatticeOrder) + " (" +
+                       std::to_string(imaging::FodSegmentNorm::kCount) + " per voxel), interpolated\""
+                 : "\"fod_norm\": \"convexified F* along the 26 neighbour directions\""};
     run.extraMembers = {"\"fod_precomputation\": {\"seconds\": " + jsonNumber(t.metric) +
                         ", \"cpu_seconds\": " + jsonNumber(metricCpu) + ", \"threads\": " +
                         std::to_string(threads) + ", \"voxels\": " + std::to_string(counts.domain) + "}"};
@@ -508,13 +544,18 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
       << fixed(g.spacing[0], 2) << " x " << fixed(g.spacing[1], 2) << " x " << fixed(g.spacing[2], 2)
       << " mm, orientation " << orientationCode(g) << ". Cost: the convexified FOD norm F* (floor "
       << jsonNumber(o.fod.cost.floor) << ", power " << jsonNumber(o.fod.cost.power) << ", "
-      << sampler.directions().size() << " directions) along the 26 neighbour directions of "
+      << sampler.directions().size() << " directions) along "
+      << (segments ? "the " + std::to_string(imaging::FodSegmentNorm::kCount) + " lattice directions of order " +
+                         std::to_string(imaging::kFodLatticeOrder)
+                   : std::string("the 26 neighbour directions"))
+      << " of "
       << withThousands(counts.domain) << " domain voxels";
     if (!grid.maskDescription.empty()) s << " (mask: " << grid.maskDescription << ")";
     s << ", tabulated in " << fixed(t.metric, 2) << " s (" << fixed(metricCpu, 2) << " s CPU on " << threads
       << (threads == 1 ? " thread" : " threads") << "). " << (seeds.size() == 1 ? "Seed" : "Seeds") << ": "
-      << withThousands(seeds.size()) << " voxel" << (seeds.size() == 1 ? "" : "s") << ". Method: Dijkstra on the "
-      << o.stencil << "-neighbour stencil";
+      << withThousands(seeds.size()) << " voxel" << (seeds.size() == 1 ? "" : "s")
+      << ". Method: " << methodText(o, memoryDepthOf<VoxelGridDomain>(o));
+    if (!o.lanthier) s << " on the " << o.stencil << "-neighbour stencil";
     if (std::isfinite(o.maxDistance)) s << ", stopping at " << fixed(o.maxDistance, 1) << " mm";
     s << ". Reached " << withThousands(stats.reached) << " of " << withThousands(counts.domain) << " domain voxels";
     if (stats.reached)

@@ -15,6 +15,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "array_access.hpp"
@@ -31,6 +32,7 @@
 #include "stvd/imaging/fod_field.hpp"
 #include "stvd/imaging/fod_input_options.hpp"
 #include "stvd/imaging/fod_metric.hpp"
+#include "stvd/imaging/fod_segment_norm.hpp"
 #include "stvd/imaging/seed_options.hpp"
 #include "stvd/imaging/seed_voxels.hpp"
 #include "stvd/imaging/streamline_io.hpp"
@@ -42,6 +44,7 @@
 #include "stvd/system/parallel_tasks.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 #include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 #include "tensor_field.hpp"
 
@@ -100,7 +103,7 @@ imaging::FodField fodFieldOfArray(const py::handle& coefficients, const py::hand
 }
 
 /// stvd.fod_distance's work: the field (a file when `path` is given, the
-/// array otherwise), the domain, the seeds, the table of F*, Dijkstra.
+/// array otherwise), the domain, the seeds, the table of F*, the method.
 py::dict fodDistance(const py::object& coefficients, const py::object& affine,
                      const std::optional<std::array<double, 3>>& zooms, const std::string& givenName,
                      const std::optional<std::string>& path, const std::optional<std::string>& basis,
@@ -108,19 +111,17 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
                      const std::optional<double>& power, const py::object& mask,
                      const std::vector<std::array<int, 3>>& seedVoxels,
                      const std::vector<std::array<double, 3>>& seedPoints, bool lps, const py::object& seedLabels,
-                     const std::optional<std::string>& method, const std::optional<std::string>& stencil,
+                     const std::optional<std::string>& method, const std::optional<int>& k,
+                     const std::optional<int>& steiner, const std::optional<std::string>& stencil,
                      const std::optional<std::string>& domainConnectivity, const std::optional<double>& maxDistance,
                      double unreachable, unsigned threads, const py::object& progress, bool memoryCheck) {
   const imaging::FodInputOptions fod = fodOptionsOf(basis, frame, floor, power);
-  PropagationChoice choice = choiceOf(method, std::nullopt, std::nullopt, stencil, std::nullopt, domainConnectivity);
-  // Dijkstra over the 26-neighbour stencil measures every step by F* along
-  // a tabulated direction: a path that exists. STVD's candidates and
-  // Lanthier's segments are not yet measured against exact FOD distances.
-  if (choice.lanthier || (method && choice.method != Method::Dijkstra))
-    throw OptionError("method='" + *method +
-                      "': not measured on FOD metrics yet (docs/fod.md); use method='dijkstra', the default for FOD "
-                      "images");
-  choice.method = Method::Dijkstra;
+  PropagationChoice choice = choiceOf(method, k, std::nullopt, stencil, steiner, domainConnectivity);
+  // Dijkstra is the default for FOD images, as in the tool (docs/fod.md,
+  // "STVD and Lanthier"); STVD and Lanthier run on the segment norm.
+  if (!method) choice.method = Method::Dijkstra;
+  checkPropagationChoice(choice, /*lanthierAllowed=*/true);  // k= with STVD only, steiner= with Lanthier
+  const bool segments = choice.lanthier || choice.method != Method::Dijkstra;
   if (choice.stencil != "6" && choice.stencil != "18" && choice.stencil != "26")
     throw OptionError("stencil='" + choice.stencil +
                       "': the FOD metric is tabulated along the 26 neighbour directions; use 6, 18 or 26");
@@ -165,7 +166,9 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
   if (domainVoxels == 0) throw NothingToCompute(name + ": the domain is empty: no voxel inside the mask");
   checkMemory(name,
               gridRunMemoryEstimate(choice, voxels, domainVoxels) + sizeof(float) * voxels +
-                  sizeof(imaging::FodStencilNorm::VertexParams) * voxels,
+                  (segments ? sizeof(imaging::FodSegmentNorm::VertexParams)
+                            : sizeof(imaging::FodStencilNorm::VertexParams)) *
+                      voxels,
               methodText(choice, memoryDepthOf<VoxelGridDomain>(choice)) + " on " +
                   text::withThousands(domainVoxels) + " domain voxels of an FOD image",
               memoryCheck);
@@ -187,15 +190,37 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
     const auto start = std::chrono::steady_clock::now();
     const imaging::FodCostSampler sampler(field, imaging::defaultFodSamplingDirections(g), fod.cost);
     directions = sampler.directions().size();
-    const imaging::FodStencilMetric metric = imaging::fodStencilMetric(sampler, &inDomain, threads);
-    tableSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     tableThreads =
         threadCountFor(threads, (voxels + imaging::kFodMetricBlockVoxels - 1) / imaging::kFodMetricBlockVoxels);
     const VoxelGridDomain domain(g, Stencil::byName(choice.stencil), inDomain, choice.connectivity);
-    PropagationOptions options = propagationOptions(choice);
-    options.maxDistance = limit;
-    options.progress = relay.hook();
-    result = propagate(domain, metric, imaging::sourceVertices(domain, seeds), options);
+    // The table of the method's metric (as the tool), then the propagation.
+    const auto run = [&](const auto& metric) {
+      tableSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const std::vector<VertexId> sources = imaging::sourceVertices(domain, seeds);
+      // Lanthier runs on the segment metric only (compiled for it).
+      if constexpr (std::is_same_v<std::decay_t<decltype(metric)>, imaging::FodSegmentMetric>) {
+        if (choice.lanthier) {
+          LanthierOptions steiner;
+          steiner.steinerPoints = choice.steinerPoints;
+          steiner.maxDistance = limit;
+          steiner.progress = relay.hook();
+          try {
+            result = lanthierPropagate(domain, metric, sources, steiner);
+          } catch (const std::invalid_argument& e) {  // too large a graph
+            throw OptionError(name + ": method='lanthier': " + e.what());
+          }
+          return;
+        }
+      }
+      PropagationOptions options = propagationOptions(choice);
+      options.maxDistance = limit;
+      options.progress = relay.hook();
+      result = propagate(domain, metric, sources, options);
+    };
+    if (segments)
+      run(imaging::fodSegmentMetric(sampler, &inDomain, threads));
+    else
+      run(imaging::fodStencilMetric(sampler, &inDomain, threads));
   }
   relay.rethrowIfFailed();  // Ctrl-C or the callback's exception first
   // stvd.fod_distance returns a map only: a cancelled run has none to give.
@@ -251,10 +276,11 @@ void bindFod(py::module_& m) {
   m.def("fod_distance", &fodDistance, py::arg("coefficients"), py::arg("affine"), py::arg("zooms"),
         py::arg("name"), py::arg("path"), py::arg("fod_basis"), py::arg("fod_frame"), py::arg("fod_floor"),
         py::arg("fod_power"), py::arg("mask"), py::arg("seeds"), py::arg("seed_points"), py::arg("lps"),
-        py::arg("seed_labels"), py::arg("method"), py::arg("stencil"), py::arg("domain_connectivity"),
+        py::arg("seed_labels"), py::arg("method"), py::arg("k"), py::arg("steiner"), py::arg("stencil"), py::arg("domain_connectivity"),
         py::arg("max_distance"), py::arg("unreachable_value"), py::arg("threads"), py::arg("progress"),
         py::arg("memory_check"),
-        "Dijkstra under the convexified FOD norm, as `stvd distance FOD --fod-basis NAME` (stvd.fod_distance).");
+        "Dijkstra, STVD or Lanthier under the convexified FOD norm, as `stvd distance FOD --fod-basis NAME` "
+        "(stvd.fod_distance).");
 }
 
 }  // namespace stvd::python
