@@ -5,7 +5,8 @@
 //            metric lies above F*_exact, the convexified continuous norm
 //            (the gauge of the hull of F's unit ball along 40962 icosphere
 //            directions and the refined maxima), at 2000 random directions,
-//            and its time per call;
+//            and its time per call (and an experiment: the lattice helped by
+//            the voxel's fibres), and the tables' cost per voxel;
 //  constant  a constant FOD field of two crossing fibres (90, 60, 45, 30
 //            degrees, in a plane tilted against the grid), whose distance
 //            from the seed (the grid's centre) is F*_exact(x - s): mean,
@@ -154,6 +155,43 @@ void norms() {
       std::printf("# table cost per voxel (us, CPU, unit ball included): 26 directions (13 programs) %.0f, "
                   "lattice n=2 (49) %.0f, n=3 (109) %.0f\n",
                   stencilUs, order2Us, order3Us);
+    }
+    {  // An experiment (not in the library): the order-2 lattice helped by the
+       // voxel's fibres, |a| F*(p1) + |b| F*(p2) + L(v - a p1 - b p2) over
+       // the projections of v on the peaks and on their plane, the least.
+      const auto metric = fodLatticeMetric<2>(sampler);
+      const auto& g = metric[0];
+      std::vector<Vec3d> peaks;
+      for (const Vec3d& p : ball.peaks) {
+        bool known = false;
+        for (const Vec3d& q : peaks) known = known || std::abs(dot(p, q)) > 0.99;
+        if (!known) peaks.push_back(p);
+      }
+      std::vector<double> peakCost;
+      for (const Vec3d& p : peaks) peakCost.push_back(convexHullGauge(ball.points.data(), ball.points.size(), p));
+      const auto L = [&](const Vec3d& v) { return double(LatticeTableNorm<2>::length(g, float(v.x), float(v.y), float(v.z))); };
+      std::vector<double> e;
+      for (std::size_t i = 0; i < dirs.size(); ++i) {
+        const Vec3d& v = dirs[i];
+        double best = L(v);
+        for (std::size_t k = 0; k < peaks.size(); ++k) {
+          const double t = dot(v, peaks[k]);
+          best = std::min(best, std::abs(t) * peakCost[k] + L(v - t * peaks[k]));
+          for (std::size_t m = k + 1; m < peaks.size(); ++m) {
+            // v's projection on the plane of the two peaks: a p_k + b p_m.
+            const double c = dot(peaks[k], peaks[m]), vk = dot(v, peaks[k]), vm = dot(v, peaks[m]);
+            const double det = 1 - c * c;
+            if (det < 1e-6) continue;
+            const double a = (vk - c * vm) / det, b = (vm - c * vk) / det;
+            best = std::min(best, std::abs(a) * peakCost[k] + std::abs(b) * peakCost[m] +
+                                      L(v - a * peaks[k] - b * peaks[m]));
+          }
+        }
+        e.push_back(best / ex[i] - 1);
+      }
+      const Summary s = summarise(e);
+      std::printf("norms\t%.0f\tlattice n=2 + fibres (experiment)\t49+\t%.4f\t%.4f\t%.4f\t%.5f\t%zu\t-\n", angle, s.mean,
+                  s.p99, s.max, s.min, s.below);
     }
     latticeRow<1>("lattice n=1", angle, sampler, dirs, ex);
     latticeRow<2>("lattice n=2", angle, sampler, dirs, ex);

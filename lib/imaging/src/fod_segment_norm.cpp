@@ -1,6 +1,10 @@
+// The segment metric of an FOD: F* tabulated along a lattice of the grid.
 #include "stvd/imaging/fod_segment_norm.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <utility>
 
 #include "stvd/imaging/fod_metric.hpp"
 #include "stvd/propagation/propagation_definition.hpp"
@@ -50,8 +54,6 @@ template MetricField<LatticeTableNorm<3>> fodLatticeMetric<3>(const FodCostSampl
 }  // namespace stvd::imaging
 
 namespace stvd {
-template PropagationResult propagate(const VoxelGridDomain&, const MetricField<LatticeTableNorm<1>>&,
-                                     const std::vector<VertexId>&, const PropagationOptions&);
-template PropagationResult propagate(const VoxelGridDomain&, const MetricField<LatticeTableNorm<2>>&,
+template PropagationResult propagate(const VoxelGridDomain&, const imaging::FodSegmentMetric&,
                                      const std::vector<VertexId>&, const PropagationOptions&);
 }  // namespace stvd

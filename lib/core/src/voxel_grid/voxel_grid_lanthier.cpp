@@ -310,8 +310,6 @@ template LanthierResult lanthierPropagate(const VoxelGridDomain&, const Riemanni
 template LanthierResult lanthierPropagate(const VoxelGridDomain&, const RandersMetric&,
                                                    const std::vector<VertexId>&, const LanthierOptions&);
 // Tabulated (Finsler) norms: the FOD metrics of the imaging adapter (docs/fod.md).
-template LanthierResult lanthierPropagate(const VoxelGridDomain&, const MetricField<LatticeTableNorm<1>>&,
-                                          const std::vector<VertexId>&, const LanthierOptions&);
 template LanthierResult lanthierPropagate(const VoxelGridDomain&, const MetricField<LatticeTableNorm<2>>&,
                                           const std::vector<VertexId>&, const LanthierOptions&);
 

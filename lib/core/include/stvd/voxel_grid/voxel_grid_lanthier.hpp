@@ -70,8 +70,6 @@ extern template LanthierResult lanthierPropagate(const VoxelGridDomain&,
                                                           const RandersMetric&,
                                                           const std::vector<VertexId>&,
                                                           const LanthierOptions&);
-extern template LanthierResult lanthierPropagate(const VoxelGridDomain&, const MetricField<LatticeTableNorm<1>>&,
-                                                 const std::vector<VertexId>&, const LanthierOptions&);
 extern template LanthierResult lanthierPropagate(const VoxelGridDomain&, const MetricField<LatticeTableNorm<2>>&,
                                                  const std::vector<VertexId>&, const LanthierOptions&);
 

@@ -55,9 +55,7 @@ inline FodSegmentMetric fodSegmentMetric(const FodCostSampler& sampler,
 }  // namespace stvd::imaging
 
 namespace stvd {
-// Compiled in the imaging adapter (fod_segment_norm.cpp) for orders 1 and 2.
-extern template PropagationResult propagate(const VoxelGridDomain&, const MetricField<LatticeTableNorm<1>>&,
-                                            const std::vector<VertexId>&, const PropagationOptions&);
-extern template PropagationResult propagate(const VoxelGridDomain&, const MetricField<LatticeTableNorm<2>>&,
+// Compiled in the imaging adapter (fod_segment_norm.cpp) for the order used.
+extern template PropagationResult propagate(const VoxelGridDomain&, const imaging::FodSegmentMetric&,
                                             const std::vector<VertexId>&, const PropagationOptions&);
 }  // namespace stvd
