@@ -200,12 +200,12 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
       // Lanthier runs on the segment metric only (compiled for it).
       if constexpr (std::is_same_v<std::decay_t<decltype(metric)>, imaging::FodSegmentMetric>) {
         if (choice.lanthier) {
-          LanthierOptions steiner;
-          steiner.steinerPoints = choice.steinerPoints;
-          steiner.maxDistance = limit;
-          steiner.progress = relay.hook();
+          LanthierOptions lanthier;
+          lanthier.steinerPoints = choice.steinerPoints;
+          lanthier.maxDistance = limit;
+          lanthier.progress = relay.hook();
           try {
-            result = lanthierPropagate(domain, metric, sources, steiner);
+            result = lanthierPropagate(domain, metric, sources, lanthier);
           } catch (const std::invalid_argument& e) {  // too large a graph
             throw OptionError(name + ": method='lanthier': " + e.what());
           }
