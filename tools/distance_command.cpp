@@ -36,6 +36,7 @@
 #include "stvd/imaging/tensor_input_options.hpp"
 #include "stvd/imaging/fod_input_options.hpp"
 #include "stvd/imaging/fod_metric.hpp"
+#include "stvd/imaging/fod_segment_norm.hpp"
 #include "stvd/system/interrupter.hpp"
 #include "stvd/itk/fod_volume_io.hpp"
 #include "stvd/itk/image_grid.hpp"
@@ -167,13 +168,13 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
     return o;
   }
   checkFodRunOptions(v, o.stencil);
-  // Dijkstra over the 26-neighbour stencil measures every step by F* along
-  // a tabulated direction: a path that exists. STVD's candidates and
-  // Lanthier's segments are not yet measured against exact FOD distances.
-  if (o.lanthier || (v.has("--method") && o.method != Method::Dijkstra))
-    usageError("--method " + *v.text("--method") +
-               ": not measured on FOD metrics yet (docs/fod.md); use --method dijkstra, the default for FOD images");
-  o.method = Method::Dijkstra;
+  // Dijkstra is the default for FOD images: its table (F* along the 26
+  // neighbour directions) costs a quarter of the segment norm's that STVD
+  // and Lanthier need (docs/fod.md, "STVD and Lanthier").
+  if (!v.has("--method")) {
+    o.method = Method::Dijkstra;
+    checkPropagationChoice(o, /*lanthierAllowed=*/true);  // --k and --chain-measure go with STVD only
+  }
   return o;
 }
 
@@ -410,8 +411,14 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
   const std::vector<Seed> seeds = resolveSeeds(o.input, o, grid, o.tensor.metric, inDomain, labelSeedsLeftOut);
   t.read = secondsSince(phase);
 
+  // STVD's candidates and Lanthier's segments are measured by the segment
+  // norm (F* along the lattice of order 2), Dijkstra's steps by F* along
+  // the 26 neighbour directions: the same values along those.
+  const bool segments = o.lanthier || o.method != Method::Dijkstra;
   const std::uint64_t needed = gridRunMemoryEstimate(o, voxels, counts.domain) + kOutputBytesPerVoxel * voxels +
-                               sizeof(imaging::FodStencilNorm::VertexParams) * voxels;
+                               (segments ? sizeof(imaging::FodSegmentNorm::VertexParams)
+                                         : sizeof(imaging::FodStencilNorm::VertexParams)) *
+                                   voxels;
   const MemoryCheck memory = checkMemory(
       o.input, needed, methodText(o, memoryDepthOf<VoxelGridDomain>(o)) + " on " + withThousands(counts.domain) +
                            " domain voxels of an FOD image",
@@ -419,8 +426,7 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
 
   phase = Clock::now();
   TableBar tableBar(!o.quiet);
-  const FodTable table = makeFodTable(in, o.fod.cost, o.threads, &tableBar);
-  const imaging::FodStencilMetric& metric = table.metric;
+  const FodTable table = makeFodTable(in, o.fod.cost, o.threads, &tableBar, segments);
   t.metric = secondsSince(phase);
 
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), inDomain, o.connectivity);
@@ -433,7 +439,22 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
     bar.update(p.domainVertices ? double(p.finalizedVertices) / double(p.domainVertices) : 0.0);
     return true;
   };
-  const PropagationResult result = propagate(domain, metric, sources, options);
+  PropagationResult result;
+  if (o.lanthier) {  // compiled for the segment metric only
+    LanthierOptions steiner;
+    steiner.steinerPoints = o.steinerPoints;
+    steiner.maxDistance = o.maxDistance;
+    steiner.progress = options.progress;
+    try {
+      result = lanthierPropagate(domain, *table.segments, sources, steiner);
+    } catch (const std::invalid_argument& e) {  // too large a graph
+      throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
+    }
+  } else if (segments) {
+    result = propagate(domain, *table.segments, sources, options);
+  } else {
+    result = propagate(domain, table.metric, sources, options);
+  }
   bar.finish();
   t.propagate = secondsSince(phase);
 
@@ -468,8 +489,9 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
   if (!o.quiet) {
     std::ostringstream s;
     s << fodInputText(o.input, in, o.fod, table) << ". " << (seeds.size() == 1 ? "Seed" : "Seeds") << ": "
-      << withThousands(seeds.size()) << " voxel" << (seeds.size() == 1 ? "" : "s") << ". Method: Dijkstra on the "
-      << o.stencil << "-neighbour stencil";
+      << withThousands(seeds.size()) << " voxel" << (seeds.size() == 1 ? "" : "s")
+      << ". Method: " << methodText(o, memoryDepthOf<VoxelGridDomain>(o));
+    if (!o.lanthier) s << " on the " << o.stencil << "-neighbour stencil";
     if (std::isfinite(o.maxDistance)) s << ", stopping at " << fixed(o.maxDistance, 1) << " mm";
     s << ". Reached " << withThousands(stats.reached) << " of " << withThousands(counts.domain) << " domain voxels";
     if (stats.reached)

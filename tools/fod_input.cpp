@@ -51,13 +51,16 @@ FodInput readFodInput(const std::string& path, const imaging::FodInputOptions& o
 }
 
 FodTable makeFodTable(const FodInput& input, const imaging::FodCostOptions& cost, unsigned threads,
-                      Interrupter* progress) {
+                      Interrupter* progress, bool segments) {
   FodTable table;
   const auto start = std::chrono::steady_clock::now();
   const std::clock_t cpuStart = std::clock();  // the process's CPU time, all threads
   const GridGeometry& g = input.fod.geometry;
   const imaging::FodCostSampler sampler(input.fod, imaging::defaultFodSamplingDirections(g), cost);
-  table.metric = imaging::fodStencilMetric(sampler, &input.inDomain, threads, progress);
+  if (segments)
+    table.segments = imaging::fodSegmentMetric(sampler, &input.inDomain, threads, progress);
+  else
+    table.metric = imaging::fodStencilMetric(sampler, &input.inDomain, threads, progress);
   table.cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
   table.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   table.directions = sampler.directions().size();
@@ -77,7 +80,10 @@ std::vector<std::string> fodMetricParameters(const FodInput& input, const imagin
           "\"fod_floor\": " + jsonNumber(options.cost.floor),
           "\"fod_power\": " + jsonNumber(options.cost.power),
           "\"fod_directions\": " + std::to_string(table.directions),
-          "\"fod_norm\": \"convexified F* along the 26 neighbour directions\""};
+          table.segments ? "\"fod_norm\": \"convexified F* along the lattice directions of order " +
+                               std::to_string(imaging::kFodLatticeOrder) + " (" +
+                               std::to_string(imaging::FodSegmentNorm::kCount) + " per voxel), interpolated\""
+                         : "\"fod_norm\": \"convexified F* along the 26 neighbour directions\""};
 }
 
 std::string fodPrecomputationMember(const FodInput& input, const FodTable& table) {
@@ -95,8 +101,11 @@ std::string fodInputText(const std::string& path, const FodInput& input, const i
     << " x " << g.size[2] << " voxels of " << fixed(g.spacing[0], 2) << " x " << fixed(g.spacing[1], 2) << " x "
     << fixed(g.spacing[2], 2) << " mm, orientation " << orientationCode(g)
     << ". Cost: the convexified FOD norm F* (floor " << jsonNumber(options.cost.floor) << ", power "
-    << jsonNumber(options.cost.power) << ", " << table.directions << " directions) along the 26 neighbour directions of "
-    << withThousands(input.counts.domain) << " domain voxels";
+    << jsonNumber(options.cost.power) << ", " << table.directions << " directions) along "
+    << (table.segments ? "the " + std::to_string(imaging::FodSegmentNorm::kCount) + " lattice directions of order " +
+                             std::to_string(imaging::kFodLatticeOrder)
+                       : std::string("the 26 neighbour directions"))
+    << " of " << withThousands(input.counts.domain) << " domain voxels";
   if (!input.grid.maskDescription.empty()) s << " (mask: " << input.grid.maskDescription << ")";
   s << ", tabulated in " << fixed(table.seconds, 2) << " s (" << fixed(table.cpuSeconds, 2) << " s CPU on "
     << table.threads << (table.threads == 1 ? " thread" : " threads") << ")";

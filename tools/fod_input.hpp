@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "stvd/imaging/fod_field.hpp"
 #include "stvd/imaging/fod_input_options.hpp"
 #include "stvd/imaging/fod_metric.hpp"
+#include "stvd/imaging/fod_segment_norm.hpp"
 #include "stvd/imaging/tensor_input.hpp"
 #include "stvd/system/interrupter.hpp"
 
@@ -39,15 +41,19 @@ FodInput readFodInput(const std::string& path, const imaging::FodInputOptions& o
 /// The table of F* along the 26 neighbour directions of the domain's
 /// voxels, and what it cost.
 struct FodTable {
-  imaging::FodStencilMetric metric;
+  imaging::FodStencilMetric metric;  ///< Dijkstra's: F* along the 26 neighbour directions
+  /// STVD's and Lanthier's, when asked for: F* along the lattice directions
+  /// of order 2, interpolated between them (docs/fod.md, "STVD and Lanthier").
+  std::optional<imaging::FodSegmentMetric> segments;
   std::size_t directions = 0;  ///< sampling directions of the unit ball
   double seconds = 0.0;        ///< wall time
   double cpuSeconds = 0.0;     ///< the process's CPU time, all threads
   unsigned threads = 1;
 };
-/// `progress` (may be null) sees the table's blocks and may stop it (Cancelled).
+/// `progress` (may be null) sees the table's blocks and may stop it
+/// (Cancelled); `segments`: the segment metric instead of the 26 directions.
 FodTable makeFodTable(const FodInput& input, const imaging::FodCostOptions& cost, unsigned threads,
-                      Interrupter* progress = nullptr);
+                      Interrupter* progress = nullptr, bool segments = false);
 
 /// The metric's parameters for RunStatistics::metricParameters ("metric":
 /// "fod", the basis as resolved and as given, frame, lmax, floor, power,

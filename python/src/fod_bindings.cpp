@@ -19,6 +19,7 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <type_traits>
 #include <vector>
 
 #include "array_access.hpp"
@@ -38,6 +39,7 @@
 #include "stvd/imaging/fod_metric.hpp"
 #include "stvd/imaging/fod_paths.hpp"
 #include "stvd/imaging/scalar_image.hpp"
+#include "stvd/imaging/fod_segment_norm.hpp"
 #include "stvd/imaging/seed_options.hpp"
 #include "stvd/imaging/seed_voxels.hpp"
 #include "stvd/imaging/streamline_io.hpp"
@@ -51,6 +53,7 @@
 #include "stvd/voxel_grid/label_regions.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
 #include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 #include "tensor_field.hpp"
 
@@ -175,22 +178,27 @@ FodCallInput fodCallInput(const py::object& coefficients, const py::object& affi
 
 /// F* tabulated along the 26 neighbour directions of the input's domain
 /// voxels (without the GIL), and what it cost; `progress` (may be null)
-/// sees the table's blocks and may stop it (Cancelled).
+/// sees the table's blocks and may stop it (Cancelled); `segments`: the
+/// segment metric (STVD, Lanthier) instead of the 26 directions.
 struct FodCallTable {
-  imaging::FodStencilMetric metric;
+  imaging::FodStencilMetric metric;                   ///< Dijkstra's: F* along the 26 neighbour directions
+  std::optional<imaging::FodSegmentMetric> segments;  ///< STVD's and Lanthier's, when asked for
   std::size_t directions = 0;
   double seconds = 0.0;
   unsigned threads = 1;
 };
 
 FodCallTable fodCallTable(const FodCallInput& in, const imaging::FodCostOptions& cost, unsigned threads,
-                          Interrupter* progress = nullptr) {
+                          Interrupter* progress = nullptr, bool segments = false) {
   FodCallTable table;
   const GridGeometry& g = in.field.geometry;
   const auto start = std::chrono::steady_clock::now();
   const imaging::FodCostSampler sampler(in.field, imaging::defaultFodSamplingDirections(g), cost);
   table.directions = sampler.directions().size();
-  table.metric = imaging::fodStencilMetric(sampler, &in.inDomain, threads, progress);
+  if (segments)
+    table.segments = imaging::fodSegmentMetric(sampler, &in.inDomain, threads, progress);
+  else
+    table.metric = imaging::fodStencilMetric(sampler, &in.inDomain, threads, progress);
   table.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   table.threads =
       threadCountFor(threads, (g.voxelCount() + imaging::kFodMetricBlockVoxels - 1) / imaging::kFodMetricBlockVoxels);
@@ -205,7 +213,7 @@ void checkFodStencil(const PropagationChoice& choice) {
 }
 
 /// stvd.fod_distance's work: the field (a file when `path` is given, the
-/// array otherwise), the domain, the seeds, the table of F*, Dijkstra.
+/// array otherwise), the domain, the seeds, the table of F*, the method.
 py::dict fodDistance(const py::object& coefficients, const py::object& affine,
                      const std::optional<std::array<double, 3>>& zooms, const std::string& givenName,
                      const std::optional<std::string>& path, const std::optional<std::string>& basis,
@@ -213,19 +221,17 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
                      const std::optional<double>& power, const py::object& mask,
                      const std::vector<std::array<int, 3>>& seedVoxels,
                      const std::vector<std::array<double, 3>>& seedPoints, bool lps, const py::object& seedLabels,
-                     const std::optional<std::string>& method, const std::optional<std::string>& stencil,
+                     const std::optional<std::string>& method, const std::optional<int>& k,
+                     const std::optional<int>& steiner, const std::optional<std::string>& stencil,
                      const std::optional<std::string>& domainConnectivity, const std::optional<double>& maxDistance,
                      double unreachable, unsigned threads, const py::object& progress, bool memoryCheck) {
   const imaging::FodInputOptions fod = fodOptionsOf(basis, frame, floor, power);
-  PropagationChoice choice = choiceOf(method, std::nullopt, std::nullopt, stencil, std::nullopt, domainConnectivity);
-  // Dijkstra over the 26-neighbour stencil measures every step by F* along
-  // a tabulated direction: a path that exists. STVD's candidates and
-  // Lanthier's segments are not yet measured against exact FOD distances.
-  if (choice.lanthier || (method && choice.method != Method::Dijkstra))
-    throw OptionError("method='" + *method +
-                      "': not measured on FOD metrics yet (docs/fod.md); use method='dijkstra', the default for FOD "
-                      "images");
-  choice.method = Method::Dijkstra;
+  PropagationChoice choice = choiceOf(method, k, std::nullopt, stencil, steiner, domainConnectivity);
+  // Dijkstra is the default for FOD images, as in the tool (docs/fod.md,
+  // "STVD and Lanthier"); STVD and Lanthier run on the segment norm.
+  if (!method) choice.method = Method::Dijkstra;
+  checkPropagationChoice(choice, /*lanthierAllowed=*/true);  // k= with STVD only, steiner= with Lanthier
+  const bool segments = choice.lanthier || choice.method != Method::Dijkstra;
   checkFodStencil(choice);
   const double limit = maxDistanceOf(maxDistance);
   checkUnreachableValue(unreachable, py::str(py::float_(unreachable)), OptionNaming::Keywords);
@@ -247,7 +253,9 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
   const std::uint64_t voxels = g.voxelCount(), domainVoxels = in.domainVoxels;
   checkMemory(name,
               gridRunMemoryEstimate(choice, voxels, domainVoxels) + sizeof(float) * voxels +
-                  sizeof(imaging::FodStencilNorm::VertexParams) * voxels,
+                  (segments ? sizeof(imaging::FodSegmentNorm::VertexParams)
+                            : sizeof(imaging::FodStencilNorm::VertexParams)) *
+                      voxels,
               methodText(choice, memoryDepthOf<VoxelGridDomain>(choice)) + " on " +
                   text::withThousands(domainVoxels) + " domain voxels of an FOD image",
               memoryCheck);
@@ -273,20 +281,34 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
     TableProgress tableProgress(relay.hook(), in.domainVoxels);
     std::optional<FodCallTable> table;
     try {
-      table.emplace(fodCallTable(in, fod.cost, threads, &tableProgress));
+      table.emplace(fodCallTable(in, fod.cost, threads, &tableProgress, segments));
     } catch (const Cancelled&) {
       tableCancelled = true;
     }
     if (table) {
-      const imaging::FodStencilMetric& metric = table->metric;
       directions = table->directions;
       tableSeconds = table->seconds;
       tableThreads = table->threads;
       const VoxelGridDomain domain(g, Stencil::byName(choice.stencil), inDomain, choice.connectivity);
+      const std::vector<VertexId> sources = imaging::sourceVertices(domain, seeds);
       PropagationOptions options = propagationOptions(choice);
       options.maxDistance = limit;
       options.progress = relay.hook();
-      result = propagate(domain, metric, imaging::sourceVertices(domain, seeds), options);
+      if (choice.lanthier) {  // compiled for the segment metric only
+        LanthierOptions lanthier;
+        lanthier.steinerPoints = choice.steinerPoints;
+        lanthier.maxDistance = limit;
+        lanthier.progress = relay.hook();
+        try {
+          result = lanthierPropagate(domain, *table->segments, sources, lanthier);
+        } catch (const std::invalid_argument& e) {  // too large a graph
+          throw OptionError(name + ": method='lanthier': " + e.what());
+        }
+      } else if (segments) {
+        result = propagate(domain, *table->segments, sources, options);
+      } else {
+        result = propagate(domain, table->metric, sources, options);
+      }
     }
   }
   relay.rethrowIfFailed();  // Ctrl-C or the callback's exception first
@@ -552,10 +574,11 @@ void bindFod(py::module_& m) {
   m.def("fod_distance", &fodDistance, py::arg("coefficients"), py::arg("affine"), py::arg("zooms"),
         py::arg("name"), py::arg("path"), py::arg("fod_basis"), py::arg("fod_frame"), py::arg("fod_floor"),
         py::arg("fod_power"), py::arg("mask"), py::arg("seeds"), py::arg("seed_points"), py::arg("lps"),
-        py::arg("seed_labels"), py::arg("method"), py::arg("stencil"), py::arg("domain_connectivity"),
+        py::arg("seed_labels"), py::arg("method"), py::arg("k"), py::arg("steiner"), py::arg("stencil"), py::arg("domain_connectivity"),
         py::arg("max_distance"), py::arg("unreachable_value"), py::arg("threads"), py::arg("progress"),
         py::arg("memory_check"),
-        "Dijkstra under the convexified FOD norm, as `stvd distance FOD --fod-basis NAME` (stvd.fod_distance).");
+        "Dijkstra, STVD or Lanthier under the convexified FOD norm, as `stvd distance FOD --fod-basis NAME` "
+        "(stvd.fod_distance).");
 }
 
 }  // namespace stvd::python

@@ -302,13 +302,15 @@ class _GridOf:
 
 
 def fod_distance(fod, seeds=None, *, fod_basis=None, affine=None, seed_points=None, seed_labels=None, lps=False,
-                 mask=None, fod_frame=None, fod_floor=None, fod_power=None, method=None, stencil=None,
+                 mask=None, fod_frame=None, fod_floor=None, fod_power=None, method=None, k=None, steiner=None,
+                 stencil=None,
                  domain_connectivity=None, max_distance=None, unreachable_value=None, threads=None, progress=None,
                  memory_check=True):
     """The geodesic distance (millimetres) from seeds under the metric of a
     fibre orientation distribution (FOD) image, as ``stvd distance FOD
-    --fod-basis NAME`` computes it: Dijkstra over the voxel grid with the
-    convexified FOD norm F* (docs/fod.md), the same map, bit for bit.
+    --fod-basis NAME`` computes it: Dijkstra (or ``method=``) over the voxel
+    grid with the convexified FOD norm F* (docs/fod.md), the same map, bit
+    for bit.
 
     fod: spherical-harmonic coefficients per voxel: a path (``.mif``,
         ``.mif.gz``, ``.mih``, ``.nii``, ``.nii.gz``: X, Y, Z, N), a NiBabel
@@ -330,8 +332,11 @@ def fod_distance(fod, seeds=None, *, fod_basis=None, affine=None, seed_points=No
     seeds, seed_points, seed_labels, lps, mask, stencil (6, 18 or 26),
         domain_connectivity, max_distance, unreachable_value, progress,
         memory_check: as for ``stvd.distance``.
-    method: ``'dijkstra'`` only (the default here); STVD and Lanthier's
-        method are not measured on FOD metrics yet and raise ValueError.
+    method: ``'dijkstra'`` (the default here, as in the tool), ``'stvd'``
+        (``k=``, 6 when unset) or ``'lanthier'`` (``steiner=`` M, required),
+        as for ``stvd.distance``: STVD and Lanthier measure segments by F*
+        tabulated along the lattice of order 2, a table four times the cost
+        of Dijkstra's (docs/fod.md, "STVD and Lanthier").
     threads: threads of the per-voxel table of F* (None or 0: one per core);
         the map is the same for any count.
 
@@ -342,7 +347,7 @@ def fod_distance(fod, seeds=None, *, fod_basis=None, affine=None, seed_points=No
     if unreachable_value is None:
         unreachable_value = defaults.unreachable_value
     run = fod_distance_run(fod, seeds, seed_points, seed_labels, lps, affine, fod_basis, fod_frame, fod_floor,
-                           fod_power, mask, method, stencil, domain_connectivity, max_distance, unreachable_value,
+                           fod_power, mask, method, k, steiner, stencil, domain_connectivity, max_distance, unreachable_value,
                            threads, progress, memory_check)
     template = _image_template(fod, _GridOf(run["affine"]), affine)
     return template(run["distance_map"]) if template else run["distance_map"]

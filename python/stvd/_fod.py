@@ -70,7 +70,7 @@ def fod_arguments(fod, affine, fod_basis):
 
 
 def fod_distance_run(fod, seeds, seed_points, seed_labels, lps, affine, fod_basis, fod_frame, fod_floor, fod_power,
-                     mask, method, stencil, domain_connectivity, max_distance, unreachable_value, threads, progress,
+                     mask, method, k, steiner, stencil, domain_connectivity, max_distance, unreachable_value, threads, progress,
                      memory_check):
     """The extension's run, a dict: "distance" (float64, inf where not
     reached), "distance_map" (float32 as the tool writes it), "affine", the
@@ -84,7 +84,7 @@ def fod_distance_run(fod, seeds, seed_points, seed_labels, lps, affine, fod_basi
             None if fod_floor is None else float(fod_floor), None if fod_power is None else float(fod_power),
             scalar_image_spec(mask, "mask"), voxel_list(seeds, "seeds", "seed_points"),
             point_list(seed_points, "seed_points"), bool(lps), scalar_image_spec(seed_labels, "seed_labels"),
-            method, stencil, None if domain_connectivity is None else str(domain_connectivity), max_distance,
+            method, k, steiner, stencil, None if domain_connectivity is None else str(domain_connectivity), max_distance,
             float(unreachable_value), int(threads or 0), reporter.callback, bool(memory_check))
         reporter.finish(run["finalized_vertices"])
     return run

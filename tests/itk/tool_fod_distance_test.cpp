@@ -19,7 +19,14 @@
 #include <vector>
 
 #include "fod_crossing.hpp"
+#include "stvd/imaging/fod_cost.hpp"
+#include "stvd/imaging/fod_segment_norm.hpp"
+#include "stvd/itk/fod_volume_io.hpp"
 #include "stvd/itk/scalar_image_io.hpp"
+#include "stvd/voxel_grid/stencil.hpp"
+#include "stvd/voxel_grid/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 #include "test_support.hpp"
 
 namespace stvd::testing {
@@ -83,6 +90,44 @@ TEST_F(ToolFodDistance, TheSeedsOwnBundleIsReachedAtItsLengthOnTheInputsGrid) {
     EXPECT_NE(stats.find(member), std::string::npos) << member << "\n" << stats;
 }
 
+// STVD and Lanthier's method run on the segment norm (docs/fod.md, "STVD and
+// Lanthier"): the tool's map is the library's run on the same file, value for
+// value, and the seed's own bundle is reached at its length.
+TEST_F(ToolFodDistance, StvdAndLanthierGiveTheLibrarysMap) {
+  imaging::FodReadOptions read;
+  read.basis = "tournier07";
+  const imaging::FodField field = imaging::readFodVolume(path("fod.nii"), read);
+  const imaging::FodCostSampler sampler(field, imaging::defaultFodSamplingDirections(field.geometry));
+  const imaging::FodSegmentMetric metric = imaging::fodSegmentMetric(sampler);
+  const VoxelGridDomain domain(field.geometry, Stencil::full26());
+  const VertexId seed = domain.vertexAt(0, kC, 1);
+  for (const std::string method : {"stvd", "lanthier"}) {
+    std::vector<std::string> arguments{"--fod-basis", "tournier07", "--method", method, "-o", path(method + ".nii"),
+                                       "--stats", path(method + ".json")};
+    if (method == "lanthier") arguments.insert(arguments.end(), {"--steiner", "3"});
+    const ToolRun r = distance(arguments);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::vector<double> expected;
+    if (method == "stvd") {
+      expected = propagate(domain, metric, {seed}).distance;
+    } else {
+      LanthierOptions steiner;
+      steiner.steinerPoints = 3;
+      expected = lanthierPropagate(domain, metric, {seed}, steiner).distance;
+    }
+    const imaging::ScalarImage map = imaging::readScalarImage(path(method + ".nii"));
+    ASSERT_EQ(map.values.size(), expected.size());
+    std::size_t differing = 0;
+    for (std::size_t v = 0; v < expected.size(); ++v) differing += map.values[v] != static_cast<float>(expected[v]);
+    EXPECT_EQ(differing, 0u) << method;
+    // Along its own bundle, through the crossing: 24 mm at 1 per mm.
+    EXPECT_NEAR(map.values[(kN - 1) + kN * (kC + kN)], 24.0, 24e-3) << method;
+    const std::string stats = fileText(path(method + ".json"));
+    EXPECT_NE(stats.find("\"method\": \"" + method + "\""), std::string::npos) << stats;
+    EXPECT_NE(stats.find("lattice directions of order 2"), std::string::npos) << stats;
+  }
+}
+
 TEST_F(ToolFodDistance, TheMapIsTheSameOnOneAndTwoThreads) {
   ASSERT_EQ(distance({"--fod-basis", "tournier07", "--threads", "1", "-o", path("one.nii")}).exitCode, 0);
   ASSERT_EQ(distance({"--fod-basis", "tournier07", "--threads", "2", "-o", path("two.nii")}).exitCode, 0);
@@ -133,9 +178,12 @@ TEST_F(ToolFodDistance, BadInputsAreRefusedInOneLineWithNothingWritten) {
                 "--fod-basis");
   // An FOD image without its basis: the tensor reader refuses it, the tool says what it is.
   expectRefused({"distance", fod, "--seed-voxel", "0,12,1", "-o", out}, 3, "state its basis with --fod-basis");
-  expectRefused({"distance", fod, "--fod-basis", "tournier07", "--method", "stvd", "--seed-voxel", "0,12,1", "-o",
-                 out},
-                2, "use --method dijkstra");
+  // Dijkstra is the default for FOD images: --k goes with --method stvd, and Lanthier needs its M.
+  expectRefused({"distance", fod, "--fod-basis", "tournier07", "--k", "8", "--seed-voxel", "0,12,1", "-o", out}, 2,
+                "--k applies to --method stvd only");
+  expectRefused({"distance", fod, "--fod-basis", "tournier07", "--method", "lanthier", "--seed-voxel", "0,12,1",
+                 "-o", out},
+                2, "needs --steiner");
   expectRefused({"distance", fod, "--fod-floor", "0.2", "--seed-voxel", "0,12,1", "-o", out}, 2,
                 "--fod-floor applies to FOD images");
   expectRefused({"distance", fod, "--fod-basis", "tournier07", "--tensor-order", "fsl", "--seed-voxel", "0,12,1",

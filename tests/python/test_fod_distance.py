@@ -5,7 +5,8 @@ NiBabel image and as a file: the seed's own bundle's far end at the bundle's
 length, the same map as `stvd distance FOD --fod-basis` bit for bit, the same
 distances under a rotated and flipped affine (an isometry of the phantom),
 and the refusals of a wrong basis, of tensors given as an FOD, of a bare
-array or fit without its basis and of STVD or Lanthier's method."""
+array or fit without its basis; STVD and Lanthier's method (method=) give
+the tool's maps too."""
 
 import os
 import pathlib
@@ -81,6 +82,28 @@ def test_the_package_map_is_the_tools_bit_for_bit(tmp_path, crossing):
                           (fit, identity_affine())):
         mine = values(stvd.fod_distance(given, (0, 10, 1), fod_basis=BASIS, affine=affine, threads=1))
         assert mine.dtype == tool.dtype and mine.tobytes() == tool.tobytes(), type(given)
+
+
+def test_stvd_and_lanthier_give_the_tools_maps_bit_for_bit(tmp_path, crossing):
+    """method='stvd' and method='lanthier' run on the segment norm (docs/fod.md,
+    "STVD and Lanthier") as `stvd distance --method`: the same bytes, and the
+    seed's own bundle's far end at the bundle's length."""
+    fit, _ = crossing
+    path = tmp_path / "crossing_fod.nii.gz"
+    nib.save(nib.Nifti1Image(fit.shm_coeff.astype(np.float32), identity_affine()), path)
+    for method, extra, keywords in (("stvd", [], {}), ("lanthier", ["--steiner", "2"], {"steiner": 2})):
+        out = tmp_path / f"tool_{method}.nii.gz"
+        run = subprocess.run([str(TOOL), "distance", str(path), "--fod-basis", BASIS, "--seed-voxel", "0,10,1",
+                              "--method", method, *extra, "-o", str(out), "--quiet"], capture_output=True, text=True)
+        assert run.returncode == 0, run.stderr
+        tool = np.asanyarray(nib.load(out).dataobj)
+        mine = values(stvd.fod_distance(fit, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), method=method,
+                                        **keywords))
+        assert mine.dtype == tool.dtype and mine.tobytes() == tool.tobytes(), method
+        assert mine[20, 10, 1] == pytest.approx(40.0, rel=0.005), method
+        # Not the Dijkstra map: the method was run.
+        dijkstra = values(stvd.fod_distance(fit, (0, 10, 1), fod_basis=BASIS, affine=identity_affine()))
+        assert not np.array_equal(mine, dijkstra), method
 
 
 def test_a_rotated_and_flipped_affine_gives_the_same_distances(crossing):
@@ -174,10 +197,12 @@ def test_bad_input_is_refused_in_one_clear_line(tmp_path, crossing):
     # An array without its affine; a count of coefficients no lmax has.
     assert "affine=" in message(coefficients, (0, 10, 1), fod_basis=BASIS)
     assert "44" in message(coefficients[..., :44], (0, 10, 1), fod_basis=BASIS, affine=identity_affine())
-    # Dijkstra only, as the tool.
-    for method in ("stvd", "lanthier"):
-        text = message(coefficients, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), method=method)
-        assert "dijkstra" in text, text
+    # Lanthier's method needs its M, as the tool's --steiner; k= goes with STVD
+    # (Dijkstra is the default for FOD images).
+    text = message(coefficients, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), method="lanthier")
+    assert "steiner=" in text, text
+    text = message(coefficients, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), k=8)
+    assert "k" in text and "stvd" in text, text
     # The cost's keywords are checked by their declarations.
     assert "fod_floor" in message(coefficients, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), fod_floor=0)
     assert "fod_power" in message(coefficients, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), fod_power=9)

@@ -309,6 +309,9 @@ template LanthierResult lanthierPropagate(const VoxelGridDomain&, const Riemanni
                                                    const std::vector<VertexId>&, const LanthierOptions&);
 template LanthierResult lanthierPropagate(const VoxelGridDomain&, const RandersMetric&,
                                                    const std::vector<VertexId>&, const LanthierOptions&);
+// Tabulated (Finsler) norms: the FOD metrics of the imaging adapter (docs/fod.md).
+template LanthierResult lanthierPropagate(const VoxelGridDomain&, const MetricField<LatticeTableNorm<2>>&,
+                                          const std::vector<VertexId>&, const LanthierOptions&);
 
 std::uint64_t lanthierGridPointCount(std::uint64_t domainVoxelCount, int steinerPoints) {
   const std::uint64_t m = static_cast<std::uint64_t>(steinerPoints);

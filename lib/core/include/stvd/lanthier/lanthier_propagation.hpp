@@ -21,6 +21,7 @@
 #include <limits>
 #include <vector>
 
+#include "stvd/metric/lattice_table_norm.hpp"
 #include "stvd/metric/metric_field.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/types.hpp"
@@ -117,6 +118,22 @@ struct CellNormRule<RandersNorm> {
     }
     return {CellNormRule<RiemannianNorm>::params(tensors, count),
             (1.f / static_cast<float>(count)) * omega};
+  }
+};
+
+/// A tabulated norm's cell: the mean of the corner tables (and index
+/// transforms), exact for a constant field as for the other norms.
+template <int Order>
+struct CellNormRule<LatticeTableNorm<Order>> {
+  using Norm = LatticeTableNorm<Order>;
+  static typename Norm::EdgeParams params(const typename Norm::VertexParams* const* corners, int count) {
+    typename Norm::EdgeParams e{};
+    const float s = 1.f / static_cast<float>(count);
+    for (int c = 0; c < count; ++c) {
+      for (int i = 0; i < 9; ++i) e.toIndex[i] += s * corners[c]->toIndex[i];
+      for (int q = 0; q < Norm::kCount; ++q) e.cost[q] += s * corners[c]->cost[q];
+    }
+    return e;
   }
 };
 

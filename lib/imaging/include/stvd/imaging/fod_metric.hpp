@@ -88,6 +88,19 @@ FodStencilMetric fodStencilMetric(const FodCostSampler& sampler, const std::vect
                                   unsigned threads = 1, Interrupter* interrupter = nullptr,
                                   double progressInterval = kDefaultInterruptInterval);
 
+/// F* of every voxel along the query vectors (LPS, unit or not; F* is
+/// 1-homogeneous): result[v * queries.size() + q], for voxels with a
+/// non-zero `inDomain` entry (every voxel when null), the others |query|
+/// times the floor's isotropic cost; on `threads` threads (0: one per core),
+/// the same for any count. The per-voxel table every FOD metric is made of
+/// (fodStencilMetric's 26 directions, fod_segment_norm.hpp's lattices); a
+/// query whose opposite came earlier takes its value. Progress and
+/// interruption as fodStencilMetric's.
+std::vector<float> convexifiedFodTable(const FodCostSampler& sampler, const std::vector<Vec3d>& queries,
+                                       const std::vector<std::uint8_t>* inDomain = nullptr, unsigned threads = 1,
+                                       Interrupter* interrupter = nullptr,
+                                       double progressInterval = kDefaultInterruptInterval);
+
 }  // namespace stvd::imaging
 
 namespace stvd {
