@@ -4,7 +4,9 @@ real-brain FOD slab (sample_data/fod_philips_biobank), under the tensors
 and under the FOD (`--fod-basis mrtrix3`); docs/fod.md, "Real data",
 "Paths through the crossing".
 
-Both metrics run in the same box around the crossings (a mask: the slab's
+The runs are scripts/fod_crossing_qc.sh's (the demo's step: `stvd path
+--report` per run and the index of the pages), which the test runs. Both
+metrics run in the same box around the crossings (a mask: the slab's
 mask inside slab voxels i 30..81, j 44..61, all 12 slices), so that the
 FOD's table stays small. The end points were chosen on the FOD's peaks
 (DIPY's peak_directions on the shipped lmax-4 coefficients, in the scanner's
@@ -25,6 +27,11 @@ the FOD path keeps to them; the corticospinal tensor paths do not cut
 across on this data (12 directions at b = 1000), and the test says so
 instead of inventing a difference."""
 
+import json
+import os
+import pathlib
+import subprocess
+import sys
 import warnings
 
 import nibabel as nib
@@ -32,12 +39,14 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from conftest import DIPY_5D, SAMPLE, run_tool
+from conftest import DIPY_5D, SAMPLE, TOOL
+from test_pages import Elements, require_safe_page
 
 FOD_DIR = SAMPLE.parent / "fod_philips_biobank"
 FOD = FOD_DIR / "fod_csd_lmax4_slab.nii.gz"
 FOD_MASK = FOD_DIR / "fod_mask_slab.nii.gz"
 FIRST_SLICE = 10
+SCRIPT = pathlib.Path(__file__).resolve().parents[2] / "scripts" / "fod_crossing_qc.sh"
 # The box around both crossings on the slab's grid (i, j, k ranges).
 BOX = (slice(30, 82), slice(44, 62), slice(0, 12))
 # Slab voxels (k on the slab: the DTI's k - 10).
@@ -56,36 +65,39 @@ def bundle_of(name):
 
 
 @pytest.fixture(scope="module")
-def runs(tmp_path_factory):
+def qc(tmp_path_factory):
+    """The folder scripts/fod_crossing_qc.sh wrote: the box masks, the four
+    runs' paths and pages, and their index."""
+    folder = tmp_path_factory.mktemp("fod_crossing") / "qc"
+    environment = dict(os.environ, STVD_EXECUTABLE=str(TOOL), STVD_PYTHON=sys.executable)
+    run = subprocess.run(["bash", str(SCRIPT), str(folder)], capture_output=True, text=True, env=environment,
+                         timeout=600)
+    assert run.returncode == 0, run.stderr
+    return folder
+
+
+@pytest.fixture(scope="module")
+def runs(qc):
     """The six paths (tensor and FOD per path) as (N, 3) RAS arrays, the box
     mask on the slab's grid and the slab's affine."""
-    folder = tmp_path_factory.mktemp("fod_sample_paths")
-    slab = nib.load(FOD_MASK)
-    box = np.zeros(slab.shape, bool)
-    box[BOX] = True
-    box &= np.asanyarray(slab.dataobj) > 0
-    nib.Nifti1Image(box.astype(np.uint8), slab.affine).to_filename(folder / "box_slab.nii.gz")
-    tensors = nib.load(DIPY_5D)
-    on_dti = np.zeros(tensors.shape[:3], np.uint8)
-    on_dti[:, :, FIRST_SLICE:FIRST_SLICE + box.shape[2]] = box
-    nib.Nifti1Image(on_dti, tensors.affine).to_filename(folder / "box_dti.nii.gz")
+    box_image = nib.load(qc / "box_mask_slab.nii.gz")
+    box = np.asanyarray(box_image.dataobj) > 0
+    expected = np.zeros(box.shape, bool)
+    expected[BOX] = True
+    assert np.array_equal(box, expected & (np.asanyarray(nib.load(FOD_MASK).dataobj) > 0))
     paths = {}
     for kind in ("tensor", "fod"):
-        for name, (seed, target) in PATHS.items():
-            output = folder / f"{name}_{kind}.tck"
-            if kind == "fod":
-                run_tool("path", FOD, "--fod-basis", "mrtrix3", "--mask", folder / "box_slab.nii.gz",
-                         "--threads", "2", "--seed-voxel", ",".join(map(str, seed)),
-                         "--target-voxel", ",".join(map(str, target)), "-o", output, "-q")
-            else:
-                shift = np.array([0, 0, FIRST_SLICE])
-                run_tool("path", DIPY_5D, "--mask", folder / "box_dti.nii.gz",
-                         "--seed-voxel", ",".join(map(str, seed + shift)),
-                         "--target-voxel", ",".join(map(str, target + shift)), "-o", output, "-q")
-            streamlines = nib.streamlines.load(output).streamlines
-            assert len(streamlines) == 1
-            paths[name, kind] = np.asarray(streamlines[0], float)
-    return paths, box, slab.affine
+        cst = nib.streamlines.load(qc / f"cst_{kind}.tck").streamlines
+        cc = nib.streamlines.load(qc / f"cc_{kind}.tck").streamlines
+        assert len(cst) == 2 and len(cc) == 1
+        for name, points in (("CST_L", cst[0]), ("CST_R", cst[1]), ("CC", cc[0])):
+            paths[name, kind] = np.asarray(points, float)
+    # Each path runs from its seed to its target (voxel centres on the slab).
+    for (name, kind), points in paths.items():
+        for end, voxel in zip((points[0], points[-1]), PATHS[name]):
+            centre = box_image.affine @ np.r_[voxel, 1.0]
+            assert np.linalg.norm(end - centre[:3]) < 1e-3, (name, kind, end, voxel)
+    return paths, box, box_image.affine
 
 
 @pytest.fixture(scope="module")
@@ -216,3 +228,34 @@ def test_paths_through_the_crossing(runs, bundles):
         assert row["length"] <= 1.16 * row["straight"], (name, row)
     for name, row in tensor.items():
         assert row["length"] <= 1.06 * row["straight"], (name, row)
+
+
+def summary_of(page):
+    parsed = Elements(page.read_text())
+    bodies = [body for attributes, body in parsed.scripts if attributes.get("id") == "stvd-report-summary"]
+    assert len(bodies) == 1, page
+    return json.loads(bodies[0])
+
+
+def test_the_qc_pages_show_tensor_and_fod_paths_side_by_side(qc):
+    """scripts/fod_crossing_qc.sh (the demo's step): four pages, each the
+    run's own (the FOD pages state the FOD metric, the tensor pages the
+    tensors), and an index that lists and links all four, in pairs
+    (cc_fod, cc_tensor, cst_fod, cst_tensor); every page and the index
+    follow the page rules (docs/reliability.md, "Security")."""
+    pages = {name: qc / f"{name}.html" for name in ("cc_fod", "cc_tensor", "cst_fod", "cst_tensor")}
+    for name, page in pages.items():
+        text = page.read_text()
+        require_safe_page(text)
+        summary = summary_of(page)
+        assert summary["status"] == "ok" and summary["kind"] == "path", (name, summary)
+        assert summary["figures"]["paths"] == (2 if name.startswith("cst") else 1), (name, summary["figures"])
+        assert summary["figures"]["domain_voxels"] == 11232, (name, summary["figures"])
+        if name.endswith("fod"):
+            assert summary["subject"] == "fod_csd_lmax4_slab" and "FOD image read in the basis tournier07" in text
+        else:
+            assert summary["subject"] == "dti_tensor_dipy5d" and "FOD image" not in text
+    index = (qc / "index.html").read_text()
+    links, sources = require_safe_page(index)
+    assert links == [f"./{name}.html" for name in sorted(pages) for _ in range(2)], links  # name and thumbnail
+    assert len(sources) == 4
