@@ -9,16 +9,18 @@
 # index of the four pages: OUTDIR/index.html. scripts/demo.sh runs it;
 # tests/python/test_fod_sample_paths.py runs it and measures its paths.
 #
-# Usage: scripts/fod_crossing_qc.sh [OUTDIR]   (default: out/fod_crossing)
+# Usage: scripts/fod_crossing_qc.sh [OUTDIR]   (default: out/fod_crossing of the working folder)
 # STVD_EXECUTABLE names the tool (default: ${STVD_BUILD_DIR:-build}/tools/stvd);
 # STVD_PYTHON the interpreter with NiBabel that writes the box mask
 # (default: /usr/bin/python3).
 set -euo pipefail
+# OUTDIR and a relative STVD_EXECUTABLE are the caller's; the default tool
+# and the sample data are the repository's.
+out=$(realpath -m -- "${1:-out/fod_crossing}")
+tool=${STVD_EXECUTABLE:+$(realpath -m -- "$STVD_EXECUTABLE")}
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-
-tool=${STVD_EXECUTABLE:-${STVD_BUILD_DIR:-build}/tools/stvd}
+tool=${tool:-${STVD_BUILD_DIR:-build}/tools/stvd}
 python=${STVD_PYTHON:-/usr/bin/python3}
-out=${1:-out/fod_crossing}
 dti=sample_data/dti_philips_biobank
 fod=sample_data/fod_philips_biobank
 mkdir -p "$out"
