@@ -263,3 +263,17 @@ def test_the_qc_pages_show_tensor_and_fod_paths_side_by_side(qc):
     links, sources = require_safe_page(index)
     assert links == [f"./{name}.html" for name in sorted(pages) for _ in range(2)], links  # name and thumbnail
     assert len(sources) == 4
+
+
+def test_the_figure_of_the_docs_is_made_from_the_pages(qc, tmp_path):
+    """scripts/fod_crossing_figure.py: the four coronal panels, cut to the
+    box and the slab's 12 slices (3.5 pixels per voxel, drawn 3 times as
+    large), one above the other."""
+    from PIL import Image
+
+    figure = tmp_path / "coronal.png"
+    run = subprocess.run([sys.executable, str(SCRIPT.parent / "fod_crossing_figure.py"), str(qc), str(figure)],
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    width, height = Image.open(figure).size
+    assert height == 8 + 4 * (42 * 3 + 8) and width == 110 + 194 * 3 + 8, (width, height)
