@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "stvd/imaging/fod_cost.hpp"
+#include "stvd/imaging/fod_metric.hpp"
 #include "stvd/imaging/spherical_harmonics.hpp"
 
 namespace {
@@ -76,7 +77,7 @@ void BM_ConvexifiedNormAlong26NeighboursPerVoxel(benchmark::State& state) {
   const FodCostSampler sampler(f, defaultFodSamplingDirections(f.geometry));
   const std::vector<Vec3d> queries = neighbourDirections26(f.geometry);
   for (auto _ : state) {
-    const std::vector<float> table = convexifiedFodNorms(sampler, queries);
+    const std::vector<float> table = convexifiedFodTable(sampler, queries);
     benchmark::DoNotOptimize(table.data());
   }
   state.counters["cpu_per_voxel"] = benchmark::Counter(static_cast<double>(state.iterations()) * 64,

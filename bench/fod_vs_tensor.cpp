@@ -168,7 +168,7 @@ int main(int argc, char** argv) {
   const std::vector<Vec3d> queries = neighbourDirections26(g);
   std::vector<float> reference, fast;
   const Times referenceSample = timed([&] { reference = convexifiedFodNormsReference(sampleSampler, queries); });
-  const Times fastSample = timed([&] { fast = convexifiedFodNorms(sampleSampler, queries); });
+  const Times fastSample = timed([&] { fast = convexifiedFodTable(sampleSampler, queries); });
   double worst = 0;
   for (std::size_t i = 0; i < fast.size(); ++i)
     worst = std::max(worst, std::abs(double(fast[i]) - reference[i]) / reference[i]);

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "stvd/imaging/fod_cost.hpp"
+#include "stvd/imaging/fod_metric.hpp"
 #include "stvd/imaging/fod_field.hpp"
 #include "stvd/imaging/spherical_harmonics.hpp"
 
@@ -218,7 +219,7 @@ TEST(FodCost, ARealVoxelWhoseProgramsAreDegenerateIsTabulated) {
                         0.0360934548f, 0.0268172808f,  -0.0354936384f, -0.0267123301f, 0.0139510734f};
   const FodCostSampler sampler(field, defaultFodSamplingDirections(field.geometry));
   const std::vector<Vec3d> queries = neighbourDirections26(field.geometry);
-  const std::vector<float> table = convexifiedFodNorms(sampler, queries);
+  const std::vector<float> table = convexifiedFodTable(sampler, queries);
   FodUnitBall ball;
   sampler.unitBall(0, ball);
   for (std::size_t q = 0; q < 26; ++q) {
@@ -241,7 +242,7 @@ TEST(FodCost, TheTableAlongTheNeighboursIsFStarAndNeverAboveTheCost) {
   const std::vector<Vec3d> queries = neighbourDirections26(c.field.geometry);
   ASSERT_EQ(queries.size(), 26u);
   EXPECT_NEAR(dot(queries[13 + 0], unit(c.field.geometry.indexToPhysicalOffset(1, 0, 0))), 1.0, 1e-12);
-  const std::vector<float> table = convexifiedFodNorms(sampler, queries);
+  const std::vector<float> table = convexifiedFodTable(sampler, queries);
   ASSERT_EQ(table.size(), 52u);
   for (std::size_t v = 0; v < 2; ++v) {
     FodUnitBall ball;
@@ -387,7 +388,7 @@ TEST(FodCostFastPath, TheUnitBallAndTheTableEqualTheReferenceOnRandomCrossings) 
           EXPECT_LT(norm(fast.peaks[k] - reference.peaks[k]), 1e-3) << "voxel " << v << ", peak " << k;
       }
       const std::vector<Vec3d> queries = neighbourDirections26(f.geometry);
-      const std::vector<float> table = convexifiedFodNorms(sampler, queries);
+      const std::vector<float> table = convexifiedFodTable(sampler, queries);
       const std::vector<float> expected = convexifiedFodNormsReference(sampler, queries);
       ASSERT_EQ(table.size(), expected.size());
       for (std::size_t i = 0; i < table.size(); ++i)

@@ -755,26 +755,4 @@ std::vector<float> convexifiedFodNormsReference(const FodCostSampler& sampler, c
   return out;
 }
 
-std::vector<float> convexifiedFodNorms(const FodCostSampler& sampler, const std::vector<Vec3d>& queries) {
-  // F* is symmetric (an FOD is): a query whose opposite came earlier takes
-  // its value (the 26 neighbour directions are 13 pairs).
-  std::vector<std::size_t> opposite(queries.size(), queries.size());
-  for (std::size_t q = 0; q < queries.size(); ++q)
-    for (std::size_t p = 0; p < q && opposite[q] == queries.size(); ++p)
-      if (queries[p].x == -queries[q].x && queries[p].y == -queries[q].y && queries[p].z == -queries[q].z)
-        opposite[q] = p;
-  const std::size_t voxels = sampler.voxelCount();
-  std::vector<float> out(voxels * queries.size());
-  FodUnitBall ball;
-  ConvexHullGauges gauge;
-  for (std::size_t v = 0; v < voxels; ++v) {
-    sampler.unitBall(v, ball);
-    gauge.reset(ball.points.data(), ball.points.size());
-    float* row = out.data() + v * queries.size();
-    for (std::size_t q = 0; q < queries.size(); ++q)
-      row[q] = opposite[q] < q ? row[opposite[q]] : static_cast<float>(gauge(queries[q]));
-  }
-  return out;
-}
-
 }  // namespace stvd::imaging

@@ -171,13 +171,12 @@ class ConvexHullGauges {
   double scale_ = 0.0, bigM_ = 0.0;
 };
 
-/// F* of every voxel along each query direction (LPS, unit or not):
-/// result[v * queries.size() + q], float. The hull is that of the points of
-/// FodCostSampler::unitBall; with the queries among the sampling
-/// directions, F* <= F along each.
-std::vector<float> convexifiedFodNorms(const FodCostSampler& sampler, const std::vector<Vec3d>& queries);
-/// The same table the simple way (FodCostSampler::unitBallReference and
-/// convexHullGauge per direction), kept as the tests' reference.
+/// F* of every voxel along each query direction (LPS, unit or not), the
+/// simple way: result[v * queries.size() + q], float, from
+/// FodCostSampler::unitBallReference and convexHullGauge per direction.
+/// Kept as the tests' reference for convexifiedFodTable (fod_metric.hpp),
+/// the fast table every FOD metric is made of; with the queries among the
+/// sampling directions, F* <= F along each.
 std::vector<float> convexifiedFodNormsReference(const FodCostSampler& sampler, const std::vector<Vec3d>& queries);
 
 }  // namespace stvd::imaging
