@@ -118,7 +118,7 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
   // The paths are Dijkstra's predecessor chains (docs/fod.md, "Paths and connectivity").
   if (v.has("--method") && o.method != Method::Dijkstra)
     usageError("--method " + *v.text("--method") +
-               ": connectivity on FOD images runs Dijkstra; use --method dijkstra, the default for FOD images");
+               ": connectivity on FOD images runs Dijkstra; use --method dijkstra, its default on FOD images");
   o.method = Method::Dijkstra;
   return o;
 }

@@ -146,7 +146,7 @@ PathOptions parsePathOptions(int argc, char** argv) {
   // distance reported (docs/fod.md, "Paths and connectivity").
   if (v.has("--method") && o.method != Method::Dijkstra)
     usageError("--method " + *v.text("--method") +
-               ": paths on FOD images are Dijkstra's; use --method dijkstra, the default for FOD images");
+               ": paths on FOD images are Dijkstra's; use --method dijkstra, the default for FOD paths");
   o.method = Method::Dijkstra;
   for (const char* flag : {"--step", "--smooth", "--no-refine"})
     if (v.has(flag))

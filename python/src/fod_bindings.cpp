@@ -227,9 +227,8 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
                      double unreachable, unsigned threads, const py::object& progress, bool memoryCheck) {
   const imaging::FodInputOptions fod = fodOptionsOf(basis, frame, floor, power);
   PropagationChoice choice = choiceOf(method, k, std::nullopt, stencil, steiner, domainConnectivity);
-  // Dijkstra is the default for FOD images, as in the tool (docs/fod.md,
-  // "STVD and Lanthier"); STVD and Lanthier run on the segment norm.
-  if (!method) choice.method = Method::Dijkstra;
+  // STVD is the default, as in the tool and as for tensors (docs/fod.md,
+  // "The tool"); STVD and Lanthier run on the segment norm.
   checkPropagationChoice(choice, /*lanthierAllowed=*/true);  // k= with STVD only, steiner= with Lanthier
   const bool segments = choice.lanthier || choice.method != Method::Dijkstra;
   checkFodStencil(choice);
@@ -375,7 +374,7 @@ PropagationChoice fodPathChoice(const std::optional<std::string>& method, const 
   PropagationChoice choice = choiceOf(method, std::nullopt, std::nullopt, stencil, std::nullopt, domainConnectivity);
   if (choice.lanthier || (method && choice.method != Method::Dijkstra))
     throw OptionError("method='" + *method + "': " + what +
-                      " on FOD images run Dijkstra; use method='dijkstra', the default for FOD images");
+                      " on FOD images run Dijkstra; use method='dijkstra', their default");
   choice.method = Method::Dijkstra;
   checkFodStencil(choice);
   return choice;

@@ -64,30 +64,65 @@ class ToolFodDistance : public ScratchFolderTest {
   }
 };
 
+// STVD is the default, as for tensors (docs/fod.md, "The tool"); Dijkstra
+// is kept on request (and for paths and connectivity): each reaches the
+// seed's own bundle's far end at its length and the other bundle's far end
+// along both bundles, and the statistics name the method and its table.
 TEST_F(ToolFodDistance, TheSeedsOwnBundleIsReachedAtItsLengthOnTheInputsGrid) {
-  const ToolRun r = distance({"--fod-basis", "tournier07", "-o", path("d.nii"), "--stats", path("d.json")});
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  const imaging::ScalarImage map = imaging::readScalarImage(path("d.nii"));
-  const GridGeometry input = HandGeometry{{kN, kN, 3}}.grid();
-  ASSERT_EQ(map.geometry.size, input.size);
-  for (int a = 0; a < 3; ++a) {
-    EXPECT_DOUBLE_EQ(map.geometry.spacing[a], input.spacing[a]);
-    EXPECT_NEAR(map.geometry.origin[a], input.origin[a], 1e-9);
-  }
-  const auto at = [&](int i, int j, int k) { return map.values[i + kN * (j + kN * k)]; };
-  EXPECT_EQ(at(0, kC, 1), 0.f);
-  // Along its own bundle, straight through the crossing: 24 mm at 1 per mm.
-  EXPECT_NEAR(at(kN - 1, kC, 1), 24.0, 24e-3);
-  // The other bundle's far end: along bundle 0 to the crossing, then along bundle 1.
-  EXPECT_NEAR(at(kC, kN - 1, 1), 24.0, 0.02 * 24.0);
-  // A voxel of neither bundle costs the floor's 10 per mm to reach across.
-  EXPECT_GT(at(kN - 1, kN - 1, 1), at(kC, kN - 1, 1) + 20.0);
+  struct Run {
+    std::vector<std::string> method;
+    const char* name;
+    const char* table;
+  };
+  for (const Run& run : {Run{{}, "stvd", "lattice directions of order 2"},
+                         Run{{"--method", "dijkstra"}, "dijkstra", "the 26 neighbour directions"}}) {
+    std::vector<std::string> arguments{"--fod-basis", "tournier07", "-o", path("d.nii"), "--stats", path("d.json")};
+    arguments.insert(arguments.end(), run.method.begin(), run.method.end());
+    const ToolRun r = distance(arguments);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const imaging::ScalarImage map = imaging::readScalarImage(path("d.nii"));
+    const GridGeometry input = HandGeometry{{kN, kN, 3}}.grid();
+    ASSERT_EQ(map.geometry.size, input.size);
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_DOUBLE_EQ(map.geometry.spacing[a], input.spacing[a]);
+      EXPECT_NEAR(map.geometry.origin[a], input.origin[a], 1e-9);
+    }
+    const auto at = [&](int i, int j, int k) { return map.values[i + kN * (j + kN * k)]; };
+    EXPECT_EQ(at(0, kC, 1), 0.f);
+    // Along its own bundle, straight through the crossing: 24 mm at 1 per mm.
+    EXPECT_NEAR(at(kN - 1, kC, 1), 24.0, 24e-3) << run.name;
+    // The other bundle's far end: along bundle 0 to the crossing, then along bundle 1.
+    EXPECT_NEAR(at(kC, kN - 1, 1), 24.0, 0.02 * 24.0) << run.name;
+    // A voxel of neither bundle costs the floor's 10 per mm to reach across.
+    EXPECT_GT(at(kN - 1, kN - 1, 1), at(kC, kN - 1, 1) + 20.0) << run.name;
 
-  const std::string stats = fileText(path("d.json"));
-  for (const char* member : {"\"metric\": \"fod\"", "\"fod_basis\": \"tournier07\"", "\"fod_frame\": \"voxel\"",
-                             "\"fod_lmax\": 8", "\"fod_floor\": 0.1", "\"fod_power\": 1", "\"fod_directions\": 668",
-                             "\"method\": \"dijkstra\"", "\"fod_precomputation\": {\"seconds\": ", "\"cpu_seconds\": "})
-    EXPECT_NE(stats.find(member), std::string::npos) << member << "\n" << stats;
+    const std::string stats = fileText(path("d.json"));
+    const std::string method = std::string("\"method\": \"") + run.name + "\"";
+    for (const std::string& member : {std::string("\"metric\": \"fod\""), std::string("\"fod_basis\": \"tournier07\""),
+                                      std::string("\"fod_frame\": \"voxel\""), std::string("\"fod_lmax\": 8"),
+                                      std::string("\"fod_floor\": 0.1"), std::string("\"fod_power\": 1"),
+                                      std::string("\"fod_directions\": 668"), method, std::string(run.table),
+                                      std::string("\"fod_precomputation\": {\"seconds\": "),
+                                      std::string("\"cpu_seconds\": ")})
+      EXPECT_NE(stats.find(member), std::string::npos) << member << "\n" << stats;
+  }
+}
+
+// The default is --method stvd, byte for byte, and takes --k as STVD does;
+// it is not Dijkstra's map. (Before, Dijkstra was the FOD default and --k
+// without --method was refused.)
+TEST_F(ToolFodDistance, StvdIsTheDefaultAsForTensors) {
+  ASSERT_EQ(distance({"--fod-basis", "tournier07", "-o", path("default.nii")}).exitCode, 0);
+  ASSERT_EQ(distance({"--fod-basis", "tournier07", "--method", "stvd", "-o", path("stvd.nii")}).exitCode, 0);
+  ASSERT_EQ(distance({"--fod-basis", "tournier07", "--method", "dijkstra", "-o", path("dijkstra.nii")}).exitCode, 0);
+  const std::string byDefault = fileText(path("default.nii"));
+  ASSERT_FALSE(byDefault.empty());
+  EXPECT_EQ(byDefault, fileText(path("stvd.nii")));
+  EXPECT_NE(byDefault, fileText(path("dijkstra.nii")));
+  const ToolRun k =
+      distance({"--fod-basis", "tournier07", "--k", "8", "-o", path("k8.nii"), "--stats", path("k8.json")});
+  ASSERT_EQ(k.exitCode, 0) << k.err;
+  EXPECT_NE(fileText(path("k8.json")).find("\"method\": \"stvd\""), std::string::npos);
 }
 
 // STVD and Lanthier's method run on the segment norm (docs/fod.md, "STVD and
@@ -178,9 +213,10 @@ TEST_F(ToolFodDistance, BadInputsAreRefusedInOneLineWithNothingWritten) {
                 "--fod-basis");
   // An FOD image without its basis: the tensor reader refuses it, the tool says what it is.
   expectRefused({"distance", fod, "--seed-voxel", "0,12,1", "-o", out}, 3, "state its basis with --fod-basis");
-  // Dijkstra is the default for FOD images: --k goes with --method stvd, and Lanthier needs its M.
-  expectRefused({"distance", fod, "--fod-basis", "tournier07", "--k", "8", "--seed-voxel", "0,12,1", "-o", out}, 2,
-                "--k applies to --method stvd only");
+  // --k goes with STVD (the default), not with Dijkstra; Lanthier needs its M.
+  expectRefused({"distance", fod, "--fod-basis", "tournier07", "--method", "dijkstra", "--k", "8", "--seed-voxel",
+                 "0,12,1", "-o", out},
+                2, "--k applies to --method stvd only");
   expectRefused({"distance", fod, "--fod-basis", "tournier07", "--method", "lanthier", "--seed-voxel", "0,12,1",
                  "-o", out},
                 2, "needs --steiner");

@@ -6,7 +6,8 @@ length, the same map as `stvd distance FOD --fod-basis` bit for bit, the same
 distances under a rotated and flipped affine (an isometry of the phantom),
 and the refusals of a wrong basis, of tensors given as an FOD, of a bare
 array or fit without its basis; STVD and Lanthier's method (method=) give
-the tool's maps too."""
+the tool's maps too, STVD being the default (as for tensors) and Dijkstra
+given by method='dijkstra'."""
 
 import os
 import pathlib
@@ -85,13 +86,19 @@ def test_the_package_map_is_the_tools_bit_for_bit(tmp_path, crossing):
 
 
 def test_stvd_and_lanthier_give_the_tools_maps_bit_for_bit(tmp_path, crossing):
-    """method='stvd' and method='lanthier' run on the segment norm (docs/fod.md,
-    "STVD and Lanthier") as `stvd distance --method`: the same bytes, and the
-    seed's own bundle's far end at the bundle's length."""
+    """method='stvd' (the default) and method='lanthier' run on the segment
+    norm (docs/fod.md, "STVD and Lanthier") as `stvd distance --method`: the
+    same bytes, and the seed's own bundle's far end at the bundle's length;
+    method='dijkstra' runs Dijkstra's 26-direction table instead."""
     fit, _ = crossing
     path = tmp_path / "crossing_fod.nii.gz"
     nib.save(nib.Nifti1Image(fit.shm_coeff.astype(np.float32), identity_affine()), path)
-    for method, extra, keywords in (("stvd", [], {}), ("lanthier", ["--steiner", "2"], {"steiner": 2})):
+    dijkstra = values(stvd.fod_distance(fit, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(),
+                                        method="dijkstra"))
+    assert dijkstra[20, 10, 1] == pytest.approx(40.0, rel=0.005)
+    by_default = values(stvd.fod_distance(fit, (0, 10, 1), fod_basis=BASIS, affine=identity_affine()))
+    for method, extra, keywords in (("stvd", [], {}), ("dijkstra", [], {}),
+                                    ("lanthier", ["--steiner", "2"], {"steiner": 2})):
         out = tmp_path / f"tool_{method}.nii.gz"
         run = subprocess.run([str(TOOL), "distance", str(path), "--fod-basis", BASIS, "--seed-voxel", "0,10,1",
                               "--method", method, *extra, "-o", str(out), "--quiet"], capture_output=True, text=True)
@@ -101,9 +108,9 @@ def test_stvd_and_lanthier_give_the_tools_maps_bit_for_bit(tmp_path, crossing):
                                         **keywords))
         assert mine.dtype == tool.dtype and mine.tobytes() == tool.tobytes(), method
         assert mine[20, 10, 1] == pytest.approx(40.0, rel=0.005), method
-        # Not the Dijkstra map: the method was run.
-        dijkstra = values(stvd.fod_distance(fit, (0, 10, 1), fod_basis=BASIS, affine=identity_affine()))
-        assert not np.array_equal(mine, dijkstra), method
+        # The default is STVD's map; the others are not Dijkstra's: the method was run.
+        assert np.array_equal(mine, by_default) == (method == "stvd"), method
+        assert np.array_equal(mine, dijkstra) == (method == "dijkstra"), method
 
 
 def test_a_rotated_and_flipped_affine_gives_the_same_distances(crossing):
@@ -198,11 +205,13 @@ def test_bad_input_is_refused_in_one_clear_line(tmp_path, crossing):
     assert "affine=" in message(coefficients, (0, 10, 1), fod_basis=BASIS)
     assert "44" in message(coefficients[..., :44], (0, 10, 1), fod_basis=BASIS, affine=identity_affine())
     # Lanthier's method needs its M, as the tool's --steiner; k= goes with STVD
-    # (Dijkstra is the default for FOD images).
+    # (the default: k= alone is taken), not with Dijkstra.
     text = message(coefficients, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), method="lanthier")
     assert "steiner=" in text, text
-    text = message(coefficients, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), k=8)
+    text = message(coefficients, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), method="dijkstra", k=8)
     assert "k" in text and "stvd" in text, text
+    k8 = values(stvd.fod_distance(coefficients, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), k=8))
+    assert k8[20, 10, 1] == pytest.approx(40.0, rel=0.005)
     # The cost's keywords are checked by their declarations.
     assert "fod_floor" in message(coefficients, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), fod_floor=0)
     assert "fod_power" in message(coefficients, (0, 10, 1), fod_basis=BASIS, affine=identity_affine(), fod_power=9)

@@ -144,8 +144,11 @@ def test_a_distance_from_the_callosum_through_the_tool(tmp_path):
     straight = np.linalg.norm((grid - np.array(CC_BODY)) @ image.affine[:3, :3].T, axis=-1)
     assert (distance[reached] >= straight[reached] * (1 - 1e-6)).all()
     # The callosum's own lateral voxels cost less per millimetre than the
-    # corticospinal tracts' (docs/fod.md, "Real data": 1.39 and 1.46 against
-    # 1.85 to 2.02).
+    # corticospinal tracts' (docs/fod.md, "Real data"). Measured under STVD,
+    # the tool's default: 1.165 and 1.297 against 1.679 to 1.945 (under
+    # Dijkstra, the bounds before STVD was the default, 1.5 and 1.8: 1.39
+    # and 1.45 against 1.84 to 2.03; STVD's segments are shorter than
+    # Dijkstra's zig-zags, so both sides fell).
     per_mm = {name: distance[v] / straight[v] for name, v in TARGETS.items()}
-    assert max(per_mm["CC_body_L_lateral"], per_mm["CC_body_R_lateral"]) < 1.5
-    assert min(per_mm["CST_L"], per_mm["CST_L_high"], per_mm["CST_R"]) > 1.8
+    assert max(per_mm["CC_body_L_lateral"], per_mm["CC_body_R_lateral"]) < 1.30
+    assert min(per_mm["CST_L"], per_mm["CST_L_high"], per_mm["CST_R"]) > 1.67

@@ -118,7 +118,8 @@ def test_dipy_fit_through_the_package_and_the_tool(tmp_path, small_64d, dipy_fit
     distance = np.asanyarray(image.dataobj)
     assert np.allclose(image.affine, affine)
     ratio = check_real_map(distance, affine, SEED)
-    # Measured: the map is 1.6 to 6.1 times the straight distance (median 2.6).
+    # Measured: the map (STVD, the default) is 1.5 to 6.2 times the straight
+    # distance (median 2.6; under Dijkstra 1.6 to 6.2, median 2.65).
     assert ratio[ratio > 0].min() >= 1.0
     path = tmp_path / "dipy_fod.nii.gz"
     nib.save(nib.Nifti1Image(dipy_fit.shm_coeff.astype(np.float32), affine), path)
@@ -131,7 +132,7 @@ def test_mrtrix_fit_through_the_package_and_the_tool(tmp_path, small_64d, mrtrix
     image = stvd.fod_distance(path, SEED, fod_basis="mrtrix3")
     distance = np.asanyarray(image.dataobj)
     ratio = check_real_map(distance, image.affine, SEED)
-    # Measured: 1.3 to 5.1 times the straight distance (median 2.4).
+    # Measured (STVD): 1.27 to 5.1 times the straight distance (median 2.4).
     assert ratio[ratio > 0].min() >= 1.0
     # The tool on the .mif file and on MRtrix's own NIfTI conversion.
     tool = tool_map(path, "mrtrix3", SEED, tmp_path / "tool.nii.gz")
@@ -160,11 +161,11 @@ def fod_peaks(coefficients, basis_type, legacy, to_lps):
     return peaks @ to_lps.T
 
 
-def cheapest_step(dipy_fit, affine, seed, steps_lps):
+def cheapest_step(dipy_fit, affine, seed, steps_lps, method):
     """The 26-neighbour step (LPS) to which the map from seed is smallest
     per millimetre."""
-    distance = np.asanyarray(stvd.fod_distance(dipy_fit, seed, fod_basis="descoteaux07_legacy",
-                                               affine=affine).dataobj)
+    distance = np.asanyarray(stvd.fod_distance(dipy_fit, seed, fod_basis="descoteaux07_legacy", affine=affine,
+                                               method=method).dataobj)
     per_mm = np.array([distance[tuple(np.add(seed, o))] for o in OFFSETS]) / np.linalg.norm(steps_lps, axis=1)
     return steps_lps[np.argmin(per_mm)]
 
@@ -191,22 +192,42 @@ def test_the_maps_cheapest_step_follows_the_fods_peaks(small_64d, dipy_fit, mrtr
     assert max(between) <= 10.0 and np.median(between) <= 5.0, between
 
     # Anywhere: the cheapest step lies within 30 degrees of one of the FOD's
-    # peaks (measured at most 28.3 over these 8 seeds; the 26 directions are up
-    # to 27.6 degrees from a direction on an isotropic grid, and a step's cost is the mean
-    # of its two voxels' norms).
-    for seed in seeds:
-        cheapest = cheapest_step(dipy_fit, affine, seed, steps_lps)
-        assert min(angle_between(cheapest, p) for p in peaks[seed]) <= 30.0, seed
+    # peaks (measured at most 28.3 over these 8 seeds, under STVD, the
+    # default, and Dijkstra alike; the 26 directions are up to 27.6 degrees
+    # from a direction on an isotropic grid, and a step's cost mixes the
+    # norms of the voxels it passes).
+    for method in ("stvd", "dijkstra"):
+        for seed in seeds:
+            cheapest = cheapest_step(dipy_fit, affine, seed, steps_lps, method)
+            assert min(angle_between(cheapest, p) for p in peaks[seed]) <= 30.0, (method, seed)
 
     # Where the FOD has one peak (155 of the 512 inner voxels; every 8th of
     # them): the cheapest step is the stencil direction nearest to the peak,
-    # or, where two are about as near (the step's cost is the mean of its two
-    # voxels' norms), one a few degrees further. Measured: the nearest at 18
-    # of 20 seeds, 2.8 and 6.2 degrees further at the other two.
+    # or, where two are about as near, one a few degrees further.
+    # Dijkstra (a step's cost the mean of its two voxels' norms): the
+    # nearest at 18 of 20 seeds, 2.8 and 6.2 degrees further at the other two.
+    # STVD (a step's cost sampled along it, each sample interpolating the
+    # norms of the 8 voxels around it): the same at 19 of them; at the 20th,
+    # (3, 2, 2), whose peak is more than 30 degrees from every peak of 21 of
+    # its 26 neighbours, the cheapest step is 33.1 degrees further, towards
+    # where its neighbours' norms lead.
     single = [v for v in interior if len(peaks[v]) == 1]
-    excess = []
-    for seed in single[::8]:
-        cheapest = cheapest_step(dipy_fit, affine, seed, steps_lps)
-        nearest = min(angle_between(s, peaks[seed][0]) for s in steps_lps)
-        excess.append(angle_between(cheapest, peaks[seed][0]) - nearest)
-    assert sum(e < 1e-6 for e in excess) >= 18 and max(excess) <= 6.5, excess
+
+    def outlier(seed):
+        """The seed's peak more than 30 degrees from every peak of at least 20 of its 26 neighbours."""
+        around = [tuple(np.add(seed, o)) for o in OFFSETS]
+        around_peaks = [peaks[v] if v in peaks else fod_peaks(dipy_fit.shm_coeff[v], "descoteaux07", True,
+                                                              voxel_to_lps(affine)) for v in around]
+        apart = [min(angle_between(peaks[seed][0], p) for p in ps) > 30.0 for ps in around_peaks]
+        return sum(apart) >= 20
+
+    for method, nearest_at, outliers in (("dijkstra", 18, 0), ("stvd", 17, 1)):
+        excess = {}
+        for seed in single[::8]:
+            cheapest = cheapest_step(dipy_fit, affine, seed, steps_lps, method)
+            nearest = min(angle_between(s, peaks[seed][0]) for s in steps_lps)
+            excess[seed] = angle_between(cheapest, peaks[seed][0]) - nearest
+        assert sum(e < 1e-6 for e in excess.values()) >= nearest_at, (method, excess)
+        beyond = [seed for seed, e in excess.items() if e > 6.5]
+        assert len(beyond) <= outliers and all(outlier(seed) and excess[seed] <= 33.5 for seed in beyond), \
+            (method, excess)

@@ -31,8 +31,9 @@ std::vector<OptionDeclaration> declarations() {
   basis.choiceLayout = ChoiceLayout::Lines;
   basis.help =
       "the input is an FOD image (spherical-harmonic coefficients, X Y Z N with N = 15, 28, 45, 66 or 91: lmax "
-      "4 to 12) in this basis:\n{choices}.\nThe cost is F* of docs/fod.md, tabulated per voxel along the 26 "
-      "neighbour directions (on --threads); only --method dijkstra.";
+      "4 to 12) in this basis:\n{choices}.\nThe cost is F* of docs/fod.md, tabulated per voxel (on --threads): "
+      "along the lattice of order 2 for STVD (the default of stvd distance) and Lanthier, along the 26 neighbour "
+      "directions for Dijkstra (the method of stvd path and stvd connectivity).";
   table.push_back(basis);
 
   OptionDeclaration frame;
