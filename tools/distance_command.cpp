@@ -387,10 +387,10 @@ void writeDistanceReport(ReportRequest& report, const DistanceOptions& o, const 
   report.write({"--stats", statsPath, "--distance", mapPath}, o.quiet);
 }
 
-/// `stvd distance FOD --fod-basis NAME`: STVD (or --method) under the convexified FOD
-/// norm F*, tabulated per voxel (the segment norm for STVD and Lanthier, the
-/// 26 neighbour directions for Dijkstra)
-/// (docs/fod.md), the map written as for tensors.
+/// `stvd distance FOD --fod-basis NAME`: STVD (the default), Lanthier or
+/// Dijkstra under the convexified FOD norm F*, tabulated per voxel (the
+/// segment norm for STVD and Lanthier, the 26 neighbour directions for
+/// Dijkstra; docs/fod.md), the map written as for tensors.
 int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_point start) {
   Timings t;
   checkRunFiles(o, "FOD input");

@@ -19,7 +19,6 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
-#include <type_traits>
 #include <vector>
 
 #include "array_access.hpp"
