@@ -222,6 +222,41 @@ class TableBar final : public Interrupter {
 };
 
 
+/// The run of `o`'s method on `metric` from `sources`, drawn on a progress
+/// bar: Lanthier's method when asked for, STVD or Dijkstra otherwise.
+/// `LanthierCells`: whether Lanthier's method is compiled for `Metric`'s norm
+/// (not for the FOD's 26-direction table, which only Dijkstra uses).
+template <bool LanthierCells = true, class Metric>
+PropagationResult propagateForTool(const DistanceOptions& o, const VoxelGridDomain& domain, const Metric& metric,
+                                   const std::vector<VertexId>& sources) {
+  PropagationOptions options = propagationOptions(o);
+  options.maxDistance = o.maxDistance;
+  ProgressBar bar(!o.quiet);
+  options.progress = [&bar](const PropagationProgress& p) {
+    bar.update(p.domainVertices ? double(p.finalizedVertices) / double(p.domainVertices) : 0.0);
+    return true;
+  };
+  PropagationResult result;
+  if constexpr (LanthierCells) {
+    if (o.lanthier) {
+      LanthierOptions steiner;
+      steiner.steinerPoints = o.steinerPoints;
+      steiner.maxDistance = o.maxDistance;
+      steiner.progress = options.progress;
+      try {
+        result = lanthierPropagate(domain, metric, sources, steiner);
+      } catch (const std::invalid_argument& e) {  // too large a graph
+        throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
+      }
+      bar.finish();
+      return result;
+    }
+  }
+  result = propagate(domain, metric, sources, options);
+  bar.finish();
+  return result;
+}
+
 struct Timings {
   double read = 0, metric = 0, propagate = 0, write = 0, total = 0;
 };
@@ -429,30 +464,11 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
   const VoxelGridDomain domain(g, Stencil::byName(o.stencil), inDomain, o.connectivity);
   const std::vector<VertexId> sources = imaging::sourceVertices(domain, seeds);
   phase = Clock::now();
-  PropagationOptions options = propagationOptions(o);
-  options.maxDistance = o.maxDistance;
-  ProgressBar bar(!o.quiet);
-  options.progress = [&bar](const PropagationProgress& p) {
-    bar.update(p.domainVertices ? double(p.finalizedVertices) / double(p.domainVertices) : 0.0);
-    return true;
-  };
-  PropagationResult result;
-  if (o.lanthier) {  // compiled for the segment metric only
-    LanthierOptions steiner;
-    steiner.steinerPoints = o.steinerPoints;
-    steiner.maxDistance = o.maxDistance;
-    steiner.progress = options.progress;
-    try {
-      result = lanthierPropagate(domain, *table.segments, sources, steiner);
-    } catch (const std::invalid_argument& e) {  // too large a graph
-      throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
-    }
-  } else if (segments) {
-    result = propagate(domain, *table.segments, sources, options);
-  } else {
-    result = propagate(domain, table.metric, sources, options);
-  }
-  bar.finish();
+  // Lanthier and STVD measure segments by the segment metric, Dijkstra's
+  // steps by the 26 directions (Lanthier cells exist for the former only).
+  const PropagationResult result =
+      segments ? propagateForTool(o, domain, *table.segments, sources)
+               : propagateForTool</*LanthierCells=*/false>(o, domain, table.metric, sources);
   t.propagate = secondsSince(phase);
 
   report.requireReady();  // nothing is written when the report could not be drawn
@@ -559,28 +575,7 @@ int runDistance(int argc, char** argv) {
   const std::vector<VertexId> sources = imaging::sourceVertices(domain, seeds);
 
   phase = Clock::now();
-  PropagationOptions options = propagationOptions(o);
-  options.maxDistance = o.maxDistance;
-  ProgressBar bar(!o.quiet);
-  options.progress = [&bar](const PropagationProgress& p) {
-    bar.update(p.domainVertices ? double(p.finalizedVertices) / double(p.domainVertices) : 0.0);
-    return true;
-  };
-  PropagationResult result;
-  if (o.lanthier) {
-    LanthierOptions steiner;
-    steiner.steinerPoints = o.steinerPoints;
-    steiner.maxDistance = o.maxDistance;
-    steiner.progress = options.progress;
-    try {
-      result = lanthierPropagate(domain, metric, sources, steiner);
-    } catch (const std::invalid_argument& e) {  // too large a graph
-      throw ToolError(kExitUsage, o.input + ": --method lanthier: " + e.what());
-    }
-  } else {
-    result = propagate(domain, metric, sources, options);
-  }
-  bar.finish();
+  const PropagationResult result = propagateForTool(o, domain, metric, sources);
   t.propagate = secondsSince(phase);
 
   report.requireReady();  // nothing is written when the report could not be drawn
