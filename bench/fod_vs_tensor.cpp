@@ -16,6 +16,8 @@
 //   from the seed;
 //   FOD table: fodStencilMetric on 1 thread and on N (default 2);
 //   FOD Dijkstra: the propagation from the seed over the table;
+//   FOD segment table and FOD STVD (k = 6): what the tool's default for FOD
+//   images computes (fodSegmentMetric, then STVD over it);
 //   FOD table, 162 + 26 directions: a coarser sampling, for the record;
 //   reference table: the simple computation the tests hold the table to
 //   (convexifiedFodNormsReference), on every S-th domain voxel (default 64),
@@ -38,6 +40,7 @@
 #include "stvd/imaging/fod_cost.hpp"
 #include "stvd/imaging/fod_field.hpp"
 #include "stvd/imaging/fod_metric.hpp"
+#include "stvd/imaging/fod_segment_norm.hpp"
 #include "stvd/imaging/spherical_harmonics.hpp"
 #include "stvd/imaging/symmetric_eigen.hpp"
 #include "stvd/imaging/tensor_metric.hpp"
@@ -142,6 +145,9 @@ int main(int argc, char** argv) {
   const Times tableOne = timed([&] { fodMetric = fodStencilMetric(sampler, &built.inDomain, 1); });
   const Times tableMany = timed([&] { fodMetric = fodStencilMetric(sampler, &built.inDomain, threads); });
   const Times fodDijkstra = timed([&] { propagate(domain, fodMetric, {source}, dijkstra); });
+  FodSegmentMetric segmentMetric = fodSegmentMetric(sampler, &built.inDomain, 1);
+  const Times segmentTable = timed([&] { segmentMetric = fodSegmentMetric(sampler, &built.inDomain, 1); });
+  const Times fodStvd = timed([&] { propagate(domain, segmentMetric, {source}, stvd); });
   // A coarser sampling (162 + 26 directions): fewer points of the ball, so
   // a larger gauge (never a smaller one) for less work; not what the tool
   // computes, measured for the record.
@@ -191,6 +197,10 @@ int main(int argc, char** argv) {
   const Times totalMany{tableMany.cpu + fodDijkstra.cpu, tableMany.wall + fodDijkstra.wall};
   const std::string manyTotal = "FOD table (" + std::to_string(threads) + " threads) + Dijkstra";
   row(manyTotal.c_str(), totalMany, d);
+  row("FOD segment table, 1 thread", segmentTable, d);
+  row("FOD STVD k=6", fodStvd, d);
+  const Times totalStvd{segmentTable.cpu + fodStvd.cpu, segmentTable.wall + fodStvd.wall};
+  row("FOD segment table + STVD (default)", totalStvd, d);
   row("FOD table, 162 + 26 directions", tableCoarse, d);
   const double scale = d / double(sampled);
   const Times referenceScaled{referenceSample.cpu * scale, referenceSample.wall * scale};
@@ -201,6 +211,8 @@ int main(int argc, char** argv) {
   row(fastName.c_str(), fastScaled, d);
   std::printf("FOD table + Dijkstra against the tensor STVD propagation: %.1f x (CPU), %.1f x (wall, %u threads)\n",
               total.cpu / tensorStvd.cpu, totalMany.wall / tensorStvd.wall, threads);
+  std::printf("FOD segment table + STVD (the tool's default) against the tensor STVD propagation: %.1f x (CPU)\n",
+              totalStvd.cpu / tensorStvd.cpu);
   std::printf("fast table against the reference: %.1f x less CPU; largest relative difference %.3g (%zu voxels)\n",
               referenceSample.cpu / fastSample.cpu, worst, sampled);
   return 0;
