@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "stvd/imaging/label_values.hpp"
+#include "stvd/imaging/streamline_io.hpp"
 
 namespace stvd::python {
 
@@ -168,6 +169,15 @@ std::array<double, 16> affineOf(const py::handle& object, const std::string& nam
   for (int row = 0; row < 4; ++row)
     for (int column = 0; column < 4; ++column) affine[4 * row + column] = r(row, column);
   return affine;
+}
+
+py::array_t<double> affineArray(const GridGeometry& g) {
+  const std::array<double, 16> m = imaging::voxelToRas(g);
+  py::array_t<double> a({4, 4});
+  auto w = a.mutable_unchecked<2>();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) w(r, c) = m[4 * r + c];
+  return a;
 }
 
 py::array_t<double> newFortranArray(const std::array<std::size_t, 3>& shape) {

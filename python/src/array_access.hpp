@@ -95,6 +95,8 @@ std::vector<Vec3d> pointRows(const py::handle& object, const std::string& name);
 
 /// A 4x4 float array as 16 doubles, row-major.
 std::array<double, 16> affineOf(const py::handle& object, const std::string& name);
+/// The grid's voxel-to-RAS affine as a 4x4 float64 array (NiBabel's).
+py::array_t<double> affineArray(const GridGeometry& g);
 
 /// A new float64 or float32 NumPy array of the given shape in Fortran order
 /// (first index fastest), the library's voxel order.

@@ -327,10 +327,6 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
       m[v] = std::isfinite(result.distance[v]) ? static_cast<float>(result.distance[v]) : value;  // as the tool
     }
   }
-  const std::array<double, 16> ras = imaging::voxelToRas(g);
-  py::array_t<double> affineOut({4, 4});
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) affineOut.mutable_at(r, c) = ras[4 * r + c];
   py::array_t<int> seedArray({static_cast<py::ssize_t>(seeds.size()), py::ssize_t{3}});
   for (std::size_t s = 0; s < seeds.size(); ++s) {
     seedArray.mutable_at(s, 0) = seeds[s].index.i;
@@ -340,7 +336,7 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
   py::dict out;
   out["distance"] = distance;
   out["distance_map"] = map;
-  out["affine"] = affineOut;
+  out["affine"] = affineArray(g);
   out["seeds"] = seedArray;
   out["label_seeds_left_out"] = labelSeedsLeftOut;
   out["fod_basis"] = imaging::shBasisName(field.basis);
@@ -474,11 +470,7 @@ py::dict fodPaths(const py::object& coefficients, const py::object& affine,
   py::dict out;
   out["paths"] = records;
   out["grid"] = FodPathGrid{g};
-  const std::array<double, 16> ras = imaging::voxelToRas(g);
-  py::array_t<double> affineOut({4, 4});
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) affineOut.mutable_at(r, c) = ras[4 * r + c];
-  out["affine"] = affineOut;
+  out["affine"] = affineArray(g);
   out["shape"] = py::make_tuple(g.size[0], g.size[1], g.size[2]);
   out["zooms"] = py::make_tuple(g.spacing[0], g.spacing[1], g.spacing[2]);
   out["axis_codes"] = imaging::rasAxisCodes(g);

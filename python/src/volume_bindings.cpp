@@ -76,15 +76,6 @@ py::dict voxelCounts(const imaging::MetricVoxelCounts& c) {
   return d;
 }
 
-py::array_t<double> affineArray(const GridGeometry& g) {
-  const std::array<double, 16> m = imaging::voxelToRas(g);
-  py::array_t<double> a({4, 4});
-  auto w = a.mutable_unchecked<2>();
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) w(r, c) = m[4 * r + c];
-  return a;
-}
-
 std::vector<std::size_t> gridShape(const GridGeometry& g) { return {g.size[0], g.size[1], g.size[2]}; }
 
 std::shared_ptr<VolumePropagation> propagateField(const std::shared_ptr<const TensorField>& field,

@@ -1,6 +1,7 @@
 """A crossing of two fibre bundles made by DIPY: the FOD tests' phantom
 (test_fod.py through stvd's reader, test_fod_distance.py through the
-package, test_fod_crossings.py fitted by DIPY and by MRtrix3)."""
+package, test_fod_crossings.py fitted by DIPY and by MRtrix3), and the
+MRtrix image writer those tests share."""
 
 import pathlib
 import subprocess
@@ -96,3 +97,19 @@ def mrtrix_crossing_fod(angle, directory):
         assert run.returncode == 0, (command, run.stderr)
     coefficients = np.asanyarray(nib.load(directory / "fod.nii").dataobj)
     return directory / "fod.mif", coefficients, axes, in_bundle
+
+
+def write_mif(path, data, affine):
+    """An MRtrix image written byte by byte: float32, axes stored in order,
+    the transform of a NIfTI-style affine (RAS), as MRtrix's format says."""
+    spacing = np.linalg.norm(affine[:3, :3], axis=0)
+    rotation = affine[:3, :3] / spacing
+    lines = ["mrtrix image", "dim: " + ",".join(map(str, data.shape)),
+             "vox: " + ",".join(f"{s:.17g}" for s in spacing) + ",1",
+             "layout: +0,+1,+2,+3", "datatype: Float32LE"]
+    for r in range(3):
+        lines.append("transform: " + ",".join(f"{v:.17g}" for v in [*rotation[r], affine[r, 3]]))
+    head = "\n".join(lines) + "\n"
+    offset = (len(head) + 32 + 3) // 4 * 4
+    header = (head + f"file: . {offset}\nEND\n").ljust(offset)
+    path.write_bytes(header.encode() + np.asarray(data, "<f4").tobytes(order="F"))

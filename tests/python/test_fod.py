@@ -26,7 +26,7 @@ from dipy.direction import peak_directions
 from dipy.reconst.csdeconv import ConstrainedSphericalDeconvModel
 from dipy.reconst.shm import real_sh_tournier, sh_to_sf
 from dipy.sims.voxel import multi_tensor
-from fod_phantoms import crossing_fit
+from fod_phantoms import crossing_fit, write_mif
 
 BUILD = pathlib.Path(os.environ.get("STVD_BUILD_DIR", pathlib.Path(__file__).resolve().parents[2] / "build"))
 PROBE = pathlib.Path(os.environ.get("STVD_FOD_PROBE", BUILD / "tests" / "itk" / "stvd_fod_probe"))
@@ -118,20 +118,6 @@ def test_dipy_bases_evaluate_as_dipy_does_along_the_voxel_axes(tmp_path, basis_t
     assert np.max(np.abs(ours - reference)) <= 1e-5 * np.max(np.abs(reference))
 
 
-def write_mif(path, data, affine):
-    """An MRtrix image written byte by byte: float32, axes stored in order,
-    the transform of a NIfTI-style affine (RAS), as MRtrix's format says."""
-    spacing = np.linalg.norm(affine[:3, :3], axis=0)
-    rotation = affine[:3, :3] / spacing
-    lines = ["mrtrix image", "dim: " + ",".join(map(str, data.shape)),
-             "vox: " + ",".join(f"{s:.17g}" for s in spacing) + ",1",
-             "layout: +0,+1,+2,+3", "datatype: Float32LE"]
-    for r in range(3):
-        lines.append("transform: " + ",".join(f"{v:.17g}" for v in [*rotation[r], affine[r, 3]]))
-    head = "\n".join(lines) + "\n"
-    offset = (len(head) + 32 + 3) // 4 * 4
-    header = (head + f"file: . {offset}\nEND\n").ljust(offset)
-    path.write_bytes(header.encode() + np.asarray(data, "<f4").tobytes(order="F"))
 
 
 def test_mrtrix_images_are_mrtrix3s_basis_in_the_scanner_frame(tmp_path):

@@ -20,7 +20,7 @@ import pytest
 import stvd
 from conftest import TOOL
 
-from fod_phantoms import crossing_fit
+from fod_phantoms import crossing_fit, write_mif
 
 BASIS = "descoteaux07_legacy"  # DIPY 1.6's CSD fits (docs/fod.md, "The bases")
 SPACING = 2.0
@@ -142,20 +142,6 @@ def test_a_rotated_and_flipped_affine_gives_the_same_distances(crossing):
     assert relative.max() < 0.082 and relative.mean() < 0.01, (relative.max(), relative.mean())
 
 
-def write_mif(path, data, affine):
-    """An MRtrix image written byte by byte (float32, axes in order, the
-    transform of a NIfTI-style affine), as test_fod.py writes them."""
-    spacing = np.linalg.norm(affine[:3, :3], axis=0)
-    rotation = affine[:3, :3] / spacing
-    lines = ["mrtrix image", "dim: " + ",".join(map(str, data.shape)),
-             "vox: " + ",".join(f"{s:.17g}" for s in spacing) + ",1",
-             "layout: +0,+1,+2,+3", "datatype: Float32LE"]
-    for r in range(3):
-        lines.append("transform: " + ",".join(f"{v:.17g}" for v in [*rotation[r], affine[r, 3]]))
-    head = "\n".join(lines) + "\n"
-    offset = (len(head) + 32 + 3) // 4 * 4
-    header = (head + f"file: . {offset}\nEND\n").ljust(offset)
-    path.write_bytes(header.encode() + np.asarray(data, "<f4").tobytes(order="F"))
 
 
 def test_an_mrtrix_file_gives_the_same_map_on_its_own_grid(tmp_path, crossing):
