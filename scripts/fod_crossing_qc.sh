@@ -29,20 +29,44 @@ mkdir -p "$out"
 # slab voxels i 30..81, j 44..61, all 12 slices; the same voxels on the
 # tensors' grid, whose slice k is the slab's k + 10), so that the FOD's
 # table of F* is small (11,232 voxels).
-"$python" - "$fod/fod_mask_slab.nii.gz" "$dti/dti_mask.nii.gz" "$out" <<'EOF'
+# Isolated (-I): no module of the working folder or of PYTHONPATH runs. The
+# masks are written to a fresh name in the output folder and renamed over
+# their own, so that a link or FIFO planted under that name is replaced,
+# never written through.
+"$python" -I - "$fod/fod_mask_slab.nii.gz" "$dti/dti_mask.nii.gz" "$out" <<'EOF'
+import os
 import sys
+import tempfile
 import nibabel as nib
 import numpy as np
 slab_path, dti_path, out = sys.argv[1:]
+
+
+umask = os.umask(0)
+os.umask(umask)
+
+
+def save(image, name):
+    handle, staged = tempfile.mkstemp(dir=out, prefix=".stvd-", suffix=".nii.gz")
+    os.fchmod(handle, 0o666 & ~umask)  # as a file the user's umask makes, not mkstemp's 0600
+    os.close(handle)
+    try:
+        image.to_filename(staged)
+        os.replace(staged, os.path.join(out, name))
+    except BaseException:
+        os.unlink(staged)
+        raise
+
+
 slab = nib.load(slab_path)
 box = np.zeros(slab.shape, bool)
 box[30:82, 44:62, :] = True
 box &= np.asanyarray(slab.dataobj) > 0
-nib.Nifti1Image(box.astype(np.uint8), slab.affine).to_filename(f"{out}/box_mask_slab.nii.gz")
+save(nib.Nifti1Image(box.astype(np.uint8), slab.affine), "box_mask_slab.nii.gz")
 dti = nib.load(dti_path)
 on_dti = np.zeros(dti.shape, np.uint8)
 on_dti[:, :, 10:10 + box.shape[2]] = box
-nib.Nifti1Image(on_dti, dti.affine).to_filename(f"{out}/box_mask_dti.nii.gz")
+save(nib.Nifti1Image(on_dti, dti.affine), "box_mask_dti.nii.gz")
 EOF
 
 # The points (docs/fod.md): CST from slab slice 1 below each crossing to

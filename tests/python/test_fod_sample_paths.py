@@ -67,13 +67,31 @@ def bundle_of(name):
 @pytest.fixture(scope="module")
 def qc(tmp_path_factory):
     """The folder scripts/fod_crossing_qc.sh wrote: the box masks, the four
-    runs' paths and pages, and their index."""
-    folder = tmp_path_factory.mktemp("fod_crossing") / "qc"
-    environment = dict(os.environ, STVD_EXECUTABLE=str(TOOL), STVD_PYTHON=sys.executable)
+    runs' paths and pages, and their index. It runs as a user's shared
+    folder may have it: a link planted under a mask's name, pointing outside,
+    and a spy numpy module on PYTHONPATH (test_the_script_runs_no_planted_
+    module_and_writes_through_no_link checks that neither took effect)."""
+    base = tmp_path_factory.mktemp("fod_crossing")
+    folder = base / "qc"
+    folder.mkdir()
+    (folder / "box_mask_slab.nii.gz").symlink_to(base / "victim.nii.gz")
+    planted = base / "planted"
+    planted.mkdir()
+    (planted / "numpy.py").write_text(f"open({str(base / 'spy_ran')!r}, 'w').close()\n")
+    environment = dict(os.environ, STVD_EXECUTABLE=str(TOOL), STVD_PYTHON=sys.executable, PYTHONPATH=str(planted))
     run = subprocess.run(["bash", str(SCRIPT), str(folder)], capture_output=True, text=True, env=environment,
                          timeout=600)
     assert run.returncode == 0, run.stderr
     return folder
+
+
+def test_the_script_runs_no_planted_module_and_writes_through_no_link(qc):
+    base = qc.parent
+    assert not (base / "spy_ran").exists()
+    assert not (base / "victim.nii.gz").exists()
+    mask = qc / "box_mask_slab.nii.gz"
+    assert mask.is_file() and not mask.is_symlink()
+    assert not list(qc.glob(".stvd-*")), "a staged mask was left behind"
 
 
 @pytest.fixture(scope="module")
