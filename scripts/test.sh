@@ -10,10 +10,11 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 build_dir=${STVD_BUILD_DIR:-build}
 
 bash scripts/setup.sh
-# MRtrix3 for the walk-through test of docs/mrtrix.md (about 20 MB to
-# download); without it, that one test is skipped.
+# MRtrix3 for the walk-through test of docs/mrtrix.md and the FOD fits by
+# dwi2fod (docs/fod.md, "Validation"; about 20 MB to download); without it,
+# those tests are skipped.
 bash scripts/setup.sh mrtrix3 ||
-  echo "test.sh: mrtrix3 is not installed; the MRtrix walk-through test will be skipped"
+  echo "test.sh: mrtrix3 is not installed; the tests that run MRtrix will be skipped"
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSTVD_BUILD_TESTS=ON
 cmake --build "$build_dir" -j"$(nproc)"
 # Every test takes seconds; 300 s means one has hung. Tests may set a

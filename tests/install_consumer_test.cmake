@@ -29,6 +29,42 @@ endfunction()
 run("cmake --install" "${CMAKE_COMMAND}" --install "${STVD_BINARY_DIR}" --config "${CONFIG}"
     --prefix "${prefix}")
 
+# LICENSE travels with the install, and pkg-config finds the core from the
+# prefix alone: a program compiled and linked with its flags runs.
+file(GLOB_RECURSE licence "${prefix}/share/doc/*/LICENSE")
+if(NOT licence)
+  message(FATAL_ERROR "install_consumer_test: LICENSE is not installed")
+endif()
+file(GLOB_RECURSE pc_files "${prefix}/*/pkgconfig/stvd.pc")
+if(NOT pc_files)
+  message(FATAL_ERROR "install_consumer_test: stvd.pc is not installed")
+endif()
+list(GET pc_files 0 pc_file)
+get_filename_component(pc_dir "${pc_file}" DIRECTORY)
+set(ENV{PKG_CONFIG_PATH} "${pc_dir}")
+execute_process(COMMAND pkg-config --cflags --libs stvd RESULT_VARIABLE result OUTPUT_VARIABLE flags)
+if(NOT result EQUAL 0)
+  message(FATAL_ERROR "install_consumer_test: pkg-config --cflags --libs stvd failed (${result})")
+endif()
+string(STRIP "${flags}" flags)
+separate_arguments(flags UNIX_COMMAND "${flags}")
+file(MAKE_DIRECTORY "${WORK_DIR}/pkg-config")
+file(WRITE "${WORK_DIR}/pkg-config/program.cpp" [=[
+#include <cmath>
+#include "stvd/stvd.hpp"
+int main() {
+  stvd::GridGeometry g;
+  g.size = {5, 4, 3};
+  const stvd::VoxelGridDomain domain(g, stvd::Stencil::full26());
+  const auto metric = stvd::RiemannianMetric::constant(domain.vertexCount(), {1, 0, 0, 1, 0, 1});
+  const stvd::PropagationResult r = stvd::propagate(domain, metric, {0});
+  return std::fabs(r.distance[domain.vertexAt(4, 3, 2)] - std::sqrt(29.0)) < 1e-4 ? 0 : 1;
+}
+]=])
+run("compiling with pkg-config's flags" "${CXX_COMPILER}" -std=c++17 "${WORK_DIR}/pkg-config/program.cpp"
+    -o "${WORK_DIR}/pkg-config/program" ${flags})
+run("running the pkg-config program" "${WORK_DIR}/pkg-config/program")
+
 set(make_program "")
 if(MAKE_PROGRAM)
   set(make_program "-DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM}")

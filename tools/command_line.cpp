@@ -118,8 +118,8 @@ std::string tensorInputHelp(OptionCommand command) {
       "    standard: lower), or six volumes X Y Z 6, whose order must be stated.\n"
       "  NRRD (.nrrd, .nhdr): kind 3D-symmetric-matrix, or 3D-masked-symmetric-matrix whose\n"
       "    confidence channel (>= 0.5) becomes a mask. Order fixed: xx,xy,xz,yy,yz,zz.\n"
-      "  MRtrix (.mif, .mif.gz, .mih): X Y Z 6 as dwi2tensor writes it (order mrtrix and the\n"
-      "    world frame unless stated).\n" +
+      "  MRtrix (.mif, .mif.gz, .mih): X Y Z 6 as dwi2tensor writes it, or X Y Z 1 6 as mrconvert\n"
+      "    makes it from a NIfTI 5D file (order mrtrix and the world frame unless stated).\n" +
       optionHelp(command, {OptionGroup::TensorFile});
   // stvd info takes --max-anisotropy only, for its count of tensors beyond it.
   if (!toolOption("--tensor-kind").takes(command)) return text + optionHelp(command, {OptionGroup::Metric});
@@ -170,7 +170,9 @@ std::string executableFolder() {
 std::string pythonPackageFolder(const std::string& module) {
 #ifdef STVD_PYTHON_INSTALL_DIR
   const std::string here = executableFolder();
-  for (const std::string& folder : {here + "/../python", here + "/../" STVD_PYTHON_INSTALL_DIR}) {
+  // The build tree, the install prefix, and a wheel of `pip install .`
+  // (the tool is stvd/_bin/stvd inside the installed package).
+  for (const std::string& folder : {here + "/../python", here + "/../" STVD_PYTHON_INSTALL_DIR, here + "/../.."}) {
     if (::access((folder + "/stvd/" + module).c_str(), R_OK) == 0) return folder;
   }
 #else

@@ -9,6 +9,7 @@
 #include "stvd/front_end/propagation_choice_options.hpp"
 #include "stvd/front_end/region_connectivity_options.hpp"
 #include "stvd/imaging/seed_options.hpp"
+#include "stvd/imaging/fod_input_options.hpp"
 #include "stvd/imaging/tensor_input_options.hpp"
 #include "stvd/tetmesh/tet_mesh_options.hpp"
 
@@ -48,8 +49,9 @@ std::vector<OptionDeclaration> toolDeclarations() {
       {kSurfaceDistanceCommand,
        ".ply (binary: the mesh, its coordinates in the input's type, with a float vertex property distance; "
        "unreached inf),\n.vtk (legacy POLYDATA, POINT_DATA distance; unreached -1) or\n.csv (rows "
-       "vertex,distance; unreached inf). It must not be an input; written with the statistics into a staging "
-       "folder next to it and moved into place when both are complete."},
+       "vertex,distance; unreached inf),\n.shape.gii or .func.gii (GIfTI, float32; unreached NaN) or a FreeSurfer "
+       "curv file (.curv, lh.NAME, rh.NAME; float32, unreached NaN). It must not be an input; written with the "
+       "statistics into a staging folder next to it and moved into place when both are complete."},
       {kTetMeshDistanceCommand,
        ".vtk (legacy VTK), .vtu (VTK XML) or .csv (vertex,distance with the input's vertex numbers). VTK files "
        "hold the mesh with the point arrays \"distance\" and \"vertex_number\". Written atomically.\nOr .nii, "
@@ -61,12 +63,28 @@ std::vector<OptionDeclaration> toolDeclarations() {
   table.push_back(outputOption(
       "--matrix", "FILE.csv", kConnectivityCommand,
       "also the square N x N matrix of geodesic distances (mm): row A, column B holds d(A, B); rows and columns in "
-      "label order, the labels in a '# labels:' header line; 0 on the diagonal, inf where B is not reachable from "
-      "A (numpy.loadtxt(FILE, delimiter=',') and MRtrix's matrix readers skip the '#' lines, as for "
-      "tck2connectome output)."));
+      "label order, the labels in a '# labels:' header line; nan (no value) on the diagonal and where B is not "
+      "reachable from A, as n/a in the table and NaN in Python (numpy.loadtxt(FILE, delimiter=',') and MRtrix's "
+      "matrix readers skip the '#' lines, as for tck2connectome output)."));
   table.push_back(outputOption("--matrix-index", "FILE.csv", kConnectivityCommand,
-                               "the same matrix of the connectivity index; 0 on the diagonal and where B is not "
+                               "the same matrix of the connectivity index; nan on the diagonal and where B is not "
                                "reachable."));
+  table.push_back(outputOption(
+      "--region-matrix", "FILE.csv", kSurfaceDistanceCommand,
+      "with --seeds REGIONS (.annot, .label.gii): the matrix of geodesic distances between the regions (those "
+      "of --seed-region, else every named region with vertices), one propagation per region on --threads: row A, "
+      "column B the shortest distance from A to a vertex of B, the region names in a '# labels:' header line, 0 on "
+      "the diagonal, inf where B is not reached. -o then holds each vertex's distance to its nearest region."));
+  table.push_back(outputOption(
+      "--region-maps", "PATTERN", kSurfaceDistanceCommand,
+      "with --seeds REGIONS: one distance map per region (the regions as for --region-matrix), each written to "
+      "PATTERN with {region} replaced by the region's name (letters, digits, '-', '_' and '.' kept, others '_'): "
+      ".shape.gii, .func.gii or FreeSurfer curv. The surface and metric are built once; the regions run in "
+      "parallel (--threads)."));
+  table.push_back(outputOption(
+      "--nearest-region", "FILE", kSurfaceDistanceCommand,
+      "with --seeds REGIONS: the key of each vertex's nearest region (.shape.gii, .func.gii or FreeSurfer curv; -1 "
+      "where no region reaches), the regions as for --region-matrix; -o then holds the distance to it."));
   OptionDeclaration stats =
       outputOption("--stats", "FILE.json", kVolumeCommands | kSurfaceDistanceCommand,
                    "parameters, counts, seconds per phase and peak memory as JSON.");
@@ -109,15 +127,18 @@ const char* const kHelpOrder[] = {
     "--target-point", "--targets", "--labels", "--threads", "--method", "--steiner", "--k", "--chain-measure",
     "--stencil", "--domain-connectivity", "--max-distance", "--no-memory-check", "--tensor-order",
     "--tensor-frame", "--mask", "--tensor-kind", "--diffusion-metric", "--max-anisotropy", "--fa-threshold",
-    "--accept-implausible-tensors", "--metric", "--anisotropy", "--tensors", "--tensor-attribute",
-    "--outside-image", "--step", "--smooth", "--no-refine", "--discrete", "--output", "--reference", "--tsv",
-    "--matrix", "--matrix-index", "--unreachable-value", "--stats", "--report", "--voxel", "--quiet", "--help"};
+    "--accept-implausible-tensors", "--accept-misaligned-tensors", "--fod-basis", "--fod-frame", "--fod-floor",
+    "--fod-power", "--metric", "--anisotropy", "--tensors",
+    "--tensor-attribute", "--outside-image", "--step", "--smooth", "--no-refine", "--discrete", "--output", "--reference",
+    "--tsv", "--matrix", "--matrix-index", "--region-matrix", "--region-maps", "--nearest-region",
+    "--unreachable-value", "--stats", "--report", "--voxel", "--quiet", "--help"};
 
 std::vector<OptionDeclaration> allDeclarations() {
   std::vector<OptionDeclaration> all;
   for (const auto* table :
        {&imaging::seedOptionDeclarations(), &meshOptionDeclarations(), &regionConnectivityOptionDeclarations(),
         &propagationOptionDeclarations(), &imaging::tensorInputOptionDeclarations(),
+        &imaging::fodInputOptionDeclarations(),
         &tetmesh::tetMeshOptionDeclarations(), &pathTracingOptionDeclarations()})
     all.insert(all.end(), table->begin(), table->end());
   const std::vector<OptionDeclaration> own = toolDeclarations();

@@ -2,9 +2,11 @@
 // between every pair of labelled regions, one multi-source propagation per
 // region, the regions spread over threads.
 #include <algorithm>
+#include <functional>
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -12,6 +14,7 @@
 
 #include "command_line.hpp"
 #include "command_options.hpp"
+#include "fod_input.hpp"
 #include "geodesic_options.hpp"
 #include "memory_check.hpp"
 #include "option_help.hpp"
@@ -22,6 +25,7 @@
 #include "stvd/system/files/output_transaction.hpp"
 #include "stvd/itk/scalar_image_io.hpp"
 #include "stvd/voxel_grid/label_regions.hpp"
+#include "stvd/imaging/fod_paths.hpp"
 #include "stvd/system/parallel_tasks.hpp"
 #include "stvd/voxel_grid/region_connectivity.hpp"
 #include "stvd/voxel_grid/stencil.hpp"
@@ -62,6 +66,11 @@ std::string connectivityHelp() {
          optionHelp(kConnectivityCommand, {OptionGroup::Propagation}) + "\n" +
          tensorInputHelp(kConnectivityCommand) +
          "\n"
+         "FOD file (fibre orientation distributions, docs/fod.md): with --fod-basis the input is an FOD\n"
+         "  image and the metric its convexified norm F*, propagated by Dijkstra; the path of each pair\n"
+         "  is the propagation's discrete path (voxel centres), not traced or refined.\n" +
+         optionHelp(kConnectivityCommand, {OptionGroup::FodFile}) +
+         "\n"
          "Output:\n" +
          optionHelp(kConnectivityCommand, {OptionGroup::Output}) +
          "\n"
@@ -79,6 +88,7 @@ struct ConnectivityOptions : PropagationChoice {
   std::string statsPath;
   std::string reportPath;
   TensorInputOptions tensor;
+  imaging::FodInputOptions fod;  ///< given(): the input is an FOD image
   unsigned threads = 0;
   bool quiet = false;
 };
@@ -102,6 +112,14 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
   if (o.labels.empty()) usageError("no regions: add --labels LABELS");
   if (o.output.empty()) usageError("no output file: add -o TABLE.tsv");
   checkPropagationChoice(o, /*lanthierAllowed=*/false);
+  o.fod = imaging::fodInputOptionsOf(v);
+  if (!o.fod.given()) return o;
+  checkFodRunOptions(v, o.stencil);
+  // The paths are Dijkstra's predecessor chains (docs/fod.md, "Paths and connectivity").
+  if (v.has("--method") && o.method != Method::Dijkstra)
+    usageError("--method " + *v.text("--method") +
+               ": connectivity on FOD images runs Dijkstra; use --method dijkstra, its default on FOD images");
+  o.method = Method::Dijkstra;
   return o;
 }
 
@@ -119,9 +137,11 @@ std::string matrixCsv(const std::string& what, const std::vector<LabelRegion>& r
     for (std::size_t b = 0; b < n; ++b) {
       const RegionPair& r = table(a, b);
       csv << (b ? "," : "");
-      if (a == b) csv << "0";
-      else if (index) csv << (std::isfinite(r.connectivity()) ? fixed(r.connectivity(), 6) : "0");
-      else csv << (std::isfinite(r.geodesic) ? fixed(r.geodesic, 4) : "inf");
+      // No value on the diagonal and for pairs not connected: nan, the
+      // missing value of every connectivity output (docs/paths.md).
+      const double value = index ? r.connectivity() : r.geodesic;
+      if (a == b || !std::isfinite(r.geodesic) || !std::isfinite(value)) csv << "nan";
+      else csv << fixed(value, index ? 6 : 4);
     }
     csv << "\n";
   }
@@ -135,7 +155,7 @@ int runConnectivity(int argc, char** argv) {
   const Clock::time_point start = Clock::now();
   const ConnectivityOptions o = parseConnectivityOptions(argc, argv);
   RunFiles files;
-  files.inputImage("tensor input", o.input);
+  files.inputImage(o.fod.given() ? "FOD input" : "tensor input", o.input);
   files.inputImage("mask", o.tensor.maskPath);
   files.inputImage("label image", o.labels);
   files.outputFile("connectivity table", o.output);
@@ -146,33 +166,52 @@ int runConnectivity(int argc, char** argv) {
   files.check();
   ReportRequest report;
   report.start(o.reportPath);
-  const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
+  // The input and its metric: the tensors' or an FOD image's (docs/fod.md).
+  std::optional<TensorInput> tensorInput;
+  std::optional<imaging::MetricFromTensors> built;
+  std::optional<FodInput> fodInput;
+  if (o.fod.given()) {
+    fodInput.emplace(readFodInput(o.input, o.fod, o.tensor.maskPath));
+  } else {
+    tensorInput.emplace(readTensorInputNotingWarnings(o.input, o.tensor));
+    built.emplace(imaging::buildCheckedMetric(o.input, *tensorInput, o.tensor));
+  }
+  const TensorInput& input = fodInput ? fodInput->grid : *tensorInput;
+  const std::vector<std::uint8_t>& inDomain = fodInput ? fodInput->inDomain : built->inDomain;
+  const imaging::MetricVoxelCounts counts = fodInput ? fodInput->counts : built->counts;
   const GridGeometry& g = input.read.volume.geometry;
-  imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.input, input, o.tensor);
 
   const imaging::LabelImage labels = imaging::readLabelImageOnGrid(o.labels, g, "the labels are", o.input);
   noteInputWarnings(o.labels, labels.warnings);
   imaging::requireSameGrid(labels.geometry, g, o.labels, "the labels are", o.input);
   std::size_t empty = 0;
   const std::vector<LabelRegion> regions =
-      regionsInDomain(labelRegions(labels.labels, built.inDomain), o.labels, o.input, empty);
+      regionsInDomain(labelRegions(labels.labels, inDomain), o.labels, o.input, empty);
 
   // One propagation at a time on each thread, each with its own state and result.
   const unsigned threadCount = threadCountFor(o.threads, regions.size());
+  const std::uint64_t metricBytes =
+      fodInput ? sizeof(imaging::FodStencilNorm::VertexParams) * g.voxelCount() : std::uint64_t(0);
   const MemoryCheck memory = checkMemory(
-      o.input, threadCount * propagationMemoryEstimate(g.voxelCount(), built.counts.domain),
+      o.input, threadCount * propagationMemoryEstimate(g.voxelCount(), counts.domain) + metricBytes,
       std::to_string(threadCount) + (threadCount == 1 ? " propagation" : " propagations at once") + " on " +
-          withThousands(built.counts.domain) + " domain voxels",
+          withThousands(counts.domain) + " domain voxels",
       !o.memoryCheck);
-  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain, o.connectivity);
-  const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
+  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), inDomain, o.connectivity);
   const std::size_t n = regions.size();
   std::vector<std::vector<VertexId>> regionVoxels;
   for (const LabelRegion& r : regions) regionVoxels.push_back(r.voxels);
   // Region a's row is written only by the thread that propagates from a,
   // so the table is the same for any number of threads.
-  const RegionConnectivity table =
-      regionConnectivity(domain, metric, regionVoxels, propagationOptions(o), threadCount);
+  RegionConnectivity table;
+  FodTable fodTable;
+  if (fodInput) {
+    fodTable = makeFodTable(*fodInput, o.fod.cost, o.threads);
+    table = imaging::fodRegionConnectivity(domain, fodTable.metric, regionVoxels, propagationOptions(o), threadCount);
+  } else {
+    const RiemannianMetric metric(std::move(built->metric), &built->inDomain);
+    table = regionConnectivity(domain, metric, regionVoxels, propagationOptions(o), threadCount);
+  }
 
   std::ostringstream tsv;
   tsv << "region_a\tregion_b\tgeodesic_mm\tpath_mm\tstraight_mm\tconnectivity\tvoxels_a\tvoxels_b\n";
@@ -186,11 +225,15 @@ int runConnectivity(int argc, char** argv) {
           << regions[b].voxels.size() << "\n";
     }
   report.requireReady();  // nothing is written when the report could not be drawn
-  RunStatistics run = volumeRunStatistics("connectivity", commandLineText(argc, argv), o, input, built.counts);
+  RunStatistics run = volumeRunStatistics("connectivity", commandLineText(argc, argv), o, input, counts);
   run.labels = o.labels;
   run.memory = &memory;
-  run.extraMembers = {"\"regions\": {\"count\": " + std::to_string(n) + ", \"left_out\": " + std::to_string(empty) +
-                      ", \"threads\": " + std::to_string(threadCount) + "}"};
+  if (fodInput) {
+    run.metricParameters = fodMetricParameters(*fodInput, o.fod, fodTable);
+    run.extraMembers = {fodPrecomputationMember(*fodInput, fodTable)};
+  }
+  run.extraMembers.push_back("\"regions\": {\"count\": " + std::to_string(n) + ", \"left_out\": " +
+                             std::to_string(empty) + ", \"threads\": " + std::to_string(threadCount) + "}");
   run.seconds = {{"total", std::chrono::duration<double>(Clock::now() - start).count()}};
   // The table, the matrices and the statistics appear together or not at all.
   std::vector<std::pair<std::string, std::string>> texts{{o.output, tsv.str()}};
@@ -209,7 +252,8 @@ int runConnectivity(int argc, char** argv) {
     throw ToolError(kExitOutput, e.what());
   }
   if (!o.quiet)
-    std::cout << "Connectivity of " << n << " regions of " << o.labels
+    std::cout << (fodInput ? fodInputText(o.input, *fodInput, o.fod, fodTable) + ".\n" : std::string())
+              << "Connectivity of " << n << " regions of " << o.labels
               << (empty ? " (" + std::to_string(empty) + " more without voxels in the domain left out)" : std::string())
               << ": " << n * (n - 1) << " ordered pairs, " << methodText(o, memoryDepthOf<VoxelGridDomain>(o))
               << " on the " << o.stencil << "-neighbour stencil, " << connectivityText(o.connectivity) << ", "

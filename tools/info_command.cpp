@@ -12,6 +12,7 @@
 #include "geodesic_options.hpp"
 #include "stvd/imaging/symmetric_eigen.hpp"
 #include "stvd/imaging/mrtrix_image.hpp"
+#include "stvd/imaging/tensor_frame_check.hpp"
 #include "stvd/imaging/tensor_frames.hpp"
 #include "stvd/imaging/tensor_plausibility.hpp"
 #include "option_help.hpp"
@@ -144,6 +145,33 @@ std::string componentOrderReport(const TensorInput& input, std::size_t considere
   return out.str();
 }
 
+/// Which frame the principal directions fit best (tensor_frame_check.hpp):
+/// the frame as read, and the best ones, by mean streamline length.
+std::string frameReport(const TensorInput& input) {
+  const imaging::TensorFrameCheck check =
+      imaging::checkTensorFrame(input.read.volume.tensors, input.read.volume.geometry, input.mask);
+  std::ostringstream out;
+  out << "Frame check: " << imaging::tensorFrameCheckSummary(check) << "\n";
+  if (check.seeds == 0 || check.trials.empty() || check.trials.front().meanLengthMm == 0.0) return out.str();
+  out << "  mean streamline of the principal direction (diffusion tensors) with the components along i, j, k "
+         "as below, best first (a frame and its negative give the same tensors):\n";
+  for (std::size_t n = 0; n < check.trials.size(); ++n) {
+    const imaging::TensorFrameTrial& t = check.trials[n];
+    if (n >= 5 && !t.transform.isIdentity()) continue;
+    const std::string text = imaging::axisTransformText(t.transform);
+    const std::string words = imaging::axisTransformWords(t.transform);
+    out << "  " << text << std::string(text.size() < 14 ? 14 - text.size() : 1, ' ') << fixed(t.meanLengthMm, 1)
+        << " mm  " << words << (t.transform.isIdentity() ? "   <- as read" : "") << "\n";
+  }
+  if (check.verdict == imaging::TensorFrameVerdict::Mismatch)
+    out << "Warning: the components fit the image " << imaging::axisTransformWords(check.best) << " "
+        << imaging::axisTransformText(check.best)
+        << ", not as read; stvd distance, path and connectivity stop on such a file (exit 3) unless "
+           "--accept-misaligned-tensors is given. Rotate the components with the image axes (an image reoriented "
+           "by nibabel.as_closest_canonical, say, keeps its components as they were).\n";
+  return out.str();
+}
+
 }  // namespace
 
 int runInfo(int argc, char** argv) {
@@ -238,6 +266,7 @@ int runInfo(int argc, char** argv) {
       << (givenCap ? " (--max-anisotropy)" : " (a metric is otherwise taken as given)")
       << " and leaves the last kind, zero and non-finite tensors outside the domain.\n";
   out << componentOrderReport(input, considered);
+  out << frameReport(input);
   std::cout << out.str();
   return kExitOk;
 }

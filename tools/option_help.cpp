@@ -65,6 +65,7 @@ std::string groupName(OptionGroup group) {
 
 const OptionGroup kGroups[] = {OptionGroup::Seeds,         OptionGroup::Targets,    OptionGroup::Regions,
                                OptionGroup::Propagation,   OptionGroup::TensorFile, OptionGroup::Metric,
+                               OptionGroup::FodFile,
                                OptionGroup::SurfaceMetric, OptionGroup::MeshMetric, OptionGroup::Paths,
                                OptionGroup::Output};
 
@@ -86,6 +87,7 @@ std::string optionGroupTitle(OptionGroup group) {
     case OptionGroup::Propagation: return "Propagation";
     case OptionGroup::TensorFile: return "Tensor file";
     case OptionGroup::Metric: return "Metric";
+    case OptionGroup::FodFile: return "FOD file";
     case OptionGroup::SurfaceMetric: return "Surface metric";
     case OptionGroup::MeshMetric: return "Mesh metric";
     case OptionGroup::Paths: return "Paths";

@@ -4,12 +4,14 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <sstream>
 
 #include "command_line.hpp"
 #include "command_options.hpp"
+#include "fod_input.hpp"
 #include "geodesic_options.hpp"
 #include "memory_check.hpp"
 #include "option_help.hpp"
@@ -19,6 +21,7 @@
 #include "stvd/system/files/file_contents.hpp"
 #include "stvd/system/files/output_transaction.hpp"
 #include "stvd/voxel_grid/path_tracing.hpp"
+#include "stvd/imaging/fod_paths.hpp"
 #include "stvd/errors.hpp"
 #include "stvd/itk/scalar_image_io.hpp"
 #include "stvd/imaging/streamline_io.hpp"
@@ -28,6 +31,7 @@
 #include "stvd/front_end/memory_estimates.hpp"
 #include "stvd/system/files/output_destination.hpp"
 #include "stvd/front_end/path_tracing_options.hpp"
+#include "stvd/front_end/region_connectivity_options.hpp"
 #include "stvd/itk/image_grid.hpp"
 #include "stvd/imaging/seed_options.hpp"
 #include "stvd/imaging/tensor_input_options.hpp"
@@ -61,6 +65,12 @@ std::string pathHelp() {
          "Propagation (as in stvd distance; lanthier gives no paths):\n" +
          optionHelp(kPathCommand, {OptionGroup::Propagation}) + "\n" + tensorInputHelp(kPathCommand) +
          "\n"
+         "FOD file (fibre orientation distributions, docs/fod.md): with --fod-basis the input is an FOD\n"
+         "  image and the metric its convexified norm F*, propagated by Dijkstra; each path is the\n"
+         "  propagation's discrete path (voxel centres), whose F*-length is its geodesic length: no\n"
+         "  gradient descent or refinement (--step, --smooth, --no-refine are refused).\n" +
+         optionHelp(kPathCommand, {OptionGroup::FodFile, OptionGroup::Regions}) +
+         "\n"
          "Paths:\n" +
          optionHelp(kPathCommand, {OptionGroup::Paths}) +
          "\n"
@@ -83,6 +93,8 @@ struct PathOptions : SeedOptions, PropagationChoice {
   std::vector<std::array<double, 3>> targetPoints;
   std::string targetLabels;
   TensorInputOptions tensor;
+  imaging::FodInputOptions fod;  ///< given(): the input is an FOD image
+  unsigned threads = 0;          ///< of the FOD metric's table (0: one per core)
   PathTracingOptions tracing;
   bool discrete = false;
   bool quiet = false;
@@ -123,58 +135,79 @@ PathOptions parsePathOptions(int argc, char** argv) {
   if (o.targetVoxels.empty() && o.targetPoints.empty() && o.targetLabels.empty())
     usageError(imaging::noTargetMessage(OptionNaming::Flags));
   checkPropagationChoice(o, /*lanthierAllowed=*/false);
-  imaging::checkTensorInputOptions(o.tensor);
+  o.fod = imaging::fodInputOptionsOf(v);
+  o.threads = regionThreadsOf(v);
+  if (!o.fod.given()) {
+    if (v.has("--threads")) usageError("--threads applies to FOD images (--fod-basis)");
+    return o;
+  }
+  checkFodRunOptions(v, o.stencil);
+  // The paths are Dijkstra's predecessor chains, whose F*-length is the
+  // distance reported (docs/fod.md, "Paths and connectivity").
+  if (v.has("--method") && o.method != Method::Dijkstra)
+    usageError("--method " + *v.text("--method") +
+               ": paths on FOD images are Dijkstra's; use --method dijkstra, the default for FOD paths");
+  o.method = Method::Dijkstra;
+  for (const char* flag : {"--step", "--smooth", "--no-refine"})
+    if (v.has(flag))
+      usageError(std::string(flag) +
+                 ": paths on FOD images are the propagation's discrete paths, whose F*-length is the reported "
+                 "length; they are not traced or refined (docs/fod.md)");
+  o.discrete = true;
   return o;
 }
+
+/// What the tensor and the FOD runs of `stvd path` hand to the part they
+/// share: the grid and domain (the seeds' and labels' readers take a
+/// tensor input's), the propagation, the path of a target, FA along the
+/// paths (empty: none) and the statistics' metric sections.
+struct PathRunMetric {
+  const TensorInput* input = nullptr;
+  const std::vector<std::uint8_t>* inDomain = nullptr;
+  imaging::MetricVoxelCounts counts;
+  std::uint64_t metricBytes = 0;  ///< memory of the metric beyond the tensor run's estimate
+  std::function<void()> prepare;  ///< makes the metric once the seeds, targets and memory are checked (or none)
+  std::function<PropagationResult(const VoxelGridDomain&, const std::vector<VertexId>&)> propagate;
+  std::function<TracedPath(const VoxelGridDomain&, const PropagationResult&, VertexId)> trace;
+  std::function<std::vector<float>()> fa;  ///< FA per voxel, or none
+  /// The metric's sections of the statistics and the summary's first
+  /// sentence (FOD runs; asked for once `prepare` has made their table).
+  std::function<std::vector<std::string>()> metricParameters, extraMembers;
+  std::function<std::string()> inputText;
+};
 
 using Target = imaging::PathTarget;
 
 std::string tsvNumber(double x, int decimals) { return std::isfinite(x) ? fixed(x, decimals) : "n/a"; }
 
-}  // namespace
-
-int runPath(int argc, char** argv) {
-  const Clock::time_point start = Clock::now();
-  const PathOptions o = parsePathOptions(argc, argv);
-  RunFiles files;
-  files.inputImage("tensor input", o.input);
-  files.inputImage("mask", o.tensor.maskPath);
-  files.inputImage("seed labels", o.seedLabels);
-  files.inputImage("target labels", o.targetLabels);
-  files.outputFile("paths file", o.output);
-  files.outputFile("path table", o.tsvPath);
-  files.outputFile("statistics file", o.statsPath);
-  files.outputFile("QC report", o.reportPath);
-  files.check();
-  ReportRequest report;
-  report.start(o.reportPath);
-
-  const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
+int runPaths(const PathOptions& o, int argc, char** argv, Clock::time_point start, ReportRequest& report,
+             const PathRunMetric& m) {
+  const TensorInput& input = *m.input;
   const GridGeometry& g = input.read.volume.geometry;
-  imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.input, input, o.tensor);
-  if (built.counts.domain == 0)
-    throw ToolError(kExitDomain, o.input + ": the domain is empty: no voxel has a usable tensor");
+  const std::vector<std::uint8_t>& inDomain = *m.inDomain;
   std::size_t leftOut = 0;
-  const std::vector<Seed> seeds = resolveSeeds(o.input, o, input, o.tensor.metric, built.inDomain, leftOut);
+  const std::vector<Seed> seeds = resolveSeeds(o.input, o, input, o.tensor.metric, inDomain, leftOut);
   SeedOptions targetGiven;
   targetGiven.seedVoxels = o.targetVoxels;
   targetGiven.seedPoints = o.targetPoints;
   targetGiven.seedPointsInLps = o.seedPointsInLps;
   std::size_t unused = 0;
   const std::vector<Seed> targetSeeds =
-      resolveSeeds(o.input, targetGiven, input, o.tensor.metric, built.inDomain, unused, "target");
+      resolveSeeds(o.input, targetGiven, input, o.tensor.metric, inDomain, unused, "target");
 
   // The propagation, FA per voxel and the paths.
   const MemoryCheck memory = checkMemory(
-      o.input, propagationMemoryEstimate(g.voxelCount(), built.counts.domain) + 2 * sizeof(float) * g.voxelCount(),
-      methodText(o, memoryDepthOf<VoxelGridDomain>(o)) + " on " + withThousands(built.counts.domain) +
-          " domain voxels",
+      o.input,
+      propagationMemoryEstimate(g.voxelCount(), m.counts.domain) + 2 * sizeof(float) * g.voxelCount() + m.metricBytes,
+      methodText(o, memoryDepthOf<VoxelGridDomain>(o)) + " on " + withThousands(m.counts.domain) + " domain voxels",
       !o.memoryCheck);
-  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), built.inDomain, o.connectivity);
-  const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
+  const VoxelGridDomain domain(g, Stencil::byName(o.stencil), inDomain, o.connectivity);
   const std::vector<VertexId> sources = imaging::sourceVertices(domain, seeds);
+  const Clock::time_point metricStart = Clock::now();
+  if (m.prepare) m.prepare();
   const Clock::time_point propagationStart = Clock::now();
-  const PropagationResult result = propagate(domain, metric, sources, propagationOptions(o));
+  const double metricSeconds = std::chrono::duration<double>(propagationStart - metricStart).count();
+  const PropagationResult result = m.propagate(domain, sources);
   const double propagationSeconds = std::chrono::duration<double>(Clock::now() - propagationStart).count();
 
   std::vector<Target> targets;
@@ -184,15 +217,15 @@ int runPath(int argc, char** argv) {
         imaging::readLabelImageOnGrid(o.targetLabels, g, "the target labels are", o.input);
     noteInputWarnings(o.targetLabels, labels.warnings);
     const std::vector<Target> fromLabels =
-        imaging::labelTargets(o.targetLabels, labels, o.input, g, built.inDomain, result.distance);
+        imaging::labelTargets(o.targetLabels, labels, o.input, g, inDomain, result.distance);
     targets.insert(targets.end(), fromLabels.begin(), fromLabels.end());
   }
   imaging::requireReachable(o.input, targets, result.distance);
 
   // FA of the diffusion tensors, for the values along the paths.
-  const bool withFa = o.tensor.metric.kind == imaging::TensorKind::Diffusion;
+  const bool withFa = static_cast<bool>(m.fa);
   std::vector<float> fa;
-  if (withFa) fa = imaging::fractionalAnisotropyMap(input.read.volume.tensors, built.inDomain);
+  if (withFa) fa = m.fa();
 
   const Clock::time_point tracingStart = Clock::now();
   imaging::StreamlineSet set;
@@ -212,8 +245,7 @@ int runPath(int argc, char** argv) {
   std::ostringstream summary;
   for (std::size_t n = 0; n < targets.size(); ++n) {
     const Target& t = targets[n];
-    const TracedPath path = o.discrete ? discreteGeodesicPath(domain, result, t.vertex)
-                                       : traceGeodesicPath(domain, metric, result, t.vertex, o.tracing);
+    const TracedPath path = m.trace(domain, result, t.vertex);
     double meanFa = std::numeric_limits<double>::quiet_NaN();
     if (withFa) {
       const PathSamples faAlong = sampleAlongPath(domain, fa, path.points);
@@ -250,17 +282,21 @@ int runPath(int argc, char** argv) {
   const double tracingSeconds = std::chrono::duration<double>(Clock::now() - tracingStart).count();
 
   report.requireReady();  // nothing is written when the report could not be drawn
-  RunStatistics run = volumeRunStatistics("path", commandLineText(argc, argv), o, input, built.counts);
+  RunStatistics run = volumeRunStatistics("path", commandLineText(argc, argv), o, input, m.counts);
+  if (m.metricParameters) run.metricParameters = m.metricParameters();
   run.outputs = {{"paths", o.output}, {"paths_table", o.tsvPath}};
   run.seedLabels = o.seedLabels;
+  run.targetLabels = o.targetLabels;
   run.seeds = &seeds;
   run.labelSeedsLeftOut = leftOut;
   run.result = &result;
   run.memory = &memory;
-  run.extraMembers = {"\"path_count\": " + std::to_string(targets.size())};
-  run.seconds = {{"propagate", propagationSeconds},
-                 {"paths", tracingSeconds},
-                 {"total", std::chrono::duration<double>(Clock::now() - start).count()}};
+  if (m.extraMembers) run.extraMembers = m.extraMembers();
+  run.extraMembers.push_back("\"path_count\": " + std::to_string(targets.size()));
+  if (m.prepare) run.seconds.emplace_back("metric", metricSeconds);
+  run.seconds.insert(run.seconds.end(), {{"propagate", propagationSeconds},
+                                         {"paths", tracingSeconds},
+                                         {"total", std::chrono::duration<double>(Clock::now() - start).count()}});
   // The paths, their table and the statistics appear together or not at all.
   files::OutputTransaction outputs;
   const std::string table = tsv.str();
@@ -276,7 +312,7 @@ int runPath(int argc, char** argv) {
     throw ToolError(kExitOutput, e.what());
   }
   if (!o.quiet) {
-    std::cout << summary.str();
+    std::cout << (m.inputText ? m.inputText() : std::string()) << summary.str();
     std::cout << "Method: " << methodText(o, memoryDepthOf<VoxelGridDomain>(o)) << " on the " << o.stencil
               << "-neighbour stencil, " << connectivityText(o.connectivity) << "; " << seeds.size()
               << (seeds.size() == 1 ? " seed voxel" : " seed voxels") << ". Took "
@@ -311,6 +347,67 @@ int runPath(int argc, char** argv) {
     report.write(arguments, o.quiet);
   }
   return kExitOk;
+}
+
+}  // namespace
+
+int runPath(int argc, char** argv) {
+  const Clock::time_point start = Clock::now();
+  const PathOptions o = parsePathOptions(argc, argv);
+  RunFiles files;
+  files.inputImage(o.fod.given() ? "FOD input" : "tensor input", o.input);
+  files.inputImage("mask", o.tensor.maskPath);
+  files.inputImage("seed labels", o.seedLabels);
+  files.inputImage("target labels", o.targetLabels);
+  files.outputFile("paths file", o.output);
+  files.outputFile("path table", o.tsvPath);
+  files.outputFile("statistics file", o.statsPath);
+  files.outputFile("QC report", o.reportPath);
+  files.check();
+  ReportRequest report;
+  report.start(o.reportPath);
+
+  PathRunMetric m;
+  if (o.fod.given()) {
+    // `stvd path FOD --fod-basis NAME`: Dijkstra under F* (docs/fod.md).
+    const FodInput in = readFodInput(o.input, o.fod, o.tensor.maskPath);
+    // The table is made once the seeds, targets and memory are checked.
+    FodTable table;
+    m.input = &in.grid;
+    m.inDomain = &in.inDomain;
+    m.counts = in.counts;
+    m.metricBytes = sizeof(imaging::FodStencilNorm::VertexParams) * in.fod.geometry.voxelCount();
+    m.prepare = [&] { table = makeFodTable(in, o.fod.cost, o.threads); };
+    m.propagate = [&](const VoxelGridDomain& domain, const std::vector<VertexId>& sources) {
+      return propagate(domain, table.metric, sources, propagationOptions(o));
+    };
+    m.trace = [&](const VoxelGridDomain& domain, const PropagationResult& result, VertexId target) {
+      return imaging::fodGeodesicPath(domain, table.metric, result, target);
+    };
+    m.metricParameters = [&] { return fodMetricParameters(in, o.fod, table); };
+    m.extraMembers = [&] { return std::vector<std::string>{fodPrecomputationMember(in, table)}; };
+    m.inputText = [&] { return fodInputText(o.input, in, o.fod, table) + ".\n"; };
+    return runPaths(o, argc, argv, start, report, m);
+  }
+  const TensorInput input = readTensorInputNotingWarnings(o.input, o.tensor);
+  imaging::MetricFromTensors built = imaging::buildCheckedMetric(o.input, input, o.tensor);
+  if (built.counts.domain == 0)
+    throw ToolError(kExitDomain, o.input + ": the domain is empty: no voxel has a usable tensor");
+  const RiemannianMetric metric(std::move(built.metric), &built.inDomain);
+  m.input = &input;
+  m.inDomain = &built.inDomain;
+  m.counts = built.counts;
+  m.propagate = [&](const VoxelGridDomain& domain, const std::vector<VertexId>& sources) {
+    return propagate(domain, metric, sources, propagationOptions(o));
+  };
+  m.trace = [&](const VoxelGridDomain& domain, const PropagationResult& result, VertexId target) {
+    return o.discrete ? discreteGeodesicPath(domain, result, target)
+                      : traceGeodesicPath(domain, metric, result, target, o.tracing);
+  };
+  // FA of the diffusion tensors, for the values along the paths.
+  if (o.tensor.metric.kind == imaging::TensorKind::Diffusion)
+    m.fa = [&] { return imaging::fractionalAnisotropyMap(input.read.volume.tensors, built.inDomain); };
+  return runPaths(o, argc, argv, start, report, m);
 }
 
 }  // namespace stvd::tool

@@ -14,7 +14,7 @@ namespace {
 void writeParameters(std::ostringstream& j, const RunStatistics& run) {
   const PropagationChoice& o = *run.choice;
   const TensorInputOptions& tensor = *run.tensor;
-  const imaging::TensorFileInfo& info = run.tensorInput->read.info;
+  const imaging::TensorFileInfo& info = run.tensorInput->read.info;  // default for an FOD input
   j << "  \"parameters\": {\n";
   j << "    \"method\": " << jsonString(o.lanthier ? "lanthier" : o.method == Method::Dijkstra ? "dijkstra" : "stvd")
     << ",\n";
@@ -27,19 +27,26 @@ void writeParameters(std::ostringstream& j, const RunStatistics& run) {
   }
   j << "    \"domain_connectivity\": " << static_cast<int>(o.connectivity) << ",\n";
   j << "    \"max_distance_mm\": " << jsonNumber(run.maxDistance) << ",\n";
-  j << "    \"tensor_kind\": " << jsonString(imaging::tensorKindName(tensor.metric.kind)) << ",\n";
-  j << "    \"diffusion_metric\": " << jsonString(imaging::diffusionMetricName(tensor.metric.diffusionMetric))
-    << ",\n";
-  j << "    \"metric_formula\": "
-    << jsonString(imaging::metricFormula(tensor.metric.kind, tensor.metric.diffusionMetric)) << ",\n";
-  j << "    \"max_anisotropy\": " << jsonNumber(imaging::anisotropyCap(tensor.metric).value_or(NAN)) << ",\n";
-  j << "    \"fa_threshold\": " << jsonNumber(tensor.metric.faThreshold.value_or(NAN)) << ",\n";
-  j << "    \"tensor_layout\": " << jsonString(imaging::tensorFileLayoutName(info.layout)) << ",\n";
-  j << "    \"tensor_order\": " << jsonString(imaging::tensorOrderName(info.order)) << ",\n";
-  j << "    \"tensor_frame\": " << jsonString(imaging::tensorFrameName(info.frame)) << ",\n";
-  j << "    \"tensor_frame_stated\": " << (info.frameWasStated ? "true" : "false") << ",\n";
+  if (run.metricParameters.empty()) {
+    j << "    \"tensor_kind\": " << jsonString(imaging::tensorKindName(tensor.metric.kind)) << ",\n";
+    j << "    \"diffusion_metric\": " << jsonString(imaging::diffusionMetricName(tensor.metric.diffusionMetric))
+      << ",\n";
+    j << "    \"metric_formula\": "
+      << jsonString(imaging::metricFormula(tensor.metric.kind, tensor.metric.diffusionMetric)) << ",\n";
+    j << "    \"max_anisotropy\": " << jsonNumber(imaging::anisotropyCap(tensor.metric).value_or(NAN)) << ",\n";
+    j << "    \"fa_threshold\": " << jsonNumber(tensor.metric.faThreshold.value_or(NAN)) << ",\n";
+    j << "    \"tensor_input\": \"file\",\n";
+    j << "    \"tensor_layout\": " << jsonString(imaging::tensorFileLayoutName(info.layout)) << ",\n";
+    j << "    \"tensor_order\": " << jsonString(imaging::tensorOrderName(info.order)) << ",\n";
+    j << "    \"tensor_order_stated\": " << (tensor.order ? "true" : "false") << ",\n";
+    j << "    \"tensor_frame\": " << jsonString(imaging::tensorFrameName(info.frame)) << ",\n";
+    j << "    \"tensor_frame_stated\": " << (info.frameWasStated ? "true" : "false") << ",\n";
+  } else {  // another metric than tensors states its own
+    for (const std::string& member : run.metricParameters) j << "    " << member << ",\n";
+  }
   j << "    \"mask\": " << jsonString(tensor.maskPath) << ",\n";
   if (!run.labels.empty()) j << "    \"labels\": " << jsonString(run.labels) << ",\n";
+  if (!run.targetLabels.empty()) j << "    \"target_labels\": " << jsonString(run.targetLabels) << ",\n";
   j << "    \"seed_labels\": " << jsonString(run.seedLabels);
   if (run.withUnreachableValue) j << ",\n    \"unreachable_value\": " << jsonNumber(run.unreachableValue);
   j << "\n  },\n";

@@ -34,12 +34,16 @@ struct RunStatistics {
   imaging::MetricVoxelCounts counts;
   std::string seedLabels;  ///< --seeds
   std::string labels;      ///< --labels of connectivity
+  std::string targetLabels;  ///< --targets of path (label regions)
   bool withUnreachableValue = false;
   float unreachableValue = 0.f;
   const std::vector<Seed>* seeds = nullptr;
   std::size_t labelSeedsLeftOut = 0;
   const PropagationResult* result = nullptr;  ///< also gives "distance_mm"
   const MemoryCheck* memory = nullptr;        ///< the check before the propagation
+  /// The metric's parameters as `"name": value` JSON members, instead of
+  /// the tensor file's and tensor metric's when not empty (an FOD input).
+  std::vector<std::string> metricParameters;
   /// Sections of the command's own, as `"name": value` JSON members.
   std::vector<std::string> extraMembers;
   /// Seconds per phase, in order ("total" last).

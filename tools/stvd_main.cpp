@@ -7,6 +7,7 @@
 #include "command_line.hpp"
 #include "stvd/system/files/termination_signals.hpp"
 #include "stvd/errors.hpp"
+#include "stvd/itk/itk_messages.hpp"
 #include "option_help.hpp"
 #include "report_request.hpp"
 #include "subcommands.hpp"
@@ -99,6 +100,9 @@ int main(int argc, char** argv) {
   // Before any other thread exists: Ctrl-C, SIGTERM and SIGHUP remove the
   // outputs staged so far and end the tool by the signal.
   stvd::files::removeStagedOutputsOnTerminationSignals("stvd");
+  // The tool owns its process: ITK's own messages during our reads and
+  // writes stay off the terminal (each problem is one line of ours).
+  stvd::imaging::installItkMessageFilter();
   try {
     return dispatch(argc, argv);
   } catch (const ToolError& e) {

@@ -36,7 +36,8 @@ int runTetrahedralize(int argc, char** argv) {
   if (::access(helper.c_str(), X_OK) != 0)
     throw ToolError(kExitInternal, "tetrahedralize: " + helper +
                                        " is missing: this stvd was built without TetGen (STVD_WITH_TETGEN, "
-                                       "Debian package libtet1.5-dev)");
+                                       "Debian package libtet1.5-dev), or installed without the AGPL helper "
+                                       "(STVD_INSTALL_TETRAHEDRALIZE=ON installs it)");
   // The child reports everything but an interruption itself; the
   // interruption this process reports once the child has ended
   // (files/termination_signals.hpp), naming the command.

@@ -109,8 +109,9 @@ def main():
     print(f"fitted {int(mask.sum()):,} voxels with DIPY")
 
     result = stvd.propagate(tensors, SEED, affine=dwi.affine, mask=mask)
-    distance = result.distance_map()  # float32, -1 where not reached
-    nib.save(nib.Nifti1Image(distance, dwi.affine), output / "cc_body_distance.nii.gz")
+    image = result.distance_map()  # a NiBabel image with the DWI's affine: float32, -1 where not reached
+    nib.save(image, output / "cc_body_distance.nii.gz")
+    distance = np.asanyarray(image.dataobj)
     reached = distance >= 0
     print(f"{result.method_text}: reached {int(reached.sum()):,} voxels, "
           f"median {np.median(distance[reached]):.1f} mm, farthest {distance.max():.1f} mm")

@@ -37,3 +37,10 @@ install(FILES
   ${PROJECT_BINARY_DIR}/stvd_package/stvdConfig.cmake
   ${PROJECT_BINARY_DIR}/stvd_package/stvdConfigVersion.cmake
   DESTINATION ${STVD_INSTALL_CMAKEDIR})
+
+# pkg-config: `pkg-config --cflags --libs stvd` for builds without CMake (the
+# core only; the ITK adapter needs ITK's own flags, which only CMake has).
+file(RELATIVE_PATH STVD_PC_PREFIX_FROM_PCDIR "/${CMAKE_INSTALL_LIBDIR}/pkgconfig" "/")
+string(REGEX REPLACE "/$" "" STVD_PC_PREFIX_FROM_PCDIR "${STVD_PC_PREFIX_FROM_PCDIR}")
+configure_file(${CMAKE_CURRENT_LIST_DIR}/stvd.pc.in ${PROJECT_BINARY_DIR}/stvd_package/stvd.pc @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/stvd_package/stvd.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

@@ -5,16 +5,18 @@
 #include <type_traits>
 
 #include "stvd/imaging/label_values.hpp"
+#include "stvd/imaging/streamline_io.hpp"
 
 namespace stvd::python {
 
 py::array numericArray(const py::handle& object, const std::string& name) {
   py::module_ numpy = py::module_::import("numpy");
-  // A masked array's mask would be dropped without a word: its masked
-  // values would count as data.
+  // A masked array's mask would be dropped without a word here: its masked
+  // values would count as data. Tensors, masks and label images split it
+  // first (splitMaskedArray); what reaches this point has no use for one.
   if (py::isinstance(object, numpy.attr("ma").attr("MaskedArray")))
-    throw py::type_error(name + ": a masked array, whose mask stvd would not see; give plain values "
-                                "(numpy.ma.filled(array, 0), say)");
+    throw py::type_error(name + ": a masked array, whose mask means nothing here (masks are honoured in tensors, "
+                                "mask= and label images); give plain values");
   py::array array = py::array::ensure(object);
   if (!array) throw py::type_error(name + ": expected a NumPy array (or a nested list of numbers), got " +
                                    std::string(py::str(py::type::of(object).attr("__name__"))));
@@ -47,6 +49,19 @@ py::array numericArray(const py::handle& object, const std::string& name) {
     if (array.strides(d) % array.itemsize() != 0) copy = true;
   if (copy) array = numpy.attr("ascontiguousarray")(array);
   return array;
+}
+
+MaskedSplit splitMaskedArray(const py::handle& object) {
+  py::module_ ma = py::module_::import("numpy").attr("ma");
+  if (!py::isinstance(object, ma.attr("MaskedArray")))
+    return {py::reinterpret_borrow<py::object>(object), py::none()};
+  // getmaskarray gives a full bool array even for numpy.ma.nomask; the
+  // values under the mask may be anything (NaN, garbage), so they are
+  // replaced, not read.
+  py::object masked = ma.attr("getmaskarray")(object);
+  py::object values = ma.attr("filled")(object, 0);
+  if (!masked.attr("any")().cast<bool>()) masked = py::none();
+  return {values, masked};
 }
 
 std::string shapeText(const py::array& array) {
@@ -154,6 +169,15 @@ std::array<double, 16> affineOf(const py::handle& object, const std::string& nam
   for (int row = 0; row < 4; ++row)
     for (int column = 0; column < 4; ++column) affine[4 * row + column] = r(row, column);
   return affine;
+}
+
+py::array_t<double> affineArray(const GridGeometry& g) {
+  const std::array<double, 16> m = imaging::voxelToRas(g);
+  py::array_t<double> a({4, 4});
+  auto w = a.mutable_unchecked<2>();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) w(r, c) = m[4 * r + c];
+  return a;
 }
 
 py::array_t<double> newFortranArray(const std::array<std::size_t, 3>& shape) {

@@ -22,8 +22,22 @@ namespace py = pybind11;
 
 /// `object` as a NumPy array (no copy when it is one already) in native
 /// byte order. TypeError naming `name` when it is not numeric (bool,
-/// integer or floating point).
+/// integer or floating point), or a masked array: where a mask means
+/// something (tensors, masks, label images) the caller splits it first
+/// (splitMaskedArray); elsewhere (an affine, points, a mesh) it does not.
 py::array numericArray(const py::handle& object, const std::string& name);
+
+/// A numpy.ma masked array split into its values and its mask: `values` has
+/// every masked element replaced by 0 (so it reads as "outside" in a mask,
+/// "no region" in a label image, and a zero tensor that the voxel's mask
+/// leaves out anyway), and `masked` is a bool array of the same shape, or
+/// None when `object` is no masked array or nothing in it is masked.
+/// Anything else is returned as it is in `values`.
+struct MaskedSplit {
+  py::object values;
+  py::object masked;
+};
+MaskedSplit splitMaskedArray(const py::handle& object);
 
 /// "(112, 112, 32, 6)".
 std::string shapeText(const py::array& array);
@@ -81,6 +95,8 @@ std::vector<Vec3d> pointRows(const py::handle& object, const std::string& name);
 
 /// A 4x4 float array as 16 doubles, row-major.
 std::array<double, 16> affineOf(const py::handle& object, const std::string& name);
+/// The grid's voxel-to-RAS affine as a 4x4 float64 array (NiBabel's).
+py::array_t<double> affineArray(const GridGeometry& g);
 
 /// A new float64 or float32 NumPy array of the given shape in Fortran order
 /// (first index fastest), the library's voxel order.

@@ -21,5 +21,10 @@ void bindVolumes(pybind11::module_& m);
 void bindMeshes(pybind11::module_& m);
 /// RunFiles and OutputTransaction: what a call writes, checked and atomic.
 void bindFiles(pybind11::module_& m);
+/// GIfTI and FreeSurfer surfaces, per-vertex values and regions
+/// (surface_file_bindings.cpp).
+void bindSurfaceFiles(pybind11::module_& m);
+/// stvd.fod_distance, fod_paths and fod_connectivity (fod_bindings.cpp).
+void bindFod(pybind11::module_& m);
 
 }  // namespace stvd::python

@@ -36,6 +36,15 @@ void bindFiles(py::module_& m) {
       "ValueError '<path>: <subject> on another grid than <reference> (...)' unless the two image files' headers "
       "declare the same grid; no data are read (stvd/itk/image_grid.hpp).");
 
+  m.def(
+      "read_label_image",
+      [](const std::string& path, const std::string& reference, const std::string& subject) {
+        imaging::readLabelImageOnGrid(path, imaging::readImageGrid(reference), subject, reference);
+      },
+      py::arg("path"), py::arg("reference"), py::arg("subject"), py::call_guard<py::gil_scoped_release>(),
+      "Reads the label image `path` as the tool reads one on the grid of the image file `reference`, and drops "
+      "it: the library's ValueError for a file it cannot read (the message the tool and every call give).");
+
   py::class_<imaging::RunFiles>(m, "RunFiles", "The files one call reads and writes (stvd/imaging/run_files.hpp).")
       .def(py::init<>())
       .def("input_image", &imaging::RunFiles::inputImage, py::arg("role"), py::arg("path"))

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,6 +25,9 @@
 #include "stvd/front_end/propagation_choice.hpp"
 #include "stvd/front_end/propagation_choice_options.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/surface/manifold_sheets.hpp"
+#include "stvd/surface/surface_region_distances.hpp"
+#include "stvd/system/parallel_tasks.hpp"
 #include "stvd/surface/surface_domain.hpp"
 #include "stvd/surface/surface_metrics.hpp"
 #include "stvd/tetmesh/tet_mesh_propagation.hpp"
@@ -192,30 +196,79 @@ py::dict tetMeshPropagate(const py::object& pointsObject, const py::object& tets
   return d;
 }
 
-RiemannianMetric surfaceMetric(const SurfaceDomain& surface, const std::string& kind, const py::object& values,
-                               const std::optional<double>& anisotropy, const std::optional<std::string>& order) {
+/// Per-vertex rows for the input's vertices, extended to the copies a
+/// non-manifold split made (each takes its vertex's row).
+template <class T>
+std::vector<T> withCopies(std::vector<T> rows, const ManifoldSheets& sheets) {
+  if (rows.size() == sheets.inputVertexCount)
+    for (std::size_t v = sheets.inputVertexCount; v < sheets.original.size(); ++v) rows.push_back(rows[sheets.original[v]]);
+  return rows;
+}
+
+/// The surface of the vertex and face rows as the tool builds it:
+/// non-manifold edges and vertices split into manifold sheets (`sheets`
+/// says how), the propagation joining them again; checked against the
+/// memory a run of `choice` needs. ValueError when it is no surface.
+SurfaceDomain surfaceOfRows(const py::object& verticesObject, const py::object& facesObject,
+                            const PropagationChoice& choice, bool memoryCheck, ManifoldSheets& sheets) {
+  const std::vector<Vec3d> points = pointRows(verticesObject, "vertices");
+  PolygonList faces;
+  for (const auto& row : indexRows(facesObject, 0, "faces")) faces.add(row.begin(), row.end());
+  std::optional<SurfaceDomain> surface;
+  try {
+    py::gil_scoped_release release;
+    surface.emplace(surfaceOfSheets(points, faces, sheets));
+  } catch (const SurfaceError& e) {  // not an orientable surface
+    throw py::value_error("surface: " + std::string(e.what()));
+  }
+  checkMemory("vertices", surfaceRunMemoryEstimate(choice, surface->vertexCount(), faces.faceVertex.size()),
+              text::withThousands(surface->vertexCount()) + " vertices", memoryCheck);
+  return std::move(*surface);
+}
+
+RiemannianMetric surfaceMetric(const SurfaceDomain& surface, const ManifoldSheets& sheets, const std::string& kind,
+                               const py::object& values, const std::optional<double>& anisotropy,
+                               const std::optional<std::string>& order) {
   // Checked by the options' declarations, with messages in keyword names.
   OptionValues given(OptionNaming::Keywords);
   given.set(*findOption(meshOptionDeclarations(), "--metric"), kind);
   if (anisotropy) given.set(*findOption(meshOptionDeclarations(), "--anisotropy"), *anisotropy);
   checkSurfaceMetricChoice(kind, anisotropy.has_value(), OptionNaming::Keywords);
-  const bool withValues = kind == "field" || kind == "tensors" || kind == "face-tensors";
+  const bool withValues = kind == "field" || kind == "tensors" || kind == "face-tensors" || kind == "scale";
   if (withValues == values.is_none())
     throw py::value_error(withValues ? "metric='" + kind + "' needs metric_values"
-                                     : "metric_values applies to the field, tensors and face-tensors metrics only");
+                                     : "metric_values applies to the field, tensors, face-tensors and scale metrics "
+                                       "only");
   if (kind == "isotropic") return isotropicSurfaceMetric(surface);
   if (kind == "curvature") return curvatureMetric(surface, *anisotropy);
   if (kind == "field") {
-    const std::vector<Vec3d> directions = pointRows(values, "metric_values");
+    const std::vector<Vec3d> directions = withCopies(pointRows(values, "metric_values"), sheets);
     if (directions.size() != surface.vertexCount())
       throw py::value_error("metric_values: " + std::to_string(directions.size()) + " directions for " +
-                            std::to_string(surface.vertexCount()) + " vertices");
+                            std::to_string(sheets.inputVertexCount) + " vertices");
     return vectorFieldMetric(surface, directions, 1.0, *anisotropy);
   }
+  if (kind == "scale") {
+    // A step near a vertex costs its value times its length: s² I.
+    const auto scales = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(values);
+    if (!scales || scales.ndim() != 1 || static_cast<std::size_t>(scales.shape(0)) != sheets.inputVertexCount)
+      throw py::value_error("metric_values: metric='scale' takes one number per vertex (" +
+                            std::to_string(sheets.inputVertexCount) + ")");
+    std::vector<SymTensor3> tensors;
+    for (py::ssize_t v = 0; v < scales.shape(0); ++v) {
+      const double s = scales.at(v);
+      if (!(s > 0.0) || !std::isfinite(s))
+        throw py::value_error("metric_values: vertex " + std::to_string(v) + ": the scale is not a positive number");
+      const float s2 = static_cast<float>(s * s);
+      tensors.push_back({s2, 0.f, 0.f, s2, 0.f, s2});
+    }
+    return surfaceMetricFromWorldTensors(surface, withCopies(std::move(tensors), sheets));
+  }
   const bool perFace = kind == "face-tensors";
-  const std::vector<SymTensor3> tensors =
-      rowTensors(values, perFace ? surface.faceCount() : surface.vertexCount(), order, "metric_values",
+  std::vector<SymTensor3> tensors =
+      rowTensors(values, perFace ? surface.faceCount() : sheets.inputVertexCount, order, "metric_values",
                  perFace ? "face" : "vertex");
+  if (!perFace) tensors = withCopies(std::move(tensors), sheets);
   return perFace ? surfaceMetricFromFaceTensors(surface, tensors) : surfaceMetricFromWorldTensors(surface, tensors);
 }
 
@@ -229,32 +282,27 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
   const PropagationChoice choice = choiceOf(method, k, chainMeasure, std::nullopt, steiner);
   checkMeshPropagationChoice(choice, "face edge", 4);
   const double limit = maxDistanceOf(maxDistance);
-  std::vector<Vec3d> points = pointRows(verticesObject, "vertices");
-  PolygonList faces;
-  for (const auto& row : indexRows(facesObject, 0, "faces")) faces.add(row.begin(), row.end());
-  std::optional<SurfaceDomain> surface;
-  try {
-    py::gil_scoped_release release;
-    surface.emplace(std::move(points), faces);
-  } catch (const SurfaceError& e) {  // not an orientable 2-manifold
-    throw py::value_error("surface: " + std::string(e.what()));
-  }
-  checkMemory("vertices", surfaceRunMemoryEstimate(choice, surface->vertexCount(), faces.faceVertex.size()),
-              text::withThousands(surface->vertexCount()) + " vertices", memoryCheck);
-  const RiemannianMetric metric = surfaceMetric(*surface, metricKind, metricValues, anisotropy, order);
-  const std::vector<std::uint8_t> all(surface->vertexCount(), 1);
+  ManifoldSheets sheets;
+  const SurfaceDomain surface = surfaceOfRows(verticesObject, facesObject, choice, memoryCheck, sheets);
+  const RiemannianMetric metric = surfaceMetric(surface, sheets, metricKind, metricValues, anisotropy, order);
   ProgressRelay relay(progress);
   PropagationResult result;
   {
     py::gil_scoped_release release;
-    const std::vector<VertexId> sources = seedVertices(seeds, all, "vertices");
+    std::vector<VertexId> sources;
+    for (const VertexId v : seedVertices(seeds, std::vector<std::uint8_t>(sheets.inputVertexCount, 1), "vertices"))
+      for (const VertexId c : sheets.copiesOf(v)) sources.push_back(c);
+    if (choice.lanthier && sheets.changed())
+      throw OptionError("vertices: " +
+                        optionWithValue(propagationOption("--method"), "lanthier", OptionNaming::Keywords) +
+                        " does not run on a non-manifold mesh; use method='stvd' or 'dijkstra'");
     if (choice.lanthier) {
       LanthierOptions steiner;
       steiner.steinerPoints = choice.steinerPoints;
       steiner.maxDistance = limit;
       steiner.progress = relay.hook();
       try {
-        result = lanthierPropagate(*surface, metric, sources, steiner);
+        result = lanthierPropagate(surface, metric, sources, steiner);
       } catch (const std::invalid_argument& e) {  // too large a graph for 32-bit point numbers
         throw OptionError("vertices: " +
                           optionWithValue(propagationOption("--method"), "lanthier", OptionNaming::Keywords) + ": " +
@@ -264,18 +312,248 @@ py::dict surfacePropagate(const py::object& verticesObject, const py::object& fa
       PropagationOptions options = propagationOptions(choice);
       options.maxDistance = limit;
       options.progress = relay.hook();
-      result = propagate(*surface, metric, sources, options);
+      result = propagateOverSheets(surface, metric, sheets, sources, options);
     }
   }
   relay.rethrowIfFailed();
+  // The input's vertices: the copies made by the split hold the same values.
+  result.distance.resize(sheets.inputVertexCount);
+  result.predecessor.resize(sheets.inputVertexCount);
+  for (VertexId& p : result.predecessor)
+    if (p != kNoVertex) p = sheets.original[p];
   py::dict d = resultDict(result);
-  d["component_count"] = surface->componentCount();
+  d["component_count"] = surface.componentCount();
+  d["split_vertices"] = sheets.splitVertices;
+  d["non_manifold_edges"] = sheets.nonManifoldEdges;
   return d;
 }
+
+/// Distances between regions and to the nearest region
+/// (surface_region_distances.hpp): one propagation per region, on
+/// `threads` threads.
+py::dict surfaceRegionDistancesPy(const py::object& verticesObject, const py::object& facesObject,
+                                  const std::vector<std::vector<long long>>& regions, const std::string& metricKind,
+                                  const py::object& metricValues, const std::optional<double>& anisotropy,
+                                  const std::optional<std::string>& order, const std::optional<std::string>& method,
+                                  const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
+                                  const std::optional<double>& maxDistance, unsigned threads, bool keepMaps,
+                                  bool memoryCheck) {
+  const PropagationChoice choice = choiceOf(method, k, chainMeasure, std::nullopt, std::nullopt);
+  checkMeshPropagationChoice(choice, "face edge", 4);
+  if (choice.lanthier) throw py::value_error("surface_region_distances runs with method='stvd' or 'dijkstra'");
+  if (regions.empty()) throw py::value_error("regions: no region given");
+  ManifoldSheets sheets;
+  const SurfaceDomain surface = surfaceOfRows(verticesObject, facesObject, choice, memoryCheck, sheets);
+  const RiemannianMetric metric = surfaceMetric(surface, sheets, metricKind, metricValues, anisotropy, order);
+  const std::vector<std::uint8_t> all(sheets.inputVertexCount, 1);
+  std::vector<std::vector<VertexId>> sets;
+  for (std::size_t a = 0; a < regions.size(); ++a) {
+    if (regions[a].empty()) throw py::value_error("regions: region " + std::to_string(a) + " has no vertex");
+    sets.push_back(seedVertices(regions[a], all, "vertices"));
+  }
+  SurfaceRegionDistances r;
+  {
+    py::gil_scoped_release release;
+    PropagationOptions options = propagationOptions(choice);
+    options.maxDistance = maxDistanceOf(maxDistance);
+    r = surfaceRegionDistances(surface, metric, sheets, sets, options, threads, keepMaps);
+  }
+  const std::size_t n = sets.size();
+  py::array_t<double> matrix({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(n)});
+  std::copy(r.matrix.begin(), r.matrix.end(), matrix.mutable_data());
+  std::vector<std::int64_t> nearest(r.nearestRegion.size());
+  for (std::size_t v = 0; v < nearest.size(); ++v)
+    nearest[v] = r.nearestRegion[v] == SurfaceRegionDistances::kNoRegion ? -1 : static_cast<std::int64_t>(r.nearestRegion[v]);
+  py::dict d;
+  d["matrix"] = matrix;
+  d["nearest_region"] = py::array_t<std::int64_t>(nearest.size(), nearest.data());
+  d["nearest_distance"] = py::array_t<double>(r.nearestDistance.size(), r.nearestDistance.data());
+  if (keepMaps) {
+    py::array_t<double> maps({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(sheets.inputVertexCount)});
+    for (std::size_t a = 0; a < n; ++a)
+      std::copy(r.maps[a].begin(), r.maps[a].end(), maps.mutable_data() + a * sheets.inputVertexCount);
+    d["maps"] = maps;
+  }
+  return d;
+}
+
+/// A surface and its metric built once, queried with many seed sets
+/// (stvd.SurfaceSolver): the reusable-solver pattern of the volumes'
+/// TensorField, on surfaces. Every query is exactly what surface_distance
+/// gives for the same arguments.
+class SurfaceSolver {
+ public:
+  SurfaceSolver(const py::object& verticesObject, const py::object& facesObject, const std::string& metricKind,
+                const py::object& metricValues, const std::optional<double>& anisotropy,
+                const std::optional<std::string>& order, const std::optional<std::string>& method,
+                const std::optional<int>& k, const std::optional<std::string>& chainMeasure,
+                const std::optional<double>& maxDistance, bool memoryCheck) {
+    const PropagationChoice choice = choiceOf(method, k, chainMeasure, std::nullopt, std::nullopt);
+    checkMeshPropagationChoice(choice, "face edge", 4);
+    if (choice.lanthier) throw py::value_error("SurfaceSolver runs with method='stvd' or 'dijkstra'");
+    options_ = propagationOptions(choice);
+    options_.maxDistance = maxDistanceOf(maxDistance);
+    surface_.emplace(surfaceOfRows(verticesObject, facesObject, choice, memoryCheck, sheets_));
+    metric_.emplace(surfaceMetric(*surface_, sheets_, metricKind, metricValues, anisotropy, order));
+  }
+
+  std::size_t vertexCount() const { return sheets_.inputVertexCount; }
+  std::size_t splitVertices() const { return sheets_.splitVertices; }
+
+  /// The seeds and all their copies, checked.
+  std::vector<VertexId> sources(const std::vector<long long>& seeds) const {
+    std::vector<VertexId> out;
+    for (const VertexId v : seedVertices(seeds, std::vector<std::uint8_t>(sheets_.inputVertexCount, 1), "vertices"))
+      for (const VertexId c : sheets_.copiesOf(v)) out.push_back(c);
+    return out;
+  }
+
+  PropagationResult run(const std::vector<VertexId>& sources) const {
+    return propagateOverSheets(*surface_, *metric_, sheets_, sources, options_);
+  }
+
+  py::array_t<double> distance(const std::vector<long long>& seeds) const {
+    const std::vector<VertexId> s = sources(seeds);
+    PropagationResult r;
+    {
+      py::gil_scoped_release release;
+      r = run(s);
+    }
+    return py::array_t<double>(sheets_.inputVertexCount, r.distance.data());
+  }
+
+  /// One map per seed set, `threads` propagations at once.
+  py::array_t<double> distances(const std::vector<std::vector<long long>>& seedSets, unsigned threads) const {
+    std::vector<std::vector<VertexId>> sets;
+    for (const auto& set : seedSets) sets.push_back(sources(set));
+    const std::size_t n = sheets_.inputVertexCount;
+    py::array_t<double> maps({static_cast<py::ssize_t>(sets.size()), static_cast<py::ssize_t>(n)});
+    double* out = maps.mutable_data();
+    {
+      py::gil_scoped_release release;
+      forEachTaskInParallel(sets.size(), threads, [&](std::size_t i) {
+        const PropagationResult r = run(sets[i]);
+        std::copy(r.distance.begin(), r.distance.begin() + n, out + i * n);
+      });
+    }
+    return maps;
+  }
+
+  /// The path from each target back to the seeds along the propagation's
+  /// predecessors: vertex positions, target first; a path between sheets
+  /// of a split mesh passes through the vertex they share.
+  py::list paths(const std::vector<long long>& seeds, const std::vector<long long>& targets) const {
+    const std::vector<VertexId> s = sources(seeds);
+    for (const long long t : targets)
+      if (t < 0 || static_cast<std::size_t>(t) >= sheets_.inputVertexCount)
+        throw py::value_error("targets: vertex " + std::to_string(t) + " does not exist (the surface has " +
+                              std::to_string(sheets_.inputVertexCount) + " vertices)");
+    PropagationResult r;
+    {
+      py::gil_scoped_release release;
+      r = run(s);
+    }
+    std::vector<std::uint8_t> isSource(surface_->vertexCount(), 0);
+    for (const VertexId v : s) isSource[v] = 1;
+    py::list out;
+    for (const long long target : targets) {
+      std::vector<Vec3d> points;
+      if (std::isfinite(r.distance[static_cast<std::size_t>(target)])) {
+        VertexId v = static_cast<VertexId>(target);
+        for (std::size_t steps = 0; steps <= 2 * r.distance.size(); ++steps) {
+          points.push_back(surface_->physicalPoint(v));
+          if (isSource[v]) break;
+          VertexId next = r.predecessor[v];
+          if (next == kNoVertex) {
+            // A copy that started a later run: go on from the copy of the
+            // same vertex that has a predecessor (or is a seed).
+            for (const VertexId c : sheets_.copiesOf(sheets_.original[v]))
+              if (c != v && (isSource[c] || r.predecessor[c] != kNoVertex)) next = c;
+            if (next == kNoVertex) break;
+          }
+          v = next;
+        }
+      }
+      py::array_t<double> path({static_cast<py::ssize_t>(points.size()), py::ssize_t{3}});
+      auto a = path.mutable_unchecked<2>();
+      for (std::size_t i = 0; i < points.size(); ++i) {
+        a(i, 0) = points[i].x;
+        a(i, 1) = points[i].y;
+        a(i, 2) = points[i].z;
+      }
+      out.append(path);
+    }
+    return out;
+  }
+
+  py::dict regionDistances(const std::vector<std::vector<long long>>& regions, unsigned threads, bool keepMaps) const {
+    std::vector<std::vector<VertexId>> sets;
+    const std::vector<std::uint8_t> all(sheets_.inputVertexCount, 1);
+    for (std::size_t a = 0; a < regions.size(); ++a) {
+      if (regions[a].empty()) throw py::value_error("regions: region " + std::to_string(a) + " has no vertex");
+      sets.push_back(seedVertices(regions[a], all, "vertices"));
+    }
+    if (sets.empty()) throw py::value_error("regions: no region given");
+    SurfaceRegionDistances r;
+    {
+      py::gil_scoped_release release;
+      r = surfaceRegionDistances(*surface_, *metric_, sheets_, sets, options_, threads, keepMaps);
+    }
+    return regionDict(r, sets.size(), keepMaps);
+  }
+
+  static py::dict regionDict(const SurfaceRegionDistances& r, std::size_t n, bool keepMaps) {
+    const std::size_t vertices = r.nearestDistance.size();
+    py::array_t<double> matrix({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(n)});
+    std::copy(r.matrix.begin(), r.matrix.end(), matrix.mutable_data());
+    std::vector<std::int64_t> nearest(vertices);
+    for (std::size_t v = 0; v < vertices; ++v)
+      nearest[v] = r.nearestRegion[v] == SurfaceRegionDistances::kNoRegion ? -1
+                                                                          : static_cast<std::int64_t>(r.nearestRegion[v]);
+    py::dict d;
+    d["matrix"] = matrix;
+    d["nearest_region"] = py::array_t<std::int64_t>(nearest.size(), nearest.data());
+    d["nearest_distance"] = py::array_t<double>(r.nearestDistance.size(), r.nearestDistance.data());
+    if (keepMaps) {
+      py::array_t<double> maps({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(vertices)});
+      for (std::size_t a = 0; a < n; ++a) std::copy(r.maps[a].begin(), r.maps[a].end(), maps.mutable_data() + a * vertices);
+      d["maps"] = maps;
+    }
+    return d;
+  }
+
+ private:
+  ManifoldSheets sheets_;
+  std::optional<SurfaceDomain> surface_;
+  std::optional<RiemannianMetric> metric_;
+  PropagationOptions options_;
+};
 
 }  // namespace
 
 void bindMeshes(py::module_& m) {
+  py::class_<SurfaceSolver, std::shared_ptr<SurfaceSolver>>(m, "SurfaceSolver")
+      .def(py::init<const py::object&, const py::object&, const std::string&, const py::object&,
+                    const std::optional<double>&, const std::optional<std::string>&,
+                    const std::optional<std::string>&, const std::optional<int>&,
+                    const std::optional<std::string>&, const std::optional<double>&, bool>(),
+           py::arg("vertices"), py::arg("faces"), py::arg("metric") = "isotropic",
+           py::arg("metric_values") = py::none(), py::arg("anisotropy") = py::none(),
+           py::arg("tensor_order") = py::none(), py::arg("method") = py::none(), py::arg("k") = py::none(),
+           py::arg("chain_measure") = py::none(), py::arg("max_distance") = py::none(),
+           py::arg("memory_check") = true)
+      .def_property_readonly("vertex_count", &SurfaceSolver::vertexCount)
+      .def_property_readonly("split_vertices", &SurfaceSolver::splitVertices)
+      .def("distance", &SurfaceSolver::distance, py::arg("seeds"))
+      .def("distances", &SurfaceSolver::distances, py::arg("seed_sets"), py::arg("threads") = 0u)
+      .def("paths", &SurfaceSolver::paths, py::arg("seeds"), py::arg("targets"))
+      .def("region_distances", &SurfaceSolver::regionDistances, py::arg("regions"), py::arg("threads") = 0u,
+           py::arg("keep_maps") = false);
+  m.def("surface_region_distances", &surfaceRegionDistancesPy, py::arg("vertices"), py::arg("faces"),
+        py::arg("regions"), py::arg("metric") = "isotropic", py::arg("metric_values") = py::none(),
+        py::arg("anisotropy") = py::none(), py::arg("tensor_order") = py::none(), py::arg("method") = py::none(),
+        py::arg("k") = py::none(), py::arg("chain_measure") = py::none(), py::arg("max_distance") = py::none(),
+        py::arg("threads") = 0u, py::arg("keep_maps") = false, py::arg("memory_check") = true);
   m.def("tet_mesh_propagate", &tetMeshPropagate, py::arg("points"), py::arg("tetrahedra"), py::arg("seeds"),
         py::arg("tensors") = py::none(), py::arg("tensor_order") = py::none(), py::arg("tensor_kind") = py::none(),
         py::arg("diffusion_metric") = py::none(), py::arg("max_anisotropy") = py::none(),

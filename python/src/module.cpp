@@ -9,6 +9,7 @@
 #include "bindings.hpp"
 #include "propagation_keywords.hpp"
 #include "stvd/errors.hpp"
+#include "stvd/itk/itk_messages.hpp"
 #include "stvd/front_end/propagation_choice_options.hpp"
 
 namespace py = pybind11;
@@ -29,7 +30,8 @@ const std::pair<stvd::OptionCommand, const char*> kCommandNames[] = {
     {stvd::kDistanceCommand, "distance"},       {stvd::kPathCommand, "path"},
     {stvd::kConnectivityCommand, "connectivity"}, {stvd::kSurfaceDistanceCommand, "surface"},
     {stvd::kTetMeshDistanceCommand, "tet-mesh"},  {stvd::kInfoCommand, "info"},
-    {stvd::kCohortCommand, "cohort"}};
+    {stvd::kCohortCommand, "cohort"},
+    {stvd::kFodDistanceCommand, "fod-distance"}};
 
 py::list commandNames(stvd::OptionCommands commands) {
   py::list names;
@@ -117,6 +119,9 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "stvd's C++ library: the extension module under the stvd package.";
   m.attr("__version__") = STVD_VERSION_TEXT;
   m.attr("NO_VERTEX") = stvd::kNoVertex;
+  // The ITK inside this module is ours alone (Python's own ITK, if any, is
+  // another copy): its messages during our reads stay off the terminal.
+  stvd::imaging::installItkMessageFilter();
   m.def("defaults", &defaults, "The library's defaults for every option of the Python API.");
   m.def("option_declarations", &optionDeclarations,
         "The library's option declarations: flags, keywords, commands, choices, ranges, defaults and help.");
@@ -130,6 +135,8 @@ PYBIND11_MODULE(_core, m) {
       if (p) std::rethrow_exception(p);
     } catch (const stvd::imaging::ImageIoError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const stvd::surface_io::MeshFileError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const stvd::python::MemoryShortfallError& e) {
       PyErr_SetString(PyExc_MemoryError, e.what());
     }
@@ -138,4 +145,6 @@ PYBIND11_MODULE(_core, m) {
   stvd::python::bindFiles(m);
   stvd::python::bindVolumes(m);
   stvd::python::bindMeshes(m);
+  stvd::python::bindSurfaceFiles(m);
+  stvd::python::bindFod(m);
 }

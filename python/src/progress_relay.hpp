@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "stvd/propagation/propagation.hpp"
+#include "stvd/system/interrupter.hpp"
 
 namespace stvd::python {
 
@@ -31,6 +32,14 @@ class ProgressRelay {
   std::function<bool(const PropagationProgress&)> hook() {
     return [this](const PropagationProgress& p) { return relay(p); };
   }
+
+  /// An Interrupter for the loops of an operation that are not a
+  /// propagation (region connectivity's own, its paths): every report
+  /// takes the GIL and lets Python handle pending signals, so that Ctrl-C
+  /// (or an earlier exception of the callback) stops them too; the callback
+  /// itself is not called (its arguments are a propagation's). Valid while
+  /// this relay lives. May be called from several threads at once.
+  Interrupter* interrupter() { return &signals_; }
 
   /// With the GIL held, after the library returned: raises the exception
   /// that cancelled the run, if any.
@@ -63,8 +72,28 @@ class ProgressRelay {
     }
   }
 
+  bool signalled() {
+    py::gil_scoped_acquire gil;
+    if (error_) return true;
+    if (PyErr_CheckSignals() != 0) {
+      error_.emplace();
+      return true;
+    }
+    return false;
+  }
+
+  class SignalInterrupter final : public Interrupter {
+   public:
+    explicit SignalInterrupter(ProgressRelay& relay) : relay_(relay) {}
+    bool wasInterrupted(int) override { return relay_.signalled(); }
+
+   private:
+    ProgressRelay& relay_;
+  };
+
   py::handle callback_;
   std::optional<py::error_already_set> error_;  // touched with the GIL held only
+  SignalInterrupter signals_{*this};
 };
 
 }  // namespace stvd::python

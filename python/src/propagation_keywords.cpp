@@ -8,6 +8,7 @@
 #include "stvd/front_end/path_tracing_options.hpp"
 #include "stvd/front_end/propagation_choice_options.hpp"
 #include "stvd/front_end/region_connectivity_options.hpp"
+#include "stvd/imaging/fod_input_options.hpp"
 #include "stvd/imaging/seed_options.hpp"
 #include "stvd/imaging/tensor_input_options.hpp"
 #include "stvd/system/memory.hpp"
@@ -42,7 +43,7 @@ const std::vector<OptionDeclaration>& optionDeclarations() {
     for (const auto* table : {&imaging::seedOptionDeclarations(), &meshOptionDeclarations(),
                               &regionConnectivityOptionDeclarations(), &propagationOptionDeclarations(),
                               &imaging::tensorInputOptionDeclarations(), &tetmesh::tetMeshOptionDeclarations(),
-                              &pathTracingOptionDeclarations()})
+                              &pathTracingOptionDeclarations(), &imaging::fodInputOptionDeclarations()})
       all.insert(all.end(), table->begin(), table->end());
     return all;
   }();

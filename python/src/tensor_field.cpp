@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "array_access.hpp"
 #include "stvd/imaging/tensor_arrays.hpp"
@@ -25,7 +26,8 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
                                           const std::optional<std::string>& kind,
                                           const std::optional<std::string>& diffusionMetric,
                                           const std::optional<double>& maxAnisotropy,
-                                          const std::optional<double>& faThreshold, bool acceptImplausible) {
+                                          const std::optional<double>& faThreshold, bool acceptImplausible,
+                                          bool acceptMisaligned) {
   // Checked by the options' declarations, with messages in keyword names.
   OptionValues values(OptionNaming::Keywords);
   const auto option = [](const char* flag) -> const OptionDeclaration& { return imaging::tensorInputOption(flag); };
@@ -36,9 +38,8 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
   if (maxAnisotropy) values.set(option("--max-anisotropy"), *maxAnisotropy);
   if (faThreshold) values.set(option("--fa-threshold"), *faThreshold);
   if (acceptImplausible) values.set(option("--accept-implausible-tensors"), true);
-  const imaging::TensorInputOptions options = imaging::tensorInputOptionsOf(values);
-  imaging::checkTensorInputOptions(options);
-  return options;
+  if (acceptMisaligned) values.set(option("--accept-misaligned-tensors"), true);
+  return imaging::tensorInputOptionsOf(values);
 }
 
 std::string scalarImageName(const py::handle& spec) {
@@ -97,9 +98,11 @@ imaging::ScalarImage scalarImageOf(const py::handle& spec, const GridGeometry& g
   }
   const py::tuple given = spec.cast<py::tuple>();
   imaging::ScalarImage image;
-  image.geometry = arrayGeometry(given, shapeOf(given[0], name), grid, name);
+  // A masked array's masked voxels are 0: outside a mask, in no seed region.
+  const py::object data = splitMaskedArray(given[0]).values;
+  image.geometry = arrayGeometry(given, shapeOf(data, name), grid, name);
   imaging::requireSameGrid(image.geometry, grid, name, subject, referenceName);  // before a lazy array is read
-  image.values = voxelValues(numericArray(given[0], name));
+  image.values = voxelValues(numericArray(data, name));
   return image;
 }
 
@@ -112,9 +115,11 @@ imaging::LabelImage labelImageOf(const py::handle& spec, const GridGeometry& gri
   }
   const py::tuple given = spec.cast<py::tuple>();
   imaging::LabelImage image;
-  image.geometry = arrayGeometry(given, shapeOf(given[0], name), grid, name);
+  // A masked array's masked voxels are 0: in no region.
+  const py::object data = splitMaskedArray(given[0]).values;
+  image.geometry = arrayGeometry(given, shapeOf(data, name), grid, name);
   imaging::requireSameGrid(image.geometry, grid, name, subject, referenceName);  // before a lazy array is read
-  image.labels = voxelLabels(numericArray(given[0], name), name, image.geometry);
+  image.labels = voxelLabels(numericArray(data, name), name, image.geometry);
   return image;
 }
 
@@ -151,7 +156,8 @@ std::shared_ptr<TensorField> finishField(std::shared_ptr<TensorField> field, con
     imaging::addMask(field->input, scalarImageOf(mask, field->geometry(), "the mask is", field->name),
                      scalarImageName(mask), field->name);
   py::gil_scoped_release release;
-  imaging::MetricFromTensors built = imaging::buildCheckedMetric(field->name, field->input, field->options);
+  imaging::MetricFromTensors built =
+      imaging::buildCheckedMetric(field->name, field->input, field->options, &field->frameCheck);
   imaging::requireNonEmptyDomain(field->name, built.counts, !field->input.mask.empty(), field->options.metric);
   field->counts = built.counts;
   field->inDomain = std::move(built.inDomain);
@@ -170,6 +176,9 @@ std::shared_ptr<TensorField> fieldFromFile(const std::string& path, imaging::Ten
     py::gil_scoped_release release;
     field->input = imaging::tensorInputOf(imaging::readTensorVolume(path, {options.order, options.frame}), path);
   }
+  field->inputKind = "file";
+  field->inputDescription = path;
+  field->layoutDescription = imaging::tensorFileLayoutName(field->input.read.info.layout);
   return finishField(std::move(field), mask);
 }
 
@@ -177,7 +186,10 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
                                             const std::optional<std::array<double, 3>>& zooms,
                                             const std::optional<bool>& niftiIntent, const std::string& name,
                                             imaging::TensorInputOptions options, const py::handle& mask) {
-  const py::array array = numericArray(tensors, name);
+  // A masked array: its values where they are not masked, and the voxels
+  // with a masked component outside the domain (as a mask= would leave them).
+  const MaskedSplit split = splitMaskedArray(tensors);
+  const py::array array = numericArray(split.values, name);
   requireFloatingPoint(array, name);
   const py::ssize_t ndim = array.ndim();
   const bool matrices = ndim == 5 && array.shape(3) == 3 && array.shape(4) == 3;
@@ -192,6 +204,14 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
   auto field = std::make_shared<TensorField>();
   field->name = name;
   field->options = options;
+  // An image's name is its file's (set by the package), or the default.
+  if (niftiIntent) {
+    field->inputKind = "NiBabel image";
+    field->inputDescription = name == "tensors" ? "NiBabel image (not from a file)" : "NiBabel image of " + name;
+  } else {
+    field->inputKind = "array";
+    field->inputDescription = "array of shape " + shapeText(array) + ", " + std::string(py::str(array.dtype()));
+  }
   imaging::TensorFileInfo& info = field->input.read.info;
   info.componentType = array.itemsize() == 4 ? "float" : "double";
   imaging::TensorComponentLayout layout;
@@ -204,6 +224,8 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
     info.order = imaging::TensorOrder::Fsl;  // the upper triangle, row by row
     const py::ssize_t row = array.strides(3) / item;
     layout.componentOffset = {0, last, 2 * last, row + last, row + 2 * last, 2 * row + 2 * last};
+    field->layoutDescription = "(X, Y, Z, 3, 3) array of symmetric matrices";
+    field->matrices = true;
   } else {
     if (!niftiIntent && !options.order)
       throw py::value_error(name + ": an array of six values per voxel does not say its component order; state it "
@@ -212,6 +234,8 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
                                                            : imaging::TensorFileLayout::NiftiSixVolumes;
     info.order = imaging::resolveTensorOrder(name, info.layout, options.order);
     for (int q = 0; q < 6; ++q) layout.componentOffset[q] = q * last;
+    field->layoutDescription = niftiIntent ? imaging::tensorFileLayoutName(info.layout)
+                                           : std::string(ndim == 5 ? "(X, Y, Z, 1, 6)" : "(X, Y, Z, 6)") + " array";
   }
   layout.order = info.order;
   info.frameWasStated = options.frame.has_value();
@@ -235,7 +259,122 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
     if (matrices) requireSymmetric(view.data, size, layout.voxelStride, row, last, name);
     field->input.read.volume.tensors = imaging::tensorsFromArray(view.data, size, layout, toLps);
   });
+  if (!split.masked.is_none()) {
+    py::tuple components(ndim - 3);
+    for (py::ssize_t d = 3; d < ndim; ++d) components[d - 3] = py::int_(d);
+    const std::vector<float> maskedVoxels = voxelValues(numericArray(split.masked.attr("any")(components), name));
+    imaging::TensorInput& input = field->input;
+    input.mask.assign(maskedVoxels.size(), 1);
+    for (std::size_t v = 0; v < maskedVoxels.size(); ++v)
+      if (maskedVoxels[v] != 0.f) input.mask[v] = 0;
+    input.maskDescription = "the mask of " + name + " (numpy.ma)";
+  }
   return finishField(std::move(field), mask);
+}
+
+namespace {
+
+constexpr const char* kFieldStateTag = "stvd.TensorField/1";
+
+template <class T>
+py::bytes bytesOf(const std::vector<T>& values) {
+  return py::bytes(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+template <class T>
+std::vector<T> vectorOf(const py::handle& bytes, const char* what) {
+  const std::string data = bytes.cast<std::string>();
+  if (data.size() % sizeof(T) != 0) throw py::value_error(std::string("unpickling stvd: ") + what + " is truncated");
+  std::vector<T> values(data.size() / sizeof(T));
+  if (!data.empty()) std::memcpy(values.data(), data.data(), data.size());
+  return values;
+}
+
+template <class E>
+py::object optionalEnum(const std::optional<E>& value) {
+  return value ? py::object(py::int_(static_cast<int>(*value))) : py::object(py::none());
+}
+
+template <class E>
+std::optional<E> enumOrNone(const py::handle& value) {
+  if (value.is_none()) return std::nullopt;
+  return static_cast<E>(value.cast<int>());
+}
+
+}  // namespace
+
+py::tuple fieldState(const TensorField& f) {
+  const imaging::TensorInputOptions& o = f.options;
+  const py::tuple options = py::make_tuple(
+      optionalEnum(o.order), optionalEnum(o.frame), static_cast<int>(o.metric.kind),
+      static_cast<int>(o.metric.diffusionMetric), o.metric.maxAnisotropy, o.metric.faThreshold, o.maskPath,
+      o.acceptImplausible, static_cast<int>(o.naming), o.acceptMisaligned);
+  const GridGeometry& g = f.geometry();
+  const py::tuple geometry = py::make_tuple(g.size, g.spacing, g.origin, g.direction);
+  const imaging::TensorFileInfo& i = f.input.read.info;
+  const py::tuple info = py::make_tuple(static_cast<int>(i.layout), static_cast<int>(i.order), static_cast<int>(i.frame),
+                                        i.frameWasStated, i.hasMeasurementFrame, i.measurementFrameLps, i.nrrdSpace,
+                                        i.componentsToLps, i.componentType, i.warnings);
+  return py::make_tuple(kFieldStateTag, f.name, options, geometry, bytesOf(f.input.read.volume.tensors),
+                        bytesOf(f.input.read.volume.mask), info, bytesOf(f.input.mask), f.input.maskDescription,
+                        f.input.warnings,
+                        py::make_tuple(f.inputKind, f.inputDescription, f.layoutDescription, f.matrices));
+}
+
+std::shared_ptr<TensorField> fieldFromState(const py::tuple& state) {
+  if (state.size() != 11 || !py::isinstance<py::str>(state[0]) || state[0].cast<std::string>() != kFieldStateTag)
+    throw py::value_error("unpickling stvd: not the state of an stvd.TensorField of this version");
+  auto f = std::make_shared<TensorField>();
+  f->name = state[1].cast<std::string>();
+  const py::tuple o = state[2].cast<py::tuple>();
+  f->options.order = enumOrNone<imaging::TensorOrder>(o[0]);
+  f->options.frame = enumOrNone<imaging::TensorFrame>(o[1]);
+  f->options.metric.kind = static_cast<imaging::TensorKind>(o[2].cast<int>());
+  f->options.metric.diffusionMetric = static_cast<imaging::DiffusionMetric>(o[3].cast<int>());
+  f->options.metric.maxAnisotropy = o[4].cast<std::optional<double>>();
+  f->options.metric.faThreshold = o[5].cast<std::optional<double>>();
+  f->options.maskPath = o[6].cast<std::string>();
+  f->options.acceptImplausible = o[7].cast<bool>();
+  f->options.naming = static_cast<OptionNaming>(o[8].cast<int>());
+  f->options.acceptMisaligned = o[9].cast<bool>();
+  const py::tuple g = state[3].cast<py::tuple>();
+  GridGeometry& geometry = f->input.read.volume.geometry;
+  geometry.size = g[0].cast<std::array<std::size_t, 3>>();
+  geometry.spacing = g[1].cast<std::array<double, 3>>();
+  geometry.origin = g[2].cast<std::array<double, 3>>();
+  geometry.direction = g[3].cast<std::array<double, 9>>();
+  f->input.read.volume.tensors = vectorOf<SymTensor3>(state[4], "the tensors");
+  f->input.read.volume.mask = vectorOf<std::uint8_t>(state[5], "the file's mask");
+  const py::tuple i = state[6].cast<py::tuple>();
+  imaging::TensorFileInfo& info = f->input.read.info;
+  info.layout = static_cast<imaging::TensorFileLayout>(i[0].cast<int>());
+  info.order = static_cast<imaging::TensorOrder>(i[1].cast<int>());
+  info.frame = static_cast<imaging::TensorFrame>(i[2].cast<int>());
+  info.frameWasStated = i[3].cast<bool>();
+  info.hasMeasurementFrame = i[4].cast<bool>();
+  info.measurementFrameLps = i[5].cast<imaging::Matrix3>();
+  info.nrrdSpace = i[6].cast<std::string>();
+  info.componentsToLps = i[7].cast<imaging::Matrix3>();
+  info.componentType = i[8].cast<std::string>();
+  info.warnings = i[9].cast<std::vector<std::string>>();
+  f->input.mask = vectorOf<std::uint8_t>(state[7], "the mask");
+  f->input.maskDescription = state[8].cast<std::string>();
+  f->input.warnings = state[9].cast<std::vector<std::string>>();
+  const py::tuple given = state[10].cast<py::tuple>();
+  f->inputKind = given[0].cast<std::string>();
+  f->inputDescription = given[1].cast<std::string>();
+  f->layoutDescription = given[2].cast<std::string>();
+  f->matrices = given[3].cast<bool>();
+  if (f->input.read.volume.tensors.size() != geometry.voxelCount() ||
+      (!f->input.mask.empty() && f->input.mask.size() != geometry.voxelCount()))
+    throw py::value_error("unpickling stvd: the tensors or the mask do not fill the grid");
+  // The metric and the domain, built again as finishField built them.
+  py::gil_scoped_release release;
+  imaging::MetricFromTensors built = imaging::buildCheckedMetric(f->name, f->input, f->options, &f->frameCheck);
+  f->counts = built.counts;
+  f->inDomain = std::move(built.inDomain);
+  f->metric = RiemannianMetric(std::move(built.metric), &f->inDomain);
+  return f;
 }
 
 }  // namespace stvd::python

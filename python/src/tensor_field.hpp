@@ -22,9 +22,20 @@ namespace py = pybind11;
 struct TensorField {
   /// How the input is named in messages: the path, or "tensors".
   std::string name;
+  /// What came in, for reports (tensor_info): "file", "NiBabel image" or
+  /// "array"; what it was ("the path", "NiBabel image of FILE", "array of
+  /// shape (112, 112, 32, 3, 3), float64"); and its layout as given (a
+  /// file's or image's as the tool names it, an array's by its shape).
+  std::string inputKind = "file";
+  std::string inputDescription;
+  std::string layoutDescription;
+  /// An (X, Y, Z, 3, 3) array: no component order.
+  bool matrices = false;
   imaging::TensorInputOptions options;
   imaging::TensorInput input;
   imaging::MetricVoxelCounts counts;
+  /// Whether the tensors' frame matches the image axes (tensor_frame_check.hpp).
+  imaging::TensorFrameCheck frameCheck;
   std::vector<std::uint8_t> inDomain;
   RiemannianMetric metric;
 
@@ -44,7 +55,8 @@ imaging::TensorInputOptions tensorOptions(const std::optional<std::string>& orde
                                           const std::optional<std::string>& kind,
                                           const std::optional<std::string>& diffusionMetric,
                                           const std::optional<double>& maxAnisotropy,
-                                          const std::optional<double>& faThreshold, bool acceptImplausible = false);
+                                          const std::optional<double>& faThreshold, bool acceptImplausible = false,
+                                          bool acceptMisaligned = false);
 
 /// A scalar image given from Python: a path (read through ITK), or a tuple
 /// (array, affine or None, zooms or None, name); the array may be a lazy
@@ -75,5 +87,13 @@ std::shared_ptr<TensorField> fieldFromArray(const py::handle& tensors, const py:
                                             const std::optional<std::array<double, 3>>& zooms,
                                             const std::optional<bool>& niftiIntent, const std::string& name,
                                             imaging::TensorInputOptions options, const py::handle& mask);
+
+/// The field as a picklable state (a tuple of plain values and bytes: the
+/// tensors as read, the masks, the options, the file information) and back.
+/// The metric and the domain are not stored: `fieldFromState` builds them
+/// again from the tensors and options, as the field was built, the same
+/// values bit for bit.
+py::tuple fieldState(const TensorField& field);
+std::shared_ptr<TensorField> fieldFromState(const py::tuple& state);
 
 }  // namespace stvd::python

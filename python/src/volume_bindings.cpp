@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -15,6 +16,7 @@
 
 #include "array_access.hpp"
 #include "bindings.hpp"
+#include "path_records.hpp"
 #include "progress_relay.hpp"
 #include "propagation_keywords.hpp"
 #include "stvd/system/files/output_transaction.hpp"
@@ -72,15 +74,6 @@ py::dict voxelCounts(const imaging::MetricVoxelCounts& c) {
   d["repaired_non_positive"] = c.repairedNonPositive;
   d["repaired_anisotropy"] = c.repairedAnisotropy;
   return d;
-}
-
-py::array_t<double> affineArray(const GridGeometry& g) {
-  const std::array<double, 16> m = imaging::voxelToRas(g);
-  py::array_t<double> a({4, 4});
-  auto w = a.mutable_unchecked<2>();
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) w(r, c) = m[4 * r + c];
-  return a;
 }
 
 std::vector<std::size_t> gridShape(const GridGeometry& g) { return {g.size[0], g.size[1], g.size[2]}; }
@@ -201,38 +194,7 @@ py::list tracePaths(const std::shared_ptr<VolumePropagation>& p, const std::vect
   }
 
   py::list paths;
-  for (const Traced& t : traced) {
-    const TracedPath& path = t.path;
-    py::array_t<double> points({static_cast<py::ssize_t>(path.points.size()), py::ssize_t{3}});
-    auto w = points.mutable_unchecked<2>();
-    for (std::size_t n = 0; n < path.points.size(); ++n) {
-      const Vec3d ras = imaging::lpsToRas(path.points[n]);
-      w(n, 0) = ras.x;
-      w(n, 1) = ras.y;
-      w(n, 2) = ras.z;
-    }
-    const VoxelIndex ti = p->domain.indexOf(t.target.vertex), si = p->domain.indexOf(path.discrete.front());
-    py::dict fallbacks;
-    for (int f = 0; f < kPathFallbackKinds; ++f)
-      if (path.fallbacks[f]) fallbacks[pathFallbackName(static_cast<PathFallback>(f))] = path.fallbacks[f];
-    py::dict d;
-    d["points"] = points;
-    d["target"] = t.target.name;
-    d["target_voxel"] = py::make_tuple(ti.i, ti.j, ti.k);
-    d["seed_voxel"] = py::make_tuple(si.i, si.j, si.k);
-    d["geodesic_mm"] = path.geodesicLength;
-    d["euclidean_mm"] = path.euclideanLength;
-    d["straight_mm"] =
-        norm(p->domain.physicalPoint(t.target.vertex) - p->domain.physicalPoint(path.discrete.front()));
-    d["metric_length_mm"] = path.metricLength;
-    d["mean_fa"] = withFa ? t.fa.lengthWeightedMean : std::numeric_limits<double>::quiet_NaN();
-    d["fa"] = withFa ? py::object(py::array_t<float>(t.fa.values.size(), t.fa.values.data())) : py::object(py::none());
-    d["gradient_steps"] = path.gradientSteps;
-    d["discrete_points"] = path.discretePoints;
-    d["fallbacks"] = fallbacks;
-    d["refine_iterations"] = path.refinement.iterations;
-    paths.append(d);
-  }
+  for (const Traced& t : traced) paths.append(pathRecord(p->domain, t.target, t.path, withFa ? &t.fa : nullptr));
   return paths;
 }
 
@@ -247,6 +209,7 @@ py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py:
   std::vector<LabelRegion> regions;
   std::size_t leftOut = 0;
   RegionConnectivity table;
+  bool cancelled = false;
   {
     py::gil_scoped_release release;
     imaging::requireSameGrid(labels.geometry, field->geometry(), labelsName, "the labels are", field->name);
@@ -266,37 +229,112 @@ py::dict connectivity(const std::shared_ptr<const TensorField>& field, const py:
                                  choice.connectivity);
     PropagationOptions options = propagationOptions(choice);
     options.progress = relay.hook();
-    table = regionConnectivity(domain, field->metric, voxels, options, threads);
-  }
-  relay.rethrowIfFailed();
-  const py::ssize_t n = static_cast<py::ssize_t>(regions.size());
-  py::array_t<long long> labelValues(n), voxelCounts(n);
-  py::array_t<double> geodesic({n, n}), pathLength({n, n}), straight({n, n}), index({n, n});
-  auto g = geodesic.mutable_unchecked<2>(), l = pathLength.mutable_unchecked<2>(), s = straight.mutable_unchecked<2>(),
-       c = index.mutable_unchecked<2>();
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  for (py::ssize_t a = 0; a < n; ++a) {
-    labelValues.mutable_at(a) = regions[a].label;
-    voxelCounts.mutable_at(a) = static_cast<long long>(regions[a].voxels.size());
-    for (py::ssize_t b = 0; b < n; ++b) {
-      const RegionPair& r = table(a, b);
-      const bool measured = a != b && std::isfinite(r.geodesic);
-      g(a, b) = measured ? r.geodesic : nan;
-      l(a, b) = measured ? r.pathLength : nan;
-      s(a, b) = measured ? r.straight : nan;
-      c(a, b) = measured ? r.connectivity() : nan;
+    options.interrupter = relay.interrupter();  // Ctrl-C between the propagations, in the paths
+    try {
+      table = regionConnectivity(domain, field->metric, voxels, options, threads);
+    } catch (const Cancelled&) {
+      cancelled = true;
     }
   }
+  relay.rethrowIfFailed();  // Ctrl-C or the callback's exception first
+  if (cancelled)  // the callback returned False: no partial table
+    throw Cancelled("region connectivity was cancelled by the progress function: no table");
+  return connectivityDict(regions, table, leftOut);
+}
+
+/// The frame check as Python sees it (stvd.check_tensor_frame, tensor_info).
+py::dict frameCheckDict(const imaging::TensorFrameCheck& c) {
   py::dict d;
-  d["labels"] = labelValues;
-  d["voxels"] = voxelCounts;
-  d["geodesic_mm"] = geodesic;
-  d["path_mm"] = pathLength;
-  d["straight_mm"] = straight;
-  d["connectivity"] = index;
-  d["labels_left_out"] = leftOut;
-  d["threads"] = table.threads;
+  d["verdict"] = imaging::tensorFrameVerdictName(c.verdict);
+  d["summary"] = imaging::tensorFrameCheckSummary(c);
+  d["seeds"] = c.seeds;
+  d["best"] = imaging::axisTransformText(c.best);
+  d["best_words"] = imaging::axisTransformWords(c.best);
+  d["ratio"] = c.ratio;
+  d["margin"] = c.margin;
+  py::list trials;
+  for (const imaging::TensorFrameTrial& t : c.trials)
+    trials.append(py::make_tuple(imaging::axisTransformText(t.transform), t.meanLengthMm));
+  d["mean_length_mm"] = trials;
   return d;
+}
+
+constexpr const char* kPropagationStateTag = "stvd.VolumePropagation/1";
+
+template <class T>
+py::bytes bytesOfValues(const std::vector<T>& values) {
+  return py::bytes(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+template <class T>
+std::vector<T> valuesOfBytes(const py::handle& bytes, std::size_t count, const char* what) {
+  const std::string data = bytes.cast<std::string>();
+  if (data.size() != count * sizeof(T))
+    throw py::value_error(std::string("unpickling stvd: ") + what + " do not fill the grid");
+  std::vector<T> values(count);
+  if (count) std::memcpy(values.data(), data.data(), data.size());
+  return values;
+}
+
+/// A propagation as a picklable state: its field (pickled by its own
+/// state), the method chosen, the result's arrays and figures and the
+/// seeds. The domain is made again from the field and the choice.
+py::tuple propagationState(const VolumePropagation& p) {
+  const PropagationChoice& c = p.choice;
+  const py::tuple choice = py::make_tuple(static_cast<int>(c.method), c.lanthier, c.steinerPoints, c.k,
+                                          static_cast<int>(c.chainMeasure), c.chainMeasureGiven, c.stencil,
+                                          c.stencilGiven, static_cast<int>(c.connectivity), c.connectivityGiven,
+                                          c.memoryCheck, static_cast<int>(c.naming));
+  const PropagationResult& r = p.result;
+  const py::tuple result = py::make_tuple(bytesOfValues(r.distance), bytesOfValues(r.predecessor),
+                                          static_cast<int>(r.termination), r.finalizedVertices, r.relaxedEdges,
+                                          r.measuredCandidates, r.refusedCandidates, r.peakStateBytes);
+  py::list seeds;
+  for (const imaging::SeedVoxel& s : p.seeds) seeds.append(py::make_tuple(s.index.i, s.index.j, s.index.k, s.givenAs));
+  return py::make_tuple(kPropagationStateTag, std::const_pointer_cast<TensorField>(p.field), choice, result, seeds,
+                        p.labelSeedsLeftOut);
+}
+
+std::shared_ptr<VolumePropagation> propagationFromState(const py::tuple& state) {
+  if (state.size() != 6 || !py::isinstance<py::str>(state[0]) ||
+      state[0].cast<std::string>() != kPropagationStateTag)
+    throw py::value_error("unpickling stvd: not the state of an stvd propagation of this version");
+  const std::shared_ptr<TensorField> field = state[1].cast<std::shared_ptr<TensorField>>();
+  const py::tuple c = state[2].cast<py::tuple>();
+  PropagationChoice choice;
+  choice.method = static_cast<Method>(c[0].cast<int>());
+  choice.lanthier = c[1].cast<bool>();
+  choice.steinerPoints = c[2].cast<int>();
+  choice.k = c[3].cast<std::optional<int>>();
+  choice.chainMeasure = static_cast<ChainMeasure>(c[4].cast<int>());
+  choice.chainMeasureGiven = c[5].cast<bool>();
+  choice.stencil = c[6].cast<std::string>();
+  choice.stencilGiven = c[7].cast<bool>();
+  choice.connectivity = static_cast<VoxelConnectivity>(c[8].cast<int>());
+  choice.connectivityGiven = c[9].cast<bool>();
+  choice.memoryCheck = c[10].cast<bool>();
+  choice.naming = static_cast<OptionNaming>(c[11].cast<int>());
+  const py::tuple r = state[3].cast<py::tuple>();
+  const std::size_t voxels = field->geometry().voxelCount();
+  PropagationResult result;
+  result.distance = valuesOfBytes<double>(r[0], voxels, "the distances");
+  result.predecessor = valuesOfBytes<VertexId>(r[1], voxels, "the predecessors");
+  result.termination = static_cast<Termination>(r[2].cast<int>());
+  result.finalizedVertices = r[3].cast<std::uint64_t>();
+  result.relaxedEdges = r[4].cast<std::uint64_t>();
+  result.measuredCandidates = r[5].cast<std::uint64_t>();
+  result.refusedCandidates = r[6].cast<std::uint64_t>();
+  result.peakStateBytes = r[7].cast<std::uint64_t>();
+  std::vector<imaging::SeedVoxel> seeds;
+  for (const py::handle s : state[4].cast<py::list>()) {
+    const py::tuple t = s.cast<py::tuple>();
+    seeds.push_back({VoxelIndex{t[0].cast<std::int32_t>(), t[1].cast<std::int32_t>(), t[2].cast<std::int32_t>()},
+                     t[3].cast<std::string>()});
+  }
+  VoxelGridDomain domain(field->geometry(), Stencil::byName(choice.stencil), field->inDomain, choice.connectivity);
+  return std::make_shared<VolumePropagation>(VolumePropagation{field, std::move(choice), std::move(domain),
+                                                               std::move(result), std::move(seeds),
+                                                               state[5].cast<std::size_t>()});
 }
 
 }  // namespace
@@ -309,16 +347,17 @@ void bindVolumes(py::module_& m) {
           [](const std::string& path, const py::object& mask, const std::optional<std::string>& order, const std::optional<std::string>& frame,
              const std::optional<std::string>& kind, const std::optional<std::string>& diffusionMetric,
              const std::optional<double>& maxAnisotropy, const std::optional<double>& faThreshold,
-             bool acceptImplausible) {
-            return fieldFromFile(
-                path, tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold, acceptImplausible),
-                mask);
+             bool acceptImplausible, bool acceptMisaligned) {
+            return fieldFromFile(path,
+                                 tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold,
+                                               acceptImplausible, acceptMisaligned),
+                                 mask);
           },
           py::arg("path"), py::arg("mask") = py::none(),
           py::arg("tensor_order") = py::none(), py::arg("tensor_frame") = py::none(),
           py::arg("tensor_kind") = py::none(), py::arg("diffusion_metric") = py::none(),
           py::arg("max_anisotropy") = py::none(), py::arg("fa_threshold") = py::none(),
-          py::arg("accept_implausible_tensors") = false)
+          py::arg("accept_implausible_tensors") = false, py::arg("accept_misaligned_tensors") = false)
       .def_static(
           "from_array",
           [](const py::object& tensors, const py::object& affine, const std::optional<std::array<double, 3>>& zooms,
@@ -326,18 +365,20 @@ void bindVolumes(py::module_& m) {
              const std::optional<std::string>& order,
              const std::optional<std::string>& frame, const std::optional<std::string>& kind,
              const std::optional<std::string>& diffusionMetric, const std::optional<double>& maxAnisotropy,
-             const std::optional<double>& faThreshold, bool acceptImplausible) {
-            return fieldFromArray(
-                tensors, affine, zooms, niftiIntent, name,
-                tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold, acceptImplausible),
-                mask);
+             const std::optional<double>& faThreshold, bool acceptImplausible, bool acceptMisaligned) {
+            return fieldFromArray(tensors, affine, zooms, niftiIntent, name,
+                                  tensorOptions(order, frame, kind, diffusionMetric, maxAnisotropy, faThreshold,
+                                                acceptImplausible, acceptMisaligned),
+                                  mask);
           },
           py::arg("tensors"), py::arg("affine"), py::arg("zooms") = py::none(), py::arg("nifti_intent") = py::none(),
           py::arg("name") = "tensors", py::arg("mask") = py::none(),
           py::arg("tensor_order") = py::none(), py::arg("tensor_frame") = py::none(),
           py::arg("tensor_kind") = py::none(), py::arg("diffusion_metric") = py::none(),
           py::arg("max_anisotropy") = py::none(), py::arg("fa_threshold") = py::none(),
-          py::arg("accept_implausible_tensors") = false)
+          py::arg("accept_implausible_tensors") = false, py::arg("accept_misaligned_tensors") = false)
+      .def(py::pickle([](const TensorField& f) { return fieldState(f); },
+                      [](const py::tuple& state) { return fieldFromState(state); }))
       .def_property_readonly("name", [](const TensorField& f) { return f.name; })
       .def_property_readonly("shape", [](const TensorField& f) { return py::tuple(py::cast(gridShape(f.geometry()))); })
       .def_property_readonly("affine", [](const TensorField& f) { return affineArray(f.geometry()); },
@@ -372,15 +413,28 @@ void bindVolumes(py::module_& m) {
       .def_property_readonly("tensor_info",
                              [](const TensorField& f) {
                                const imaging::TensorFileInfo& i = f.input.read.info;
+                               const imaging::MetricOptions& metric = f.options.metric;
                                py::dict d;
-                               d["layout"] = imaging::tensorFileLayoutName(i.layout);
-                               d["order"] = imaging::tensorOrderName(i.order);
+                               // What came in and how it was read, as given:
+                               // a QC page states these (stvd.report).
+                               d["input_kind"] = f.inputKind;
+                               d["input"] = f.inputDescription;
+                               d["layout"] = f.layoutDescription;
+                               // 3x3 matrices have no component order.
+                               d["order"] = f.matrices ? py::object(py::none())
+                                                     : py::object(py::str(imaging::tensorOrderName(i.order)));
+                               d["order_was_stated"] = f.options.order.has_value();
                                d["frame"] = imaging::tensorFrameName(i.frame);
                                d["frame_was_stated"] = i.frameWasStated;
                                d["mask"] = f.input.maskDescription;
-                               d["tensor_kind"] = imaging::tensorKindName(f.options.metric.kind);
-                               d["metric_formula"] = imaging::metricFormula(f.options.metric.kind,
-                                                                            f.options.metric.diffusionMetric);
+                               d["tensor_kind"] = imaging::tensorKindName(metric.kind);
+                               d["diffusion_metric"] = imaging::diffusionMetricName(metric.diffusionMetric);
+                               d["metric_formula"] = imaging::metricFormula(metric.kind, metric.diffusionMetric);
+                               const std::optional<double> cap = imaging::anisotropyCap(metric);
+                               d["max_anisotropy"] = cap ? py::object(py::float_(*cap)) : py::object(py::none());
+                               d["fa_threshold"] = metric.faThreshold ? py::object(py::float_(*metric.faThreshold))
+                                                                      : py::object(py::none());
+                               d["frame_check"] = frameCheckDict(f.frameCheck);
                                return d;
                              })
       .def(
@@ -421,6 +475,8 @@ void bindVolumes(py::module_& m) {
           py::arg("memory_check") = true);
 
   py::class_<VolumePropagation, std::shared_ptr<VolumePropagation>>(m, "VolumePropagation")
+      .def(py::pickle([](const VolumePropagation& p) { return propagationState(p); },
+                      [](const py::tuple& state) { return propagationFromState(state); }))
       .def_property_readonly("field", [](const VolumePropagation& p) { return std::const_pointer_cast<TensorField>(p.field); })
       .def_property_readonly(
           "distance",
@@ -471,27 +527,7 @@ void bindVolumes(py::module_& m) {
           [](const VolumePropagation& p, files::OutputTransaction& outputs, const std::string& path,
              const py::list& lines, const std::vector<double>& geodesic, const std::vector<double>& euclidean,
              const std::optional<std::vector<double>>& meanFa, const py::object& fa) {
-            // The streamline set of `stvd path` (stvd/imaging/streamline_io.hpp).
-            imaging::StreamlineSet set;
-            set.geometry = p.field->geometry();
-            for (const py::handle& line : lines) {
-              std::vector<Vec3d> lps;
-              // The flip between RAS and LPS is its own inverse.
-              for (const Vec3d& ras : pointRows(line, "paths")) lps.push_back(imaging::lpsToRas(ras));
-              set.lines.push_back(std::move(lps));
-            }
-            set.lineValueNames = {"geodesic_mm", "euclidean_mm"};
-            set.lineValues = {std::vector<float>(geodesic.begin(), geodesic.end()),
-                              std::vector<float>(euclidean.begin(), euclidean.end())};
-            if (meanFa) {
-              set.lineValueNames.push_back("mean_fa");
-              set.lineValues.emplace_back(meanFa->begin(), meanFa->end());
-              set.pointValueNames = {"fa"};
-              set.pointValues.resize(1);
-              for (const py::handle& values : fa) set.pointValues[0].push_back(values.cast<std::vector<float>>());
-            }
-            py::gil_scoped_release release;
-            imaging::writeStreamlines(outputs, path, set);
+            writePathsOnGrid(p.field->geometry(), outputs, path, lines, geodesic, euclidean, meanFa, fa);
           },
           py::arg("outputs"), py::arg("path"), py::arg("lines"), py::arg("geodesic_mm"), py::arg("euclidean_mm"),
           py::arg("mean_fa") = py::none(), py::arg("fa") = py::none(),

@@ -98,11 +98,22 @@ def _triples(value, name, expected):
     return array
 
 
-def voxel_list(value, name):
-    """Voxel indices as a list of (i, j, k): one triple or a sequence of them."""
+def voxel_list(value, name, points_keyword):
+    """Voxel indices as a list of (i, j, k): one triple or a sequence of them.
+    Floating-point numbers are refused, whole or not: DIPY and
+    nibabel.streamlines give seeds as float points in world millimetres,
+    which belong in ``points_keyword`` (``seed_points=``), and taking such a
+    point as a voxel index would start from another place without a word."""
     array = _triples(value, name, "(i, j, k) voxel indices")
     if array is None:
         return []
+    if array.dtype.kind == "f":
+        whole = bool(np.all(np.isfinite(array)) and np.all(array == np.round(array)))
+        raise TypeError(
+            f"{name}: voxel indices must be integers, got {'whole ' if whole else ''}floating-point numbers "
+            f"(dtype {array.dtype}); points in world millimetres (RAS+, the frame of the image's affine, as DIPY "
+            f"and nibabel.streamlines give them) go to {points_keyword}=, voxel indices as integers "
+            f"({name}=np.asarray(...).astype(int) if they are indices)")
     if array.dtype.kind not in "iu":
         raise TypeError(f"{name}: voxel indices must be integers, got dtype {array.dtype}")
     limit = np.iinfo(np.int32)

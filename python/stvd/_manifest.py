@@ -273,6 +273,10 @@ def _label_seed_sets(path, tensors):
         require_regular_file(path)
         values = np.unique(np.asanyarray(nibabel.load(path).dataobj))
     except Exception as error:  # NiBabel reads NIfTI; another format, or a file it cannot, is this subject's error
+        if tensors is not None:
+            # A truncated or corrupt file: the library's message, the one
+            # stvd.propagate, the Nipype nodes and the tool give for it.
+            _core.read_label_image(path, tensors, "the seed labels are")
         raise ValueError(f"{path}: cannot read the seed labels (NIfTI): {' '.join(str(error).split())}") from None
     values = values[values != 0]
     if values.size == 0:

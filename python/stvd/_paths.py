@@ -26,6 +26,10 @@ class Paths(list):
     them as ``stvd path`` does; ``input_files`` are the files they come from.
     """
 
+    _PER_PATH_ARRAYS = ("target_voxels", "seed_voxels", "geodesic_mm", "euclidean_mm", "straight_mm",
+                        "metric_length_mm", "mean_fa", "gradient_steps", "discrete_points", "refine_iterations")
+    _PER_PATH_LISTS = ("targets", "fa", "fallbacks")
+
     def __init__(self, records, affine, shape, zooms, axis_codes, propagation=None, input_files=()):
         super().__init__(r["points"] for r in records)
         self.targets = [r["target"] for r in records]
@@ -44,6 +48,65 @@ class Paths(list):
         self.axis_codes = axis_codes
         self._propagation = propagation
         self.input_files = [(role, path) for role, path in input_files if path]
+
+    def _with(self, lines, per_path):
+        """Paths on this grid holding `lines` and the per-path values given."""
+        out = Paths([], self.affine, self.shape, self.zooms, self.axis_codes, self._propagation, self.input_files)
+        out.extend(lines)
+        for name, value in per_path.items():
+            setattr(out, name, value)
+        return out
+
+    @staticmethod
+    def merge(*paths):
+        """One ``stvd.Paths`` of several, in order, with their per-path figures:
+        paths of several runs (other seeds, other options) on the same grid,
+        which ``stvd.tractogram`` and ``save`` take as one. Paths on another
+        grid (another affine or shape: another image or subject) are refused
+        with a ValueError, as a ``.trk`` file has one grid; ``paths + paths``
+        is the same for two."""
+        if len(paths) == 1 and not isinstance(paths[0], Paths):
+            paths = tuple(paths[0])  # an iterable of Paths
+        if not paths:
+            raise ValueError("Paths.merge: no paths given")
+        for n, p in enumerate(paths):
+            if not isinstance(p, Paths):
+                raise TypeError(f"Paths.merge: argument {n} is a {type(p).__name__}, not stvd.Paths (the figures "
+                                "of each path and its grid come with stvd.Paths)")
+        first = paths[0]
+        for p in paths[1:]:
+            if tuple(p.shape) != tuple(first.shape) or not np.array_equal(p.affine, first.affine):
+                raise ValueError(
+                    f"Paths.merge: paths on another grid (shape {tuple(p.shape)}, affine {np.round(p.affine, 4).tolist()}) "
+                    f"than the first (shape {tuple(first.shape)}, affine {np.round(first.affine, 4).tolist()}); paths "
+                    "merge only on the grid of one image")
+        lines = [line for p in paths for line in p]
+        per_path = {}
+        for name in Paths._PER_PATH_ARRAYS:
+            per_path[name] = np.concatenate([getattr(p, name) for p in paths])
+        for name in Paths._PER_PATH_LISTS:
+            per_path[name] = [value for p in paths for value in getattr(p, name)]
+        merged = first._with(lines, per_path)
+        merged.input_files = list(dict.fromkeys(f for p in paths for f in p.input_files))
+        return merged
+
+    def __add__(self, other):
+        if not isinstance(other, Paths):
+            return NotImplemented
+        return Paths.merge(self, other)
+
+    def __iadd__(self, other):
+        # list's += would add the lines without their figures.
+        if not isinstance(other, Paths):
+            return NotImplemented
+        return Paths.merge(self, other)
+
+    def __getitem__(self, index):
+        """One path's points for an integer, ``stvd.Paths`` for a slice."""
+        if isinstance(index, slice):
+            per_path = {name: getattr(self, name)[index] for name in Paths._PER_PATH_ARRAYS + Paths._PER_PATH_LISTS}
+            return self._with(list.__getitem__(self, index), per_path)
+        return list.__getitem__(self, index)
 
     def save(self, path, *, outputs=None):
         """Writes the paths to ``path`` (``.tck``, ``.trk`` or ``.vtk``) as
@@ -86,6 +149,9 @@ def tractogram(paths):
     ``.trk`` on the tensors' grid with ``header=paths.trk_header()``."""
     from nibabel.streamlines import Tractogram
 
+    if not isinstance(paths, Paths):
+        raise TypeError(f"paths: expected the stvd.Paths of stvd.trace_paths, got a {type(paths).__name__} (merge "
+                        "the paths of several runs with paths_a + paths_b or stvd.Paths.merge)")
     per_streamline = {
         "geodesic_mm": paths.geodesic_mm.astype(np.float32).reshape(-1, 1),
         "euclidean_mm": paths.euclidean_mm.astype(np.float32).reshape(-1, 1),

@@ -31,8 +31,8 @@ class progress_reporter:
 
     ``None`` or ``False``: none. ``True``: a tqdm bar when tqdm can be
     imported (a warning otherwise). A callable: called as
-    ``f(finalized_vertices, domain_vertices, front_distance_mm)`` about every
-    65,536 finalised vertices; returning ``False`` cancels the run.
+    ``f(finalized_vertices, domain_vertices, front_distance_mm)`` at the start,
+    at least every 0.05 s and at the end; returning ``False`` cancels the run.
     """
 
     def __init__(self, progress):
@@ -57,7 +57,7 @@ class progress_reporter:
 
     def finish(self, finalized):
         """Moves a bar to the final count of finalised vertices (the library
-        reports only every 65,536)."""
+        reports at intervals in time)."""
         if self._bar is not None:
             self._bar.finish(finalized)
 

@@ -24,6 +24,11 @@ CONVENTIONS = {
 # viridis and grey, paths and regions take tab10/tab20 colours), so that a
 # test finds the marker in the picture.
 SEED_COLOUR = "#ff00ff"
+# Target regions (path runs with label targets): cyan, likewise in no map.
+TARGET_COLOUR = "#00ffff"
+# The distance map over FA: opaque enough to read its colour, light enough
+# that the FA underneath (the tracts the distances follow) stays visible.
+DISTANCE_ALPHA = 0.35
 
 # Each plane: the axis of the turned grid it cuts (R, A, S = 0, 1, 2), the
 # axis shown across and the axis shown upwards.
@@ -113,6 +118,12 @@ class Panel:
         up = grid.affine[:3, self.up]
         self.letters = {"right": edge_letter(right), "left": edge_letter(-right),
                         "top": edge_letter(up), "bottom": edge_letter(-up)}
+        # The slice as the source grid numbers it (the heading's voxel): the
+        # source axis the plane cuts, and its index there.
+        self.source_axis = int(np.nonzero(grid.ornt[:, 0] == self.normal)[0][0])
+        flipped = grid.ornt[self.source_axis, 1] < 0
+        size = grid.source_shape[self.source_axis]
+        self.source_index = size - 1 - self.index if flipped else self.index
         self.extent_mm = (grid.shape[self.across] * grid.zooms[self.across],
                           grid.shape[self.up] * grid.zooms[self.up])
 
@@ -135,6 +146,11 @@ class Panel:
             across = self.grid.shape[self.across] - 1 - across
         return np.column_stack(((across + 0.5) * self.grid.zooms[self.across],
                                 (indices[:, self.up] + 0.5) * self.grid.zooms[self.up]))
+
+    def caption(self):
+        """'sagittal slice i = 55': the plane and the source voxel index it
+        holds, as the heading's voxel (i, j, k) counts it."""
+        return f"{self.plane} slice {'ijk'[self.source_axis]} = {self.source_index}"
 
     def contains(self, indices):
         """Which of the integer indices lie in this plane."""
@@ -209,8 +225,8 @@ def draw_panel(panel, layers, scale=1.0):
                     alpha=0.75, **show)
     if layers.distance is not None:
         distance = panel.image(layers.distance)
-        axes.imshow(np.ma.masked_invalid(distance), cmap="viridis", vmin=0.0, vmax=layers.distance_max, alpha=0.5,
-                    **show)
+        axes.imshow(np.ma.masked_invalid(distance), cmap="viridis", vmin=0.0, vmax=layers.distance_max,
+                    alpha=DISTANCE_ALPHA, **show)
         if layers.contour_step and np.isfinite(distance).any():
             ny, nx = distance.shape
             xs = (np.arange(nx) + 0.5) * panel.extent_mm[0] / nx
@@ -219,18 +235,36 @@ def draw_panel(panel, layers, scale=1.0):
             if levels.size:
                 axes.contour(xs, ys, np.where(np.isfinite(distance), distance, layers.distance_max * 2), levels=levels,
                              colors="white", linewidths=0.6, alpha=0.8)
-    if layers.seed_region is not None:
-        region = panel.image(layers.seed_region).astype(np.float64)
-        region[region == 0] = np.nan
-        axes.imshow(region, cmap=ListedColormap([SEED_COLOUR]), vmin=0, vmax=1, alpha=1.0, **show)
+    # Seed and target regions as outlines over a light tint: what lies inside
+    # them (FA, the distance, where the paths start and end) stays visible.
+    for region_layer, colour in ((layers.seed_region, SEED_COLOUR), (layers.target_region, TARGET_COLOUR)):
+        if region_layer is None:
+            continue
+        region = panel.image(region_layer).astype(np.float64)
+        if not region.any():
+            continue
+        tint = np.where(region > 0, 1.0, np.nan)
+        axes.imshow(tint, cmap=ListedColormap([colour]), vmin=0, vmax=1, alpha=0.3, **show)
+        _outline(axes, panel, region, colour)
+    # The seed voxels as hollow rings, under the paths that start in them.
+    marked = layers.seeds[panel.contains(layers.seeds)] if len(layers.seeds) else layers.seeds
+    if len(marked):
+        xy = panel.screen_mm(marked)
+        axes.plot(xy[:, 0], xy[:, 1], "o", markerfacecolor="none", markeredgecolor=SEED_COLOUR, markersize=13,
+                  markeredgewidth=2.0)
     for points, colour in zip(layers.paths, layers.path_colours):
         xy = panel.screen_mm(points)
         axes.plot(xy[:, 0], xy[:, 1], color=colour, linewidth=1.6, solid_capstyle="round")
         axes.plot(xy[-1:, 0], xy[-1:, 1], "o", color=colour, markersize=4)
-    marked = layers.seeds[panel.contains(layers.seeds)] if len(layers.seeds) else layers.seeds
-    if len(marked):
-        xy = panel.screen_mm(marked)
-        axes.plot(xy[:, 0], xy[:, 1], "+", color=SEED_COLOUR, markersize=14, markeredgewidth=2.5)
-        axes.plot(xy[:, 0], xy[:, 1], "o", markerfacecolor="none", markeredgecolor=SEED_COLOUR, markersize=11,
-                  markeredgewidth=1.5)
     return png_bytes(figure)
+
+
+def _outline(axes, panel, region, colour):
+    """The boundary of a voxel region in the slice, along voxel edges."""
+    ny, nx = region.shape
+    # Upsampled by 4 so that the contour follows the voxel edges, not the
+    # diagonals between voxel centres.
+    fine = np.kron(region > 0, np.ones((4, 4))).astype(np.float64)
+    xs = (np.arange(4 * nx) + 0.5) * panel.extent_mm[0] / (4 * nx)
+    ys = (np.arange(4 * ny) + 0.5) * panel.extent_mm[1] / (4 * ny)
+    axes.contour(xs, ys, fine, levels=[0.5], colors=colour, linewidths=1.5)

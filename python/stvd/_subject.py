@@ -63,9 +63,12 @@ def connectivity_table(result):
     return "\n".join(lines) + "\n"
 
 
-def _load_tensors(path):
+def _load_tensors(path, tensor_order=None, tensor_frame=None):
     """The tensors as the calls take them: a NIfTI file read once into memory
-    (every part of the subject uses it), another file as its path."""
+    (every part of the subject uses it), another file as its path. A file
+    NiBabel cannot read is read by the library at once, which raises its
+    own message for it: the one the package's calls, the Nipype nodes and
+    the tool give for that file."""
     import nibabel
 
     require_regular_file(path)  # a FIFO named like the tensors is not waited on
@@ -77,8 +80,11 @@ def _load_tensors(path):
         return path
     try:
         data = np.asanyarray(image.dataobj)
-    except Exception as error:  # a truncated or corrupt file
-        raise ValueError(f"{path}: cannot read the tensors: {one_line(error)}") from None
+    except Exception:  # a truncated or corrupt file: the library reads it and says why, as every call does
+        from . import _core
+
+        _core.TensorField.from_file(path, tensor_order=tensor_order, tensor_frame=tensor_frame)
+        return path
     loaded = type(image)(data, image.affine, image.header)
     loaded.set_filename(path)  # messages name the file
     return loaded
@@ -108,11 +114,14 @@ class _SeedLabels:
 
         self.path = path
         _core.require_image_on_grid(path, tensors, "the seed labels are")
+        require_regular_file(path)
         try:
-            require_regular_file(path)
             image = nibabel.load(path)
             self.labels = np.asanyarray(image.dataobj)
         except Exception as error:
+            # A truncated or corrupt file: the library's message, the one
+            # stvd.propagate, the Nipype nodes and the tool give for it.
+            _core.read_label_image(path, tensors, "the seed labels are")
             raise ValueError(f"{path}: cannot read the seed labels: {one_line(error)}") from None
         self.affine = image.affine
 
@@ -198,7 +207,7 @@ def compute_parts(subject, parts, seed_sets, folder, options, report=False):
                       **tensor_options, **method_options)
         summaries = {}
         with stvd.OutputFiles(dict(files.values()), inputs=subject.input_roles()) as out:
-            tensors = _load_tensors(subject.tensors)
+            tensors = _load_tensors(subject.tensors, subject.tensor_order, subject.tensor_frame)
             seed_labels, first_map, table = None, None, None
             for part in parts:
                 path = files[CONNECTIVITY_FILE if part == CONNECTIVITY else map_file(part)][1]

@@ -387,7 +387,8 @@ def _dask_client(client, scheduler, workers, host):
     safe_path = os.environ.get("PYTHONSAFEPATH")
     os.environ["PYTHONSAFEPATH"] = "1"
     try:
-        with tempfile.TemporaryDirectory(prefix="stvd-cohort-dask-") as scratch, \
+        with _workers_do_not_import_main(), \
+                tempfile.TemporaryDirectory(prefix="stvd-cohort-dask-") as scratch, \
                 LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
                              host=host, protocol=protocol, security=security, dashboard_address=address,
                              worker_dashboard_address=address, local_directory=scratch,
@@ -403,6 +404,53 @@ def _dask_client(client, scheduler, workers, host):
             os.environ.pop("PYTHONSAFEPATH", None)
         else:
             os.environ["PYTHONSAFEPATH"] = safe_path
+
+
+@contextlib.contextmanager
+def _workers_do_not_import_main():
+    """While the embedded cluster runs, its worker processes start without
+    importing the caller's main script again.
+
+    Dask starts workers with multiprocessing's ``spawn``, which runs the
+    main module of the parent again in each child (as ``__mp_main__``) when
+    that module is a file (``python script.py``) or a module run with
+    ``python -m``: it finds it by ``__main__.__file__`` and
+    ``__main__.__spec__``. A script that calls ``stvd.cohort.run`` at its
+    top level, without an ``if __name__ == "__main__":`` guard (the docs'
+    snippet pasted into a file), would then start the cohort again in every
+    worker. The workers run only stvd's own functions, which need nothing
+    from the caller's script, so the two attributes are set aside while the
+    cluster runs (spawned children then start as from an interactive
+    session, which multiprocessing supports) and put back afterwards; no
+    worker runs the script, guarded or not. (Other code of the caller's that
+    spawns processes from another thread meanwhile would not get the script
+    either; a cohort run blocks its own thread.)"""
+    main = sys.modules.get("__main__")
+    saved = {}
+    if main is not None:
+        for name in ("__file__", "__spec__"):
+            if name in vars(main):
+                saved[name] = vars(main)[name]
+        main.__spec__ = None
+        vars(main).pop("__file__", None)
+    try:
+        yield
+    finally:
+        if main is not None:
+            for name in ("__file__", "__spec__"):
+                if name in saved:
+                    setattr(main, name, saved[name])
+                else:
+                    vars(main).pop(name, None)
+
+
+def _in_a_spawned_childs_main_import():
+    """Whether this process is a child of multiprocessing's ``spawn`` or
+    ``forkserver`` that is importing its parent's main module (a worker of a
+    cluster that was started without ``_workers_do_not_import_main``)."""
+    import multiprocessing
+
+    return bool(getattr(multiprocessing.current_process(), "_inheriting", False))
 
 
 def _security():
@@ -561,6 +609,14 @@ def run(manifest, outdir, *, client=None, scheduler=None, workers=None, host=Non
     output that would be an input raises ValueError, before anything is
     written. Bad subjects do not raise: see ``Cohort.failed``.
     """
+    if _in_a_spawned_childs_main_import():
+        # A worker of someone else's cluster (or a multiprocessing pool)
+        # importing the caller's script again: say so at once rather than
+        # fail on the output folder's lock, restart, and fail again.
+        raise RuntimeError(
+            "stvd.cohort.run was called while a new worker process imported the main script again: the script "
+            "calls it at its top level, and the process pool that started this worker runs the script in each of "
+            "its processes. Put the call under `if __name__ == \"__main__\":`")
     start = time.perf_counter()
     options = dict(method=method, k=k, chain_measure=chain_measure, stencil=stencil, max_distance=max_distance,
                    tensor_kind=tensor_kind, diffusion_metric=diffusion_metric, max_anisotropy=max_anisotropy,

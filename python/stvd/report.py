@@ -41,7 +41,8 @@ from ._files import PAGE_BYTES, RECORD_BYTES, TABLE_BYTES, read_regular_text, re
 from ._inputs import is_image, is_path, tensor_field
 from ._outputs import FileConflictError, OutputError, OutputFiles
 from . import _report_page as page
-from ._report_slices import CONVENTIONS, PLANES, DisplayGrid, Panel, contour_step, draw_panel
+from ._report_slices import (CONVENTIONS, PLANES, SEED_COLOUR, TARGET_COLOUR, DisplayGrid, Panel, contour_step,
+                             draw_panel)
 
 __all__ = ["write_report", "write_run_report", "write_cohort_index", "cohort_index_from_folder",
            "cohort_entries_from_folder", "ReportError", "CONVENTIONS", "main"]
@@ -76,6 +77,7 @@ class _RunContent:
         self.distance = None                # float, NaN where not reached
         self.seeds = np.zeros((0, 3), np.int64)  # voxel indices
         self.seed_region = None             # bool array of label seeds
+        self.target_region = None           # bool array of label targets (path runs)
         self.paths = []                     # (N, 3) RAS millimetres
         self.path_rows = []                 # per-path figures (dicts)
         self.connectivity = None            # dict: labels, geodesic_mm, connectivity
@@ -105,6 +107,7 @@ class _SliceLayers:
             palette = matplotlib.colormaps["tab20"].colors
             self.region_colours = [matplotlib.colors.to_hex(palette[n % len(palette)]) for n in range(len(values) + 1)]
         self.seed_region = grid.turn(content.seed_region) if content.seed_region is not None else None
+        self.target_region = grid.turn(content.target_region) if content.target_region is not None else None
         self.seeds = grid.index_of_voxels(content.seeds) if len(content.seeds) else np.zeros((0, 3), np.int64)
         self.paths = [grid.index_of_points(points) for points in content.paths]
         self.path_colours = path_colours(len(content.paths))
@@ -142,20 +145,35 @@ def _count(value):
     return int(value) if value is not None else 0
 
 
+# Repairs of up to this share of the domain are routine: a good fit of a
+# brain has well under 1 % of its tensors ill-conditioned (fitting noise in
+# CSF and at the brain's edge; 0.66 % in the shipped brain). More is worth a
+# reviewer's look (docs/report.md, "Warnings and notes").
+ROUTINE_REPAIR_SHARE = 0.01
+
+
 def reviewer_warnings(content):
-    """The warnings of a run (what a reviewer must look at) and the notes
-    (how the tensors were read), as two lists of one-line texts."""
+    """The warnings of a run (what a reviewer must look at: the page's
+    status is "warnings" when there is one) and the notes (information:
+    how the tensors were read, routine repairs, what the run was asked to
+    leave out), as two lists of one-line texts."""
     s = content.statistics
     warnings, notes = [], list(content.notes)
     voxels = s.get("voxels", {})
     parameters = s.get("parameters", {})
     repaired = _count(voxels.get("repaired"))
     if repaired:
-        warnings.append(
-            f"{repaired:,} of {_count(voxels.get('domain')):,} domain voxels had their tensors repaired "
-            f"({_count(voxels.get('repaired_non_positive')):,} with a non-positive eigenvalue, "
-            f"{_count(voxels.get('repaired_anisotropy')):,} beyond the eigenvalue-ratio cap of "
-            f"{page.number_text(parameters.get('max_anisotropy'), 0)}).")
+        domain_voxels = _count(voxels.get("domain"))
+        share = repaired / domain_voxels if domain_voxels else 1.0
+        text = (f"{repaired:,} of {domain_voxels:,} domain voxels ({100.0 * share:.2f} %) had their tensors repaired "
+                f"({_count(voxels.get('repaired_non_positive')):,} with a non-positive eigenvalue, "
+                f"{_count(voxels.get('repaired_anisotropy')):,} beyond the eigenvalue-ratio cap of "
+                f"{_cap_text(parameters.get('max_anisotropy'))})")
+        if share <= ROUTINE_REPAIR_SHARE:
+            notes.append(text + f": routine (at most {100 * ROUTINE_REPAIR_SHARE:g} % of the domain).")
+        else:
+            warnings.append(text + f": more than the {100 * ROUTINE_REPAIR_SHARE:g} % a good fit has; check the fit "
+                                   "and how the tensors were read.")
     if _count(voxels.get("no_positive_eigenvalue")):
         warnings.append(f"{_count(voxels['no_positive_eigenvalue']):,} voxels have no positive eigenvalue and are "
                         "outside the domain.")
@@ -165,11 +183,11 @@ def reviewer_warnings(content):
     propagation = s.get("propagation", {})
     reached, domain = propagation.get("finalized_vertices"), propagation.get("domain_vertices")
     if reached is not None and domain and reached < domain:
-        why = (" (the propagation stopped at --max-distance)"
-               if propagation.get("termination") == "max_distance_reached" else
-               " (they are not connected to the seeds)")
-        warnings.append(f"{domain - reached:,} of {domain:,} domain voxels ({100.0 * (domain - reached) / domain:.1f} %) "
-                        f"were not reached{why}.")
+        text = f"{domain - reached:,} of {domain:,} domain voxels ({100.0 * (domain - reached) / domain:.1f} %) were not reached"
+        if propagation.get("termination") == "max_distance_reached":
+            notes.append(text + " (the propagation stopped at --max-distance): the run's own limit.")
+        else:
+            warnings.append(text + " (they are not connected to the seeds).")
     for row in content.path_rows:
         if row.get("fallbacks") not in (None, "", "none"):
             warnings.append(f"Path {row['path']} (to {row['target']}) fell back to the discrete path: "
@@ -184,14 +202,46 @@ def reviewer_warnings(content):
     if _count(regions.get("left_out")):
         warnings.append(f"{_count(regions['left_out'])} labelled regions have no voxel in the domain and were left "
                         "out.")
+    if parameters.get("metric") == "fod":
+        notes.insert(0, fod_metric_note(parameters))
     layout, order, frame = (parameters.get("tensor_layout"), parameters.get("tensor_order"),
                             parameters.get("tensor_frame"))
     if layout or order or frame:
         stated = parameters.get("tensor_frame_stated")
         how = "" if stated is None else (" (stated)" if stated else " (the default for this layout: check it)")
-        notes.insert(0, f"Tensors read as {layout or '?'}, component order {order or '?'}, in the {frame or '?'} "
-                        f"frame{how}; metric {parameters.get('metric_formula', '?')}.")
+        if order is None and "3, 3" in str(layout):
+            order_text = "none (3x3 matrices)"
+        else:
+            order_stated = parameters.get("tensor_order_stated")
+            order_text = (order or "?") + ("" if order_stated is None else " (stated)" if order_stated else
+                                           " (from the layout)")
+        cap = ""
+        if "max_anisotropy" in parameters:
+            cap = f"; eigenvalue-ratio cap {_cap_text(parameters['max_anisotropy'])}"
+        notes.insert(0, f"Tensors read as {layout or '?'}, component order {order_text}, in the {frame or '?'} "
+                        f"frame{how}; metric {parameters.get('metric_formula', '?')}{cap}.")
     return warnings, notes
+
+
+def fod_metric_note(parameters):
+    """What an FOD run's metric was (docs/fod.md): basis (as given), frame,
+    lmax, the cost's floor and power, the convexified norm."""
+    basis, given = parameters.get("fod_basis", "?"), parameters.get("fod_basis_given")
+    stated = parameters.get("fod_frame_stated")
+    frame_how = "" if stated is None else (" (stated)" if stated else " (the default for this basis and format)")
+    return (f"FOD image read in the basis {basis}" + (f" (given as {given})" if given and given != basis else "") +
+            f", in the {parameters.get('fod_frame', '?')} frame{frame_how}, lmax {parameters.get('fod_lmax', '?')}; "
+            f"metric: the convexified FOD norm F* (floor {parameters.get('fod_floor', '?')}, power "
+            f"{parameters.get('fod_power', '?')}, {parameters.get('fod_directions', '?')} sampling directions) along "
+            "the 26 neighbour directions, Dijkstra (docs/fod.md).")
+
+
+def _cap_text(cap):
+    """The eigenvalue-ratio cap as a run had it: a number, or none (metric
+    tensors are taken as given; the tool's statistics write NaN, JSON null)."""
+    if cap is None or (isinstance(cap, float) and cap != cap):
+        return "none (tensors taken as given)"
+    return page.number_text(float(cap), 0)
 
 
 def key_figures(content):
@@ -277,9 +327,11 @@ def _render(content, subject, convention):
         orientation += f", oblique by {oblique:.1f} degrees (each slice is the voxel plane nearest to it)"
     orientation += "."
     source_voxel = _centre_voxel(content)
-    what = "distance map over FA" if content.distance is not None else "FA"
+    fod = s.get("parameters", {}).get("metric") == "fod"  # no tensors, no FA (docs/fod.md)
+    background = "the background" if fod else "FA"
+    what = f"distance map over {background}" if content.distance is not None else background
     body.append(f"<h2>Slices through voxel ({', '.join(str(int(c)) for c in source_voxel)}): {what}</h2>")
-    body.append(f"<p>{orientation} FA: {page.escape(content.fa_source)}.</p>")
+    body.append(f"<p>{orientation} {'Background' if fod else 'FA'}: {page.escape(content.fa_source)}.</p>")
     legend = []
     if content.distance is not None:
         import matplotlib
@@ -288,20 +340,21 @@ def _render(content, subject, convention):
         stops = [matplotlib.colors.to_hex(viridis(x)) for x in np.linspace(0, 1, 9)]
         legend.append("Distance " + page.colour_bar(stops, "0", f"{layers.distance_max:.1f}", "mm") +
                       (f"; white contours every {layers.contour_step:g} mm" if layers.contour_step else "") +
-                      "; not reached: FA only.")
+                      f"; not reached: {background} only.")
     if len(content.seeds) or content.seed_region is not None:
-        legend.append(f"Seeds: <span class=\"swatch\" style=\"background:{page.escape('#ff00ff')}\"></span> magenta "
-                      "cross (the seed voxels in the slice) and voxels (label seeds).")
+        legend.append(f"Seeds: <span class=\"swatch\" style=\"background:{page.escape(SEED_COLOUR)}\"></span> magenta "
+                      "ring (the seed voxels in the slice) and outline (label seeds).")
+    if content.target_region is not None:
+        legend.append(f"Targets: <span class=\"swatch\" style=\"background:{page.escape(TARGET_COLOUR)}\"></span> "
+                      "cyan outline (the target label regions in the slice).")
     if content.paths:
         legend.append("Paths: projected onto each slice, coloured by their order (table below); a dot marks the "
                       "target end.")
     if content.regions is not None:
         legend.append("Regions: the labelled regions in the slice, coloured by label (heat map below).")
     body.append("<p>" + "<br>".join(legend) + "</p>")
-    captions = {"axial": "axial", "coronal": "coronal", "sagittal": "sagittal"}
     body.append("<div class=\"panels\">" + "".join(
-        page.slice_figure(panel, picture, f"{captions[panel.plane]} slice {panel.index}")
-        for panel, picture in zip(panels, pictures)) + "</div>")
+        page.slice_figure(panel, picture, panel.caption()) for panel, picture in zip(panels, pictures)) + "</div>")
 
     if content.path_rows:
         rows = []
@@ -490,6 +543,23 @@ def _fa_of_tensors(tensors, parameters, mask):
     return field
 
 
+def _fod_grid(distance, labels, mask):
+    """The grid of an FOD run's page and its background: the distance map's
+    grid (distance and path runs) or the labels' (connectivity), and the
+    mask (0.3 inside) or nothing, since an FOD has no FA."""
+    source, role = (distance, "distance map") if distance is not None else (labels, "label")
+    if source is None:
+        raise ReportError("the page of an FOD run draws its distance map or its labels: give --distance or --labels")
+    image = _load_nifti(source, role)
+    shape = tuple(int(n) for n in image.shape[:3])
+    background = np.zeros(shape)
+    text = "none: an FOD run has no tensors (black background)"
+    if mask is not None:
+        background = 0.3 * (_on_grid(_load_nifti(mask, "mask"), mask, "mask", image.affine, shape) != 0)
+        text = "none: an FOD run has no tensors (the mask in grey)"
+    return image.affine, shape, background, text
+
+
 def _content_from_files(statistics_path, distance, paths, paths_table, table, labels, fa):
     try:
         statistics = json.loads(read_regular_text(statistics_path, RECORD_BYTES))
@@ -508,18 +578,26 @@ def _content_from_files(statistics_path, distance, paths, paths_table, table, la
     kind = statistics.get("command", "distance")
     tensors = _resolve(statistics["input"], folder)
     mask = _resolve(parameters.get("mask"), folder)
-    field = _fa_of_tensors(tensors, parameters, mask)
-    affine, shape = field.affine, field.shape
+    if distance is None and kind == "distance":
+        distance = _resolve(statistics.get("output"), folder)
+    if kind == "connectivity":
+        labels = labels or _resolve(parameters.get("labels"), folder)
+    if parameters.get("metric") == "fod":
+        # An FOD image has no tensors and no FA: the grid is the run's
+        # distance map's (or its labels'), on the FOD's grid by construction.
+        affine, shape, background, fa_source = _fod_grid(distance, labels, mask)
+    else:
+        field = _fa_of_tensors(tensors, parameters, mask)
+        affine, shape = field.affine, field.shape
+        background = None
+        fa_source = "computed from the tensors (0 outside the domain)"
     if fa is not None:
         fa_data = _on_grid(_load_nifti(fa, "FA"), fa, "FA", affine, shape).astype(np.float64)
         fa_source = f"the image {fa}"
     else:
-        fa_data = np.array(field.fractional_anisotropy, dtype=np.float64)
-        fa_source = "computed from the tensors (0 outside the domain)"
+        fa_data = background if background is not None else np.array(field.fractional_anisotropy, dtype=np.float64)
     content = _RunContent(kind, statistics, affine, shape, fa_data, fa_source)
 
-    if distance is None and kind == "distance":
-        distance = _resolve(statistics.get("output"), folder)
     if distance is not None:
         values = _on_grid(_load_nifti(distance, "distance map"), distance, "distance map", affine, shape)
         values = values.astype(np.float64)
@@ -534,6 +612,10 @@ def _content_from_files(statistics_path, distance, paths, paths_table, table, la
         content.seed_region = _on_grid(_load_nifti(seed_labels, "seed label"), seed_labels, "seed label", affine,
                                        shape) != 0
         content.seeds = np.zeros((0, 3), np.int64)  # the region is drawn instead of the first 100 voxels
+    target_labels = _resolve(parameters.get("target_labels"), folder)
+    if target_labels:
+        content.target_region = _on_grid(_load_nifti(target_labels, "target label"), target_labels, "target label",
+                                         affine, shape) != 0
 
     if kind == "path" and paths is None:
         paths = _resolve(outputs.get("paths"), folder)
@@ -548,12 +630,12 @@ def _content_from_files(statistics_path, distance, paths, paths_table, table, la
         table = _resolve(statistics.get("output"), folder)
     if table is not None:
         content.connectivity = connectivity_from_table(table)
-        labels = labels or _resolve(parameters.get("labels"), folder)
     if labels is not None:
         content.regions = _on_grid(_load_nifti(labels, "label"), labels, "label", affine, shape).astype(np.int64)
-    inputs = {"tensor input": tensors, "statistics file": statistics_path, "distance map": distance, "paths": paths,
+    inputs = {"FOD input" if parameters.get("metric") == "fod" else "tensor input": tensors,
+              "statistics file": statistics_path, "distance map": distance, "paths": paths,
               "paths table": paths_table, "connectivity table": table, "label image": labels, "FA image": fa,
-              "mask": mask, "seed labels": seed_labels}
+              "mask": mask, "seed labels": seed_labels, "target labels": target_labels}
     return content, inputs
 
 
@@ -590,6 +672,16 @@ def write_run_report(output, statistics, *, distance=None, paths=None, paths_tab
 # From Python objects
 
 
+def _tensor_parameters(info):
+    """How the tensors of a run from Python were given and read, as its
+    field recorded it (``tensor_info``): the page states what the run had."""
+    return {"tensor_input": info["input_kind"], "tensor_layout": info["layout"], "tensor_order": info["order"],
+            "tensor_order_stated": info["order_was_stated"], "tensor_frame": info["frame"],
+            "tensor_frame_stated": info["frame_was_stated"], "tensor_kind": info["tensor_kind"],
+            "diffusion_metric": info["diffusion_metric"], "metric_formula": info["metric_formula"],
+            "max_anisotropy": info["max_anisotropy"], "fa_threshold": info["fa_threshold"], "mask": info["mask"]}
+
+
 def _statistics_of_propagation(result, kind, command_line, name):
     counts = dict(result.voxel_counts)
     info = result.tensor_info
@@ -598,10 +690,8 @@ def _statistics_of_propagation(result, kind, command_line, name):
     statistics = {
         "command": kind, "stvd_version": __version__, "command_line": command_line, "input": name,
         "parameters": {"method": result.method, "k": result.k, "chain_measure": result.chain_measure,
-                       "stencil": result.stencil, "tensor_layout": info["layout"], "tensor_order": info["order"],
-                       "tensor_frame": info["frame"], "tensor_frame_stated": info["frame_was_stated"],
-                       "tensor_kind": info["tensor_kind"], "metric_formula": info["metric_formula"],
-                       "mask": info["mask"]},
+                       "stencil": result.stencil, "domain_connectivity": int(result.domain_connectivity),
+                       **_tensor_parameters(info)},
         "seeds": [{"voxel": [int(c) for c in seed]} for seed in np.asarray(result.seeds)[:100]],
         "seed_count": int(len(result.seeds)),
         "label_seeds_left_out": int(result.label_seeds_left_out),
@@ -624,15 +714,22 @@ def _input_name(tensors):
     return "an array"
 
 
-def write_report(output, result=None, *, paths=None, connectivity=None, labels=None, tensors=None, fa=None,
-                 subject=None, convention="neurological", command_line=None):
+def write_report(output, result=None, *, paths=None, connectivity=None, labels=None, tensors=None, affine=None,
+                 mask=None, tensor_order=None, tensor_frame=None, tensor_kind=None, diffusion_metric=None,
+                 max_anisotropy=None, fa_threshold=None, accept_implausible_tensors=False,
+                 accept_misaligned_tensors=False, fa=None, subject=None, convention="neurological", command_line=None,
+                 target_labels=None):
     """The report page of a run made from Python.
 
     result: the ``stvd.Propagation`` of ``stvd.propagate`` (the distance map,
-        seeds, statistics and grid); ``tensors`` (what ``stvd.distance``
-        takes, with ``affine=`` given through ``stvd.propagate`` instead) is
-        enough for a connectivity-only page.
-    paths: the ``stvd.Paths`` of ``stvd.trace_paths``.
+        seeds, statistics and grid); ``tensors`` is enough for a
+        connectivity-only page: what ``stvd.distance`` takes, with the same
+        keywords (``affine=`` for an array, ``tensor_order``, ``mask``, ...);
+        without them the tensors are read as the connectivity run read them.
+        With ``result`` the tensors and their options are the result's.
+    paths: the ``stvd.Paths`` of ``stvd.trace_paths``; ``target_labels``: the
+        label image its ``target_labels=`` were (path, NiBabel image or array
+        on the grid), outlined on the slices.
     connectivity, labels: the ``stvd.Connectivity`` of ``stvd.connectivity``
         and its label image (path, NiBabel image or array on the grid).
     fa: an FA array or image on the grid; computed from the tensors otherwise.
@@ -651,21 +748,37 @@ def write_report(output, result=None, *, paths=None, connectivity=None, labels=N
     if command_line is None:
         command_line = "python3 " + " ".join(sys.argv)
     kind = "connectivity" if connectivity is not None and paths is None else ("path" if paths is not None else "distance")
-    outputs = _report_output(output, {"tensor input": tensors, "label image": labels, "FA image": fa})
+    outputs = _report_output(output, {"tensor input": tensors, "mask": mask, "label image": labels, "FA image": fa,
+                                      "target labels": target_labels})
 
+    tensor_options = dict(tensor_order=tensor_order, tensor_frame=tensor_frame, tensor_kind=tensor_kind,
+                          diffusion_metric=diffusion_metric, max_anisotropy=max_anisotropy, fa_threshold=fa_threshold)
     if result is not None:
+        if mask is not None or accept_implausible_tensors or accept_misaligned_tensors or any(
+                v is not None for v in tensor_options.values()):
+            raise ValueError("write_report: the tensor options come from the stvd.Propagation given (result=)")
         field = result._result.field
-        name = _input_name(tensors) if tensors is not None else field.name
-        statistics = _statistics_of_propagation(result, kind, command_line, name)
-    else:
-        field = tensor_field(tensors, None, None, {})
-        name = _input_name(tensors)
+        if affine is not None and not np.allclose(np.asarray(affine, np.float64), field.affine, atol=1e-4):
+            raise ValueError("affine: not the affine of the stvd.Propagation given (result=)")
         info = field.tensor_info
-        statistics = {"command": kind, "stvd_version": __version__, "command_line": command_line, "input": name,
-                      "parameters": {"tensor_layout": info["layout"], "tensor_order": info["order"],
-                                     "tensor_frame": info["frame"], "tensor_frame_stated": info["frame_was_stated"],
-                                     "metric_formula": info["metric_formula"]},
-                      "voxels": dict(field.voxel_counts)}
+        statistics = _statistics_of_propagation(result, kind, command_line, info["input"])
+    else:
+        # The grid and FA from the tensors, read as the connectivity run read
+        # them; what the page states about the run is that run's record.
+        # Options given here are taken as given (an array's affine= too).
+        info = getattr(connectivity, "tensor_info", None)
+        options = dict(tensor_options, accept_implausible_tensors=bool(accept_implausible_tensors),
+                       accept_misaligned_tensors=bool(accept_misaligned_tensors))
+        if info is not None and all(v is None for v in tensor_options.values()):
+            options.update({"accept_implausible_tensors": True, "accept_misaligned_tensors": True,
+                            "tensor_order": info["order"] if info["order_was_stated"] else None,
+                            "tensor_frame": info["frame"] if info["frame_was_stated"] else None,
+                            "tensor_kind": info["tensor_kind"]})
+        field = tensor_field(tensors, affine, mask, options)
+        info = info or field.tensor_info
+        statistics = {"command": kind, "stvd_version": __version__, "command_line": command_line,
+                      "input": info["input"], "parameters": _tensor_parameters(info),
+                      "voxels": dict(getattr(connectivity, "voxel_counts", None) or field.voxel_counts)}
     affine, shape = field.affine, field.shape
     if fa is not None:
         fa_data, fa_source = _array_on_grid(fa, "fa", affine, shape).astype(np.float64), "given"
@@ -685,6 +798,8 @@ def write_report(output, result=None, *, paths=None, connectivity=None, labels=N
         content.path_rows = [{"path": str(n + 1), "target": paths.targets[n], "geodesic_mm": float(paths.geodesic_mm[n]),
                               "euclidean_mm": float(paths.euclidean_mm[n]), "mean_fa": float(paths.mean_fa[n]),
                               "fallbacks": fallbacks[n]} for n in range(len(paths))]
+    if target_labels is not None:
+        content.target_region = _array_on_grid(target_labels, "target_labels", affine, shape) != 0
     if connectivity is not None:
         content.connectivity = {"labels": [int(v) for v in connectivity.labels],
                                 "geodesic_mm": np.asarray(connectivity.geodesic_mm),
@@ -693,7 +808,9 @@ def write_report(output, result=None, *, paths=None, connectivity=None, labels=N
                                  "left_out": int(getattr(connectivity, "labels_left_out", 0))}
         if labels is not None:
             content.regions = _array_on_grid(labels, "labels", affine, shape).astype(np.int64)
-    subject = subject or _subject_of(name)
+    # Named after the tensors' file; a run on an array is just "run".
+    subject = subject or _subject_of(field.name if field.tensor_info["input_kind"] == "file" or
+                                     field.name != "tensors" else None)
     text, summary = _render(content, subject, convention)
     _write(outputs, output, text)
     return summary
@@ -712,6 +829,15 @@ def _array_on_grid(value, name, affine, shape):
 
 # ---------------------------------------------------------------------------
 # The cohort index
+
+
+def status_tally(counts):
+    """'2 ok, 1 with a warning, 3 with warnings, 1 failed' from {status: count}."""
+    def words(status, n):
+        if status == "warnings":
+            return f"{n} with {'a warning' if n == 1 else 'warnings'}"
+        return f"{n} {status}"
+    return ", ".join(words(status, n) for status, n in sorted(counts.items()))
 
 
 def _summary_of_page(path):
@@ -816,13 +942,13 @@ def write_cohort_index(output, subjects, *, title="stvd cohort"):
             detail = "its page lies outside the index's folder and is not linked" + (f"; {detail}" if detail else "")
         warnings = entry.get("warnings")
         if isinstance(warnings, int) and not isinstance(warnings, bool) and warnings:
-            detail = f"{warnings} warnings" + (f"; {detail}" if detail else "")
+            detail = f"{warnings} warning{'' if warnings == 1 else 's'}" + (f"; {detail}" if detail else "")
         figures = entry.get("figures") if isinstance(entry.get("figures"), dict) else {}
         rows.append([name, page.status_badge(status), picture, detail] +
                     [figures.get(key, "") for key in figure_keys])
     header = ["subject", "status", "axial slice", "warnings or error"] + [_FIGURE_LABELS.get(k, k) for k in figure_keys]
-    tally = ", ".join(f"{n} {status}" for status, n in sorted(counts.items()))
-    body = (f"<h1>{page.escape(title)}</h1><p id=\"stvd-cohort-counts\">{len(entries)} subjects: {page.escape(tally)}."
+    body = (f"<h1>{page.escape(title)}</h1><p id=\"stvd-cohort-counts\">{len(entries)} "
+            f"subject{'' if len(entries) == 1 else 's'}: {page.escape(status_tally(counts))}."
             f" Made by stvd {page.escape(__version__)} on {datetime.datetime.now().strftime('%Y-%m-%d %H:%M')}.</p>"
             + "<div class=\"cohort\">" + page.table(header, rows, "stvd-cohort", raw_columns=(0, 1, 2)) + "</div>")
     _write(outputs, output, page.page(title, body))
@@ -971,7 +1097,7 @@ def main(argv=None):
             raise ReportError("report: no output: add -o REPORT.html", EXIT_USAGE)
         if arguments.index:
             counts = cohort_index_from_folder(arguments.index, arguments.output)
-            message = f"Wrote the cohort index {arguments.output}: " + ", ".join(f"{n} {s}" for s, n in counts.items())
+            message = f"Wrote the cohort index {arguments.output}: " + status_tally(counts)
         else:
             if not arguments.stats:
                 raise ReportError("report: no run: add --stats RUN.json (or --index FOLDER)", EXIT_USAGE)

@@ -123,10 +123,10 @@ TEST(OptionDeclarations, OneMessageFormPerProblemInFlagsOrKeywords) {
   EXPECT_EQ(keywordMessage(propagationOption("--max-distance"), HUGE_VAL), "");
   const OptionDeclaration* metric = findOption(meshOptionDeclarations(), "--metric");
   EXPECT_EQ(messageOf([&] { parseOptionText(*metric, "field"); }),
-            "--metric: 'field' is not one of isotropic, curvature, field:FILE, tensors:FILE, face-tensors:FILE");
+            "--metric: 'field' is not one of isotropic, curvature, field:FILE, tensors:FILE, face-tensors:FILE, scale:FILE");
   EXPECT_EQ(std::get<std::string>(parseOptionText(*metric, "field:f.txt")), "field:f.txt");
   EXPECT_EQ(keywordMessage(*metric, std::string("field:f.txt")),
-            "metric: 'field:f.txt' is not one of isotropic, curvature, field, tensors, face-tensors");
+            "metric: 'field:f.txt' is not one of isotropic, curvature, field, tensors, face-tensors, scale");
   EXPECT_EQ(keywordMessage(*metric, std::string("field")), "");
 }
 

@@ -13,6 +13,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <stdexcept>
 #include <limits>
 #include <string>
 #include <vector>
@@ -21,10 +23,12 @@
 #include "method_cases.hpp"
 #include "relative_error.hpp"
 #include "scenes.hpp"
+#include "stvd/propagation/predecessor_path.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
 #include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 #include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
+#include "stvd/voxel_grid/path_tracing.hpp"
 
 namespace stvd {
 namespace {
@@ -292,6 +296,35 @@ TEST(SteinerGrid, ConstantRandersNormConvergesFromAbove) {
   }
   // Measured at M = 4: mean 0.0040.
   EXPECT_LE(previous, 0.0056);
+}
+
+// A Steiner-point result keeps no predecessors (its paths run through
+// Steiner points): every way of tracing a path from it says so instead of
+// returning an empty or wrong path.
+TEST(SteinerGrid, TracingAPathFromASteinerResultIsAClearError) {
+  const GridGeometry geometry = test::obliqueGrid({6, 5, 4});
+  const VoxelGridDomain domain(geometry, Stencil::full26());
+  const RiemannianMetric metric = RiemannianMetric::constant(domain.vertexCount(), {1, 0, 0, 1, 0, 1});
+  const LanthierResult r = lanthierPropagate(domain, metric, {0}, withSteinerPoints(2));
+  const VertexId target = domain.vertexAt(5, 4, 3);
+  ASSERT_TRUE(std::isfinite(r.distance[target]));
+  EXPECT_FALSE(r.hasPredecessors);
+  auto expectRefused = [](const std::function<void()>& f) {
+    try {
+      f();
+      ADD_FAILURE() << "no exception";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("keeps no predecessors"), std::string::npos) << e.what();
+    }
+  };
+  expectRefused([&] { predecessorPath(r, target); });
+  expectRefused([&] { predecessorPath(r, 0); });
+  expectRefused([&] { discreteGeodesicPath(domain, r, target); });
+  expectRefused([&] { traceGeodesicPath(domain, metric, r, target); });
+  // A Dijkstra or STVD result of the same scene keeps them.
+  const PropagationResult d = propagate(domain, metric, {0});
+  EXPECT_TRUE(d.hasPredecessors);
+  EXPECT_EQ(predecessorPath(d, target).front(), 0u);
 }
 
 }  // namespace

@@ -144,24 +144,25 @@ TEST(SteinerStop, SeveralSourcesGiveTheMinimumOfTheSingleSourceFields) {
     EXPECT_EQ(both.distance[v], std::min(fromA.distance[v], fromB.distance[v])) << "vertex " << v;
 }
 
-TEST(SteinerStop, ProgressCallbackCanCancel) {
-  // 14^3 voxels with 61 graph points each: progress is reported every
-  // 65536 points, so there are two reports before the end.
+TEST(SteinerStop, ProgressCallbackCanCancelAndACancelledRunHoldsNoDistances) {
+  // 14^3 voxels with 61 graph points each; a report every 1024 points (the
+  // interval made zero), cancelled at the third.
   const VoxelGridDomain domain(test::obliqueGrid({14, 14, 14}), Stencil::full26());
   const RiemannianMetric metric = RiemannianMetric::constant(domain.vertexCount(), test::toSymTensor(test::Mat3{}));
   LanthierOptions o = withSteinerPoints(4);
+  o.progressInterval = 0.0;
   int calls = 0;
   o.progress = [&calls](const PropagationProgress& p) {
-    // Voxels, not graph points: 65536 points hold about 65536 / 61 voxels.
+    // Voxels, not graph points: 1024 points hold about 1024 / 61 voxels.
     EXPECT_EQ(p.domainVertices, 14u * 14u * 14u);
-    EXPECT_GT(p.finalizedVertices, 0u);
-    EXPECT_LT(p.finalizedVertices, 65536u * (calls + 1) / 20);
-    return ++calls < 2;
+    EXPECT_LE(p.finalizedVertices, 1024u * static_cast<unsigned>(calls) / 20);
+    return ++calls < 3;
   };
   const LanthierResult r = lanthierPropagate(domain, metric, {0}, o);
   EXPECT_EQ(r.termination, Termination::Cancelled);
-  EXPECT_EQ(calls, 2);
+  EXPECT_EQ(calls, 3);
   EXPECT_LT(r.finalizedVertices, domain.vertexCount());
+  for (double d : r.distance) ASSERT_EQ(d, kUnreachable);
 }
 
 }  // namespace

@@ -141,27 +141,67 @@ TEST_P(StopConditions, TargetsStopTheRunOnceAllAreFinal) {
   }
 }
 
-TEST_P(StopConditions, ProgressCallbackCanCancel) {
-  const PropagationResult& full = fullRun();
-  int calls = 0;
-  PropagationOptions o = options();
-  o.progress = [&](const PropagationProgress& p) {
-    ++calls;
-    EXPECT_EQ(p.domainVertices, domain_.vertexCount());
-    EXPECT_EQ(p.finalizedVertices, 65536u);
-    return false;
+TEST_P(StopConditions, ProgressCallbackCanCancelAndACancelledRunHoldsNoDistances) {
+  // Cancelled at the first report (the start) and at a later one (the
+  // interval made zero, so that a report comes every 1024 vertices): the
+  // result says Cancelled and holds no distances, whatever the front had
+  // reached; the counters say how far it came.
+  for (const int cancelAt : {1, 3}) {
+    SCOPED_TRACE(cancelAt);
+    int calls = 0;
+    PropagationOptions o = options();
+    o.progressInterval = 0.0;
+    o.progress = [&](const PropagationProgress& p) {
+      EXPECT_EQ(p.domainVertices, domain_.vertexCount());
+      return ++calls < cancelAt;
+    };
+    const PropagationResult cancelled = run(o);
+    EXPECT_EQ(calls, cancelAt);
+    EXPECT_EQ(cancelled.termination, Termination::Cancelled);
+    EXPECT_EQ(cancelled.finalizedVertices, cancelAt == 1 ? 0u : 2048u);
+    for (VertexId v = 0; v < domain_.vertexCount(); ++v) {
+      ASSERT_EQ(cancelled.distance[v], kUnreachable) << "vertex " << v;
+      ASSERT_EQ(cancelled.predecessor[v], kNoVertex) << "vertex " << v;
+    }
+  }
+}
+
+TEST_P(StopConditions, AnInterrupterHearsStartProgressAndEndAndCanStop) {
+  struct Recorder : Interrupter {
+    std::vector<std::string> events;
+    int stopAtPercent = 101;
+    void start(const char* name) override { events.push_back(std::string("start ") + name); }
+    void end() override { events.push_back("end"); }
+    bool wasInterrupted(int percent) override {
+      events.push_back(std::to_string(percent));
+      return percent >= stopAtPercent;
+    }
   };
-  const PropagationResult cancelled = run(o);
-  EXPECT_EQ(calls, 1);
-  EXPECT_EQ(cancelled.termination, Termination::Cancelled);
-  EXPECT_EQ(cancelled.finalizedVertices, 65536u);
-  expectPrefixOfFullRun(cancelled, full);
+  Recorder all;
+  PropagationOptions o = options();
+  o.interrupter = &all;
+  EXPECT_EQ(run(o).termination, Termination::Completed);
+  ASSERT_GE(all.events.size(), 4u);
+  EXPECT_EQ(all.events.front(), "start propagation");
+  EXPECT_EQ(all.events[1], "0");
+  EXPECT_EQ(all.events[all.events.size() - 2], "100");
+  EXPECT_EQ(all.events.back(), "end");
+
+  Recorder stopping;
+  stopping.stopAtPercent = 10;
+  o.interrupter = &stopping;
+  o.progressInterval = 0.0;
+  const PropagationResult stopped = run(o);
+  EXPECT_EQ(stopped.termination, Termination::Cancelled);
+  EXPECT_EQ(stopping.events.back(), "end");
+  EXPECT_LT(stopped.finalizedVertices, domain_.vertexCount() / 10 + 1025);
 }
 
 TEST_P(StopConditions, ProgressCallbackReportsWithoutChangingTheResult) {
   const PropagationResult& full = fullRun();
   std::vector<PropagationProgress> reports;
   PropagationOptions o = options();
+  o.progressInterval = 0.0;  // a report every 1024 finalised vertices
   o.progress = [&](const PropagationProgress& p) {
     reports.push_back(p);
     return true;
@@ -171,17 +211,42 @@ TEST_P(StopConditions, ProgressCallbackReportsWithoutChangingTheResult) {
   EXPECT_EQ(std::memcmp(observed.distance.data(), full.distance.data(),
                         full.distance.size() * sizeof(double)),
             0);
-  // 48^3 = 110592 vertices: one report, at 65536 finalised vertices.
-  ASSERT_EQ(reports.size(), 1u);
-  EXPECT_EQ(reports[0].finalizedVertices, 65536u);
-  EXPECT_GT(reports[0].frontDistance, 0.0);
-  EXPECT_LE(reports[0].frontDistance, *std::max_element(full.distance.begin(), full.distance.end()));
+  // 48^3 = 110592 vertices: the start, one report per 1024, the end.
+  ASSERT_EQ(reports.size(), 2u + 110592u / 1024u);
+  EXPECT_EQ(reports.front().finalizedVertices, 0u);
+  EXPECT_EQ(reports.front().fraction, 0.0);
+  EXPECT_EQ(reports.back().finalizedVertices, 110592u);
+  EXPECT_EQ(reports.back().fraction, 1.0);
+  for (std::size_t n = 1; n + 1 < reports.size(); ++n) {
+    EXPECT_EQ(reports[n].finalizedVertices, 1024u * n);
+    if (GetParam().method == Method::Dijkstra) {
+      EXPECT_GE(reports[n].frontDistance, reports[n - 1].frontDistance);
+    }
+    EXPECT_LE(reports[n].frontDistance, *std::max_element(full.distance.begin(), full.distance.end()));
+  }
   if (GetParam().method == Method::Dijkstra) {
     // Dijkstra's 65536th finalised vertex is the 65536th smallest distance.
     std::vector<double> sorted = full.distance;
     std::sort(sorted.begin(), sorted.end());
-    EXPECT_EQ(reports[0].frontDistance, sorted[65535]);
+    EXPECT_EQ(reports[64].frontDistance, sorted[65535]);
   }
+}
+
+TEST_P(StopConditions, ReportsComeAtIntervalsInTimeNotInVertices) {
+  // With the default interval (0.05 s) a run this small reports only at its
+  // start and its end; the pacing costs one look at the clock per 1024
+  // vertices (bench/propagation_speed.cpp measures that it costs nothing).
+  std::vector<PropagationProgress> reports;
+  PropagationOptions o = options();
+  o.progressInterval = 3600.0;
+  o.progress = [&](const PropagationProgress& p) {
+    reports.push_back(p);
+    return true;
+  };
+  run(o);
+  ASSERT_EQ(reports.size(), 2u);
+  EXPECT_EQ(reports[0].fraction, 0.0);
+  EXPECT_EQ(reports[1].fraction, 1.0);
 }
 
 TEST_P(StopConditions, PredecessorChainsLeadBackToASource) {

@@ -2,6 +2,8 @@
 // propagation prefetches must hold every neighbour the grid reports.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "scenes.hpp"
@@ -44,6 +46,32 @@ TEST(VoxelGridNeighbourRuns, HoldEveryNeighbourOfTheRadius3StencilOnAGridThinner
 
 TEST(VoxelGridNeighbourRuns, HoldEveryNeighbourOfASingleRow) {
   expectRunsHoldEveryNeighbour(VoxelGridDomain(test::obliqueGrid({7, 1, 1}), Stencil::faces6()));
+}
+
+}  // namespace
+}  // namespace stvd
+
+namespace stvd {
+namespace {
+
+// An index past an edge of the image is refused, not read as another voxel:
+// in linear order (nx, 0, 0) would be (0, 1, 0).
+TEST(VoxelGridDomainIndex, AnIndexOutsideTheImageIsRefused) {
+  const VoxelGridDomain domain(test::obliqueGrid({5, 4, 3}), Stencil::full26());
+  EXPECT_EQ(domain.vertexAt(4, 3, 2), domain.vertexCount() - 1);
+  EXPECT_EQ(domain.vertexAt(0, 1, 0), 5u);
+  EXPECT_THROW(domain.vertexAt(5, 0, 0), std::out_of_range);
+  EXPECT_THROW(domain.vertexAt(0, 4, 0), std::out_of_range);
+  EXPECT_THROW(domain.vertexAt(0, 0, 3), std::out_of_range);
+  EXPECT_THROW(domain.vertexAt(-1, 0, 0), std::out_of_range);
+  try {
+    domain.vertexAt(5, 0, 0);
+  } catch (const std::out_of_range& e) {
+    EXPECT_NE(std::string(e.what()).find("(5, 0, 0) is outside the image of 5 x 4 x 3 voxels"), std::string::npos)
+        << e.what();
+  }
+  // The unchecked accessor stays for loops that stay inside by construction.
+  EXPECT_EQ(domain.vertexAtUnchecked(5, 0, 0), domain.vertexAtUnchecked(0, 1, 0));
 }
 
 }  // namespace

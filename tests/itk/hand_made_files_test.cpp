@@ -7,6 +7,7 @@
 #include "known_field.hpp"
 #include "stvd/errors.hpp"
 #include "stvd/imaging/tensor_metric.hpp"
+#include "stvd/itk/image_grid.hpp"
 #include "stvd/itk/tensor_volume_io.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/voxel_grid/voxel_grid_propagation.hpp"
@@ -106,6 +107,18 @@ TEST_F(HandMadeFiles, NrrdInRasSpaceGivesTheSameGridAndTensorsInLps) {
       readTensorVolume(nrrd("ras.nrrd", "right-anterior-superior", field.measurementFrameMetric(), &frame));
   EXPECT_EQ(read.info.nrrdSpace, "right-anterior-superior");
   expectKnownField(read);
+}
+
+TEST_F(HandMadeFiles, NrrdInLasSpaceGivesTheSameGridAndTensorsInLps) {
+  // Left-anterior-superior differs from LPS in y alone. ITK 5.2 reads such a
+  // header as if x were flipped (its NrrdImageIO's LAS case), which mirrors
+  // the grid; stvd reads it as the NRRD format defines it.
+  const Matrix3 frame = field.measurementFrameLps;
+  const TensorReadResult read =
+      readTensorVolume(nrrd("las.nrrd", "left-anterior-superior", field.measurementFrameMetric(), &frame));
+  EXPECT_EQ(read.info.nrrdSpace, "left-anterior-superior");
+  expectKnownField(read);
+  EXPECT_EQ(readImageGrid(path("las.nrrd")).origin, read.volume.geometry.origin);
 }
 
 TEST_F(HandMadeFiles, NrrdWithoutAMeasurementFrameHasItsComponentsInItsSpace) {

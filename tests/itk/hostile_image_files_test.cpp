@@ -195,6 +195,39 @@ TEST_F(HostileImageFiles, AsciiNrrdWithALongTokenOrNulBytesIsRefused) {
                 path("short.nrrd"), "hold 3 values where the header needs 693");
 }
 
+TEST_F(HostileImageFiles, NrrdFieldsThatNrrdIoCannotParseSafelyAreRefusedBeforeItSeesThem) {
+  // NrrdIO quotes a value it cannot parse in an error message of about 1 KB
+  // on the stack: a field line of 1,000 bytes ended in "buffer overflow
+  // detected", SIGABRT. A second "type" hid a long first one from the screen
+  // (it kept the last; NrrdIO parses the first), and unknown fields were let
+  // through to NrrdIO, which quotes them too.
+  const std::string longValue(2000, '1');
+  const auto refusedAsMask = [&](const std::string& name, const std::string& bytes, const std::string& problem) {
+    writeBytes(path(name), bytes);
+    expectRefused({"distance", path("tensors.nii"), "--seed-voxel=5,4,3", "--mask", path(name)}, path(name), problem);
+  };
+  refusedAsMask("long-labels.nrrd", nrrdHeader("11 9 7", "raw", "labels: \"" + longValue + "\"\n"),
+                "the NRRD field \"labels\" is longer than 512 bytes");
+  refusedAsMask("long-first-type.nrrd",
+                "NRRD0004\ntype: fl" + longValue + "\n" + nrrdHeader("11 9 7", "raw").substr(9),
+                "the NRRD field \"type\" is longer than 512 bytes");
+  refusedAsMask("two-types.nrrd", "NRRD0004\ntype: flaot\n" + nrrdHeader("11 9 7", "raw").substr(9),
+                "the NRRD field \"type\" is given twice");
+  refusedAsMask("unknown.nrrd", nrrdHeader("11 9 7", "raw", longValue + ": 1\n"), "is not a NRRD field");
+  refusedAsMask("spelled-twice.nrrd", nrrdHeader("11 9 7", "raw", "lineskip: 0\nline skip: 0\n"),
+                "the NRRD field \"line skip\" is given twice");
+  // What real headers hold stays readable: long content and comments, key/value
+  // pairs, NrrdIO's other spellings of a field.
+  const std::string fine = nrrdHeader("11 9 7", "raw", "content: " + longValue + "\n#" + longValue + "\nkey:=" +
+                                                           longValue + "\nbyteskip: 0\n") +
+                           std::string(11 * 9 * 7 * 4, '\0');
+  writeBytes(path("fine.nrrd"), fine);
+  const ToolRun run = runTool({"distance", path("tensors.nii"), "--seed-voxel=5,4,3", "--mask", path("fine.nrrd"), "-o",
+                               path("out.nii.gz"), "-q"});
+  EXPECT_NE(run.err.find("the domain is empty"), std::string::npos) << run.err;  // an all-zero mask, read
+  EXPECT_EQ(run.err.find("NRRD"), std::string::npos) << run.err;
+}
+
 TEST_F(HostileImageFiles, DataFileThatIsADeviceOrAbsurdSkipsAreRefused) {
   writeBytes(path("device.nhdr"), nrrdHeader("11 9 7", "raw", "data file: /dev/zero\nline skip: 100000000000\n"));
   expectRefused({"distance", path("tensors.nii"), "--seed-voxel=5,4,3", "--mask", path("device.nhdr")},

@@ -47,16 +47,21 @@ TEST(TensorInputOptions, TheGivenOptionsMakeTheReadersOptionsAndSpeakTheFrontEnd
   OptionValues values(OptionNaming::Keywords);
   values.set(tensorInputOption("--tensor-order"), std::string("upper"));
   values.set(tensorInputOption("--tensor-kind"), std::string("metric"));
-  values.set(tensorInputOption("--fa-threshold"), 0.2);
   const TensorInputOptions options = tensorInputOptionsOf(values);
   EXPECT_EQ(options.order, TensorOrder::Fsl);
   EXPECT_EQ(options.metric.kind, TensorKind::Metric);
+  // The reader checks the combination too, so that every front end that
+  // reads these options (distance, path, connectivity, Python) refuses it.
+  values.set(tensorInputOption("--fa-threshold"), 0.2);
   try {
-    checkTensorInputOptions(options);
+    tensorInputOptionsOf(values);
     ADD_FAILURE() << "an FA threshold on metric tensors was accepted";
   } catch (const OptionError& e) {
     EXPECT_EQ(std::string(e.what()), "fa_threshold applies to tensor_kind='diffusion' only");
   }
+  TensorInputOptions metricWithThreshold = options;
+  metricWithThreshold.metric.faThreshold = 0.2;
+  EXPECT_THROW(checkTensorInputOptions(metricWithThreshold), OptionError);
   try {
     values.set(tensorInputOption("--max-anisotropy"), 0.5);
     ADD_FAILURE() << "a cap below 1 was accepted";

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "stvd/imaging/symmetric_eigen.hpp"
 #include "stvd/imaging/tensor_frames.hpp"
@@ -159,4 +161,27 @@ TEST(FractionalAnisotropy, IsZeroForIsotropicOneForALineAndAboveOneWithANegative
 }
 
 }  // namespace
+// Building the metric reports to an Interrupter (start, 0 %, 100 %, end)
+// and stops when asked, with Cancelled: there is no partial metric.
+TEST(MetricInterruption, BuildingTheMetricReportsAndCanBeStopped) {
+  struct Recorder : Interrupter {
+    std::vector<std::string> events;
+    bool stop = false;
+    void start(const char* name) override { events.push_back(std::string("start ") + name); }
+    void end() override { events.push_back("end"); }
+    bool wasInterrupted(int percent) override {
+      events.push_back(std::to_string(percent));
+      return stop;
+    }
+  };
+  const std::vector<SymTensor3> tensors(5000, SymTensor3{1, 0, 0, 2, 0, 3});
+  Recorder all;
+  EXPECT_EQ(buildMetric(tensors, {}, MetricOptions{}, &all).counts.domain, 5000u);
+  EXPECT_EQ(all.events, (std::vector<std::string>{"start metric", "0", "100", "end"}));
+  Recorder stopping;
+  stopping.stop = true;
+  EXPECT_THROW(buildMetric(tensors, {}, MetricOptions{}, &stopping), Cancelled);
+  EXPECT_EQ(stopping.events.back(), "end");
+}
+
 }  // namespace stvd::imaging

@@ -124,8 +124,8 @@ void writeTensorNrrdByHand(const std::string& path, const HandGeometry& g, const
                            const std::vector<SymTensor3>& components, const Matrix3* measurementFrameLps,
                            const std::vector<float>& confidence, bool gzip) {
   if (gzip) throw std::invalid_argument("the hand-written NRRD is raw only");
-  const bool ras = space == "right-anterior-superior";
-  const double flip[3] = {ras ? -1.0 : 1.0, ras ? -1.0 : 1.0, 1.0};  // LPS -> file space
+  const bool ras = space == "right-anterior-superior", las = space == "left-anterior-superior";
+  const double flip[3] = {ras ? -1.0 : 1.0, ras || las ? -1.0 : 1.0, 1.0};  // LPS -> file space
   const bool masked = !confidence.empty();
   std::ofstream out(path, std::ios::binary);
   out << "NRRD0005\n# written by the stvd tests, byte by byte\n";

@@ -62,9 +62,9 @@ struct HandGeometry {
 };
 
 /// Writes a tensor NRRD: text header plus raw little-endian float32 data,
-/// component axis first. `space` is "left-posterior-superior" or
-/// "right-anterior-superior" (geometry and measurement frame are converted
-/// into it); an empty `measurementFrameLps` leaves the field out.
+/// component axis first. `space` is "left-posterior-superior",
+/// "right-anterior-superior" or "left-anterior-superior" (geometry and
+/// measurement frame are converted into it); an empty `measurementFrameLps` leaves the field out.
 /// `confidence` non-empty writes kind 3D-masked-symmetric-matrix.
 void writeTensorNrrdByHand(const std::string& path, const HandGeometry& g, const std::string& space,
                            const std::vector<SymTensor3>& componentsInFileFrame,

@@ -422,7 +422,7 @@ TEST_F(ToolConnectivity, MatricesHoldTheTablesValuesInLabelOrder) {
     ASSERT_EQ(matrix.size(), 3u) << file;
     for (std::size_t a = 0; a < 3; ++a) {
       ASSERT_EQ(matrix[a].size(), 3u) << file;
-      EXPECT_EQ(matrix[a][a], 0.0) << file;
+      EXPECT_TRUE(std::isnan(matrix[a][a])) << file;  // no value on the diagonal (docs/paths.md)
       for (std::size_t b = 0; b < 3; ++b) {
         if (a == b) continue;
         const auto& row = rows.at(a * 2 + (b < a ? b : b - 1));
@@ -445,6 +445,16 @@ TEST_F(ToolConnectivity, BadLabelsFailWithTheirExitCodeAndLeaveNoTable) {
   run = connectivityRun({"--labels", fractional, "-o", path("table.tsv")});
   EXPECT_EQ(run.exitCode, 3) << run.err;
   EXPECT_NE(run.err.find("is not an integer"), std::string::npos) << run.err;
+  EXPECT_FALSE(std::filesystem::exists(path("table.tsv")));
+}
+
+TEST_F(ToolConnectivity, AnFaThresholdOnMetricTensorsIsRefusedAsByTheOtherCommands) {
+  const auto seeds = seedTable();
+  const std::string two = writeLabels({seeds.at("CC_body").index, seeds.at("CST_L").index}, "two.nii.gz");
+  const ToolRun run = connectivityRun(
+      {"--labels", two, "-o", path("table.tsv"), "--tensor-kind", "metric", "--fa-threshold", "0.2"});
+  EXPECT_EQ(run.exitCode, 2) << run.err;
+  EXPECT_NE(run.err.find("--fa-threshold applies to --tensor-kind diffusion only"), std::string::npos) << run.err;
   EXPECT_FALSE(std::filesystem::exists(path("table.tsv")));
 }
 

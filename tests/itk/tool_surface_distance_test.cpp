@@ -276,11 +276,24 @@ class ToolSurfaceBadInput : public ScratchFolderTest {
   }
 };
 
-TEST_F(ToolSurfaceBadInput, NonManifoldMeshNamesTheFileAndTheEdge) {
+TEST_F(ToolSurfaceBadInput, NonManifoldMeshIsSplitIntoSheetsAndSaysSo) {
+  // Three faces on edge (0, 1): it used to be refused; now the third face is
+  // cut off there and reached through the edge's end points.
   std::ofstream(path("fin.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\n"
                                     "f 1 2 3\nf 2 1 4\nf 1 2 5\n";
-  expectFailure({path("fin.obj"), "--seed-vertex", "0", "-o", path("out/d.csv")}, kInput,
-                path("fin.obj") + ": edge (0, 1) is shared by 3 faces");
+  const ToolRun run = runTool({"distance", path("fin.obj"), "--seed-vertex", "2", "-o", path("out/d.csv")});
+  EXPECT_EQ(run.exitCode, 0) << run.err;
+  EXPECT_NE(run.out.find("non-manifold: 1 edge(s) shared by more than two faces (1 face(s) cut off there), 2 "
+                         "vertex(es) split into manifold sheets (2 copies)"),
+            std::string::npos)
+      << run.out;
+  // Vertex 4 (the cut-off face's tip) through vertex 0: 1 + 1.
+  std::ifstream in(path("out/d.csv"));
+  std::string header, row;
+  std::getline(in, header);
+  for (int v = 0; v <= 4; ++v) std::getline(in, row);
+  EXPECT_EQ(row.substr(0, 2), "4,");
+  EXPECT_NEAR(std::stod(row.substr(2)), 2.0, 1e-6);
 }
 
 TEST_F(ToolSurfaceBadInput, UnreadableMeshNamesTheFileAndLine) {
@@ -297,7 +310,7 @@ TEST_F(ToolSurfaceBadInput, SeedVertexOutsideTheMesh) {
 TEST_F(ToolSurfaceBadInput, CommandLineMistakes) {
   expectFailure({path("ok.obj"), "-o", path("out/d.csv")}, kUsage, "no seed given");
   expectFailure({path("ok.obj"), "--seed-vertex", "0", "-o", path("out/d.nii.gz")}, kUsage,
-                "written as .ply, .vtk or .csv");
+                "written as .ply, .vtk, .csv, .shape.gii, .func.gii or a FreeSurfer curv file");
   expectFailure({path("ok.obj"), "--seed-vertex", "0", "--metric", "curvature", "-o",
                  path("out/d.csv")},
                 kUsage, "needs --anisotropy");

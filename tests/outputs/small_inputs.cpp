@@ -135,4 +135,12 @@ bool SmallInputsTest::withVdb() {
 #endif
 }
 
+bool SmallInputsTest::withReports() {
+#ifdef STVD_TEST_REPORTS
+  return true;
+#else
+  return false;
+#endif
+}
+
 }  // namespace stvd::testing

@@ -50,6 +50,9 @@ class SmallInputsTest : public ScratchFolderTest {
   /// Whether this build has the optional parts.
   static bool withTetrahedralize();
   static bool withVdb();
+  /// Whether the tool can draw --report pages: the Python package is built
+  /// (sanitizer builds leave it out).
+  static bool withReports();
 
  private:
   /// in/t.mif, in/t.mih and in/t.dat from in/t.nii.

@@ -31,7 +31,7 @@ class ToolDeterminism : public SmallInputsTest {
   }
   static std::string withoutMeasurements(const std::string& json) {
     static const std::regex measured(
-        R"re(("seconds"|"peak_memory_bytes"|"resident_bytes"|"available_bytes"|"limited_by"): (\{[^}]*\}|[0-9]+|"[^"]*"|null))re");
+        R"re(("seconds"|"cpu_seconds"|"peak_memory_bytes"|"resident_bytes"|"available_bytes"|"limited_by"): (\{[^}]*\}|[0-9]+|"[^"]*"|null))re");
     return std::regex_replace(json, measured, "$1: (measured)");
   }
   void expectSameBytesTwice(const std::vector<std::string>& arguments) {

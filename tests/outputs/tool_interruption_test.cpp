@@ -175,13 +175,23 @@ class ToolInterruption : public SmallInputsTest {
  protected:
   const std::string brain = sampleFile("dti_tensor_dipy5d.nii.gz");
 
-  /// The staging folder in out/ holding at least one file, or "".
-  std::string stagingWithAFile() const {
-    for (const auto& entry : fs::directory_iterator(path("out")))
-      if (entry.path().filename().string().rfind(".stvd-staging-", 0) == 0 && entry.is_directory() &&
-          !fs::is_empty(entry.path()))
-        return entry.path().string();
-    return "";
+  /// What the staging folders in out/ show of a run's outputs.
+  struct Staging {
+    bool outputStaged = false;  // a folder holds an output's file (not only the run's record)
+    bool commitBegun = false;   // a folder holds .previous: the commit keeps the files it replaces
+  };
+  Staging staging() const {
+    Staging seen;
+    std::error_code ec;
+    for (const auto& folder : fs::directory_iterator(path("out"), ec)) {
+      if (folder.path().filename().string().rfind(".stvd-staging-", 0) != 0) continue;
+      for (const auto& entry : fs::directory_iterator(folder.path(), ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name == ".previous") seen.commitBegun = true;
+        else if (name != ".stvd-staging-owner") seen.outputStaged = true;
+      }
+    }
+    return seen;
   }
 };
 
@@ -209,25 +219,28 @@ TEST_F(ToolInterruption, SigintWhileWritingRemovesTheStagedOutputsAndKeepsTheEar
   const std::vector<std::string> arguments{"distance", brain, "--seed-voxel", "55,54,15", "-o", out("d.nii.gz"),
                                            "--stats", out("d.json"), "-q"};
   ASSERT_EQ(runTool(arguments).exitCode, 0);
-  for (const auto& entry : fs::directory_iterator(path("out")))
-    std::ofstream(entry.path(), std::ios::app) << "\nan earlier output\n";
-  const FolderSnapshot before = snapshot(path("out"));
-  // The run is stopped (SIGSTOP) as soon as a staged file exists, then sent
-  // SIGINT and let go on. Should the commit win the race nonetheless (the
-  // write takes tens of milliseconds, the watching a fraction of one), the
-  // attempt is repeated.
+  // The run is stopped (SIGSTOP) as soon as it has staged an output, and
+  // once it is stopped, sent SIGINT and let go on, provided its commit has
+  // not begun: a commit keeps the files it will replace (.previous) before
+  // it looks for a signal and renames, so without .previous the signal is
+  // seen before anything is moved. Should the run have finished or begun
+  // its commit by the time it is stopped, it is let finish and the attempt
+  // repeated over its outputs.
   for (int attempt = 0; attempt < 5; ++attempt) {
+    for (const auto& entry : fs::directory_iterator(path("out")))
+      std::ofstream(entry.path(), std::ios::app) << "\nan earlier output\n";
+    const FolderSnapshot before = snapshot(path("out"));
     RunningTool tool(arguments, path("capture"));
-    std::string staging;
-    while (staging.empty() && tool.running()) staging = stagingWithAFile();
-    if (staging.empty()) {  // it finished first
-      tool.wait();
-      continue;
+    while (!staging().outputStaged && tool.running()) {
     }
     tool.signal(SIGSTOP);
-    if (!fs::exists(staging)) {  // committed between the look and the stop
+    siginfo_t stopped{};  // every thread stopped, or the run ended
+    while (waitid(P_PID, static_cast<id_t>(tool.pid()), &stopped, WSTOPPED | WEXITED | WNOWAIT) != 0 && errno == EINTR) {
+    }
+    const Staging seen = staging();
+    if (stopped.si_code != CLD_STOPPED || !seen.outputStaged || seen.commitBegun) {
       tool.signal(SIGCONT);
-      tool.wait();
+      ASSERT_EQ(tool.wait(), 0) << tool.err();
       continue;
     }
     tool.signal(SIGINT);
@@ -299,6 +312,7 @@ pid_t stopReportChildOnceTheMapIsCommitted(RunningTool& tool, const std::string&
 }
 
 TEST_F(ToolInterruption, SigtermWhileThePageIsDrawnStopsTheReportChildBeforeTheToolEnds) {
+  if (!withReports()) GTEST_SKIP() << "built without the Python package, which draws the page";
   const std::vector<std::string> arguments{"distance", brain, "--seed-voxel", "55,54,15", "-o", out("d.nii.gz"),
                                            "--report", out("r.html"), "-q"};
   // Should the page be drawn before the child could be stopped (it takes
@@ -339,6 +353,7 @@ TEST_F(ToolInterruption, SigtermWhileThePageIsDrawnStopsTheReportChildBeforeTheT
 }
 
 TEST_F(ToolInterruption, AReportChildDiesWithAToolThatIsKilled) {
+  if (!withReports()) GTEST_SKIP() << "built without the Python package, which draws the page";
   // SIGKILL leaves the tool no chance to stop its child: the kernel does
   // (PR_SET_PDEATHSIG), and the child removes what it staged.
   const std::vector<std::string> arguments{"distance", brain, "--seed-voxel", "55,54,15", "-o", out("d.nii.gz"),

@@ -40,6 +40,12 @@ LONG = np.array([0.3, -0.8, 0.52]) / np.linalg.norm([0.3, -0.8, 0.52])
 G_RAS = 0.6 * np.eye(3) + 3.4 * np.outer(LONG, LONG)
 
 
+def distance_values(*args, **keywords):
+    """The distance map's values: stvd.distance gives a NiBabel image with
+    the affine given."""
+    return np.asanyarray(stvd.distance(*args, **keywords).dataobj)
+
+
 def exact(g_ras, affine):
     x = ras_offsets(affine)
     return np.sqrt(np.einsum("...i,ij,...j->...", x, g_ras, x))
@@ -48,7 +54,7 @@ def exact(g_ras, affine):
 @pytest.mark.parametrize("method", ["stvd", "dijkstra"])
 def test_a_constant_metric_is_exact_along_the_stencil_rays_and_never_below_its_closed_form(method):
     affine = oblique_affine((1.0, 1.5, 2.0))
-    d = stvd.distance(constant_tensors(G_RAS), SEED, affine=affine, tensor_kind="metric", tensor_frame="world",
+    d = distance_values(constant_tensors(G_RAS), SEED, affine=affine, tensor_kind="metric", tensor_frame="world",
                       method=method)
     truth = exact(G_RAS, affine)
     assert d.dtype == np.float32 and d.shape == SHAPE
@@ -79,7 +85,7 @@ def test_an_isotropic_metric_gives_dijkstras_closed_form_on_the_26_stencil():
     # b - c of a face and a - b along an axis.
     spacing = 1.25
     affine = oblique_affine((spacing,) * 3)
-    d = stvd.distance(constant_tensors(np.eye(3)), SEED, affine=affine, tensor_kind="metric", method="dijkstra")
+    d = distance_values(constant_tensors(np.eye(3)), SEED, affine=affine, tensor_kind="metric", method="dijkstra")
     index = np.abs(np.stack(np.meshgrid(*map(np.arange, SHAPE), indexing="ij"), -1) - np.asarray(SEED))
     a, b, c = np.moveaxis(-np.sort(-index, axis=-1), -1, 0)
     closed_form = spacing * (c * np.sqrt(3) + (b - c) * np.sqrt(2) + (a - b))
@@ -88,8 +94,8 @@ def test_an_isotropic_metric_gives_dijkstras_closed_form_on_the_26_stencil():
 
 def test_isotropic_diffusion_tensors_give_the_identity_metric():
     affine = oblique_affine((1.0, 1.5, 2.0))
-    diffusion = stvd.distance(constant_tensors(7e-4 * np.eye(3)), SEED, affine=affine)
-    metric = stvd.distance(constant_tensors(np.eye(3)), SEED, affine=affine, tensor_kind="metric")
+    diffusion = distance_values(constant_tensors(7e-4 * np.eye(3)), SEED, affine=affine)
+    metric = distance_values(constant_tensors(np.eye(3)), SEED, affine=affine, tensor_kind="metric")
     assert np.array_equal(diffusion, metric)
 
 
@@ -97,16 +103,16 @@ def test_a_seed_as_an_index_a_point_and_a_label_gives_the_same_map():
     affine = oblique_affine((1.0, 1.5, 2.0))
     tensors = constant_tensors(G_RAS)
     options = dict(affine=affine, tensor_kind="metric", tensor_frame="world")
-    by_index = stvd.distance(tensors, SEED, **options)
+    by_index = distance_values(tensors, SEED, **options)
     centre = affine @ np.append(SEED, 1.0)
     # Any point within half a voxel picks the same voxel.
     near = centre[:3] + affine[:3, :3] @ np.array([0.4, -0.3, 0.45])
-    by_point = stvd.distance(tensors, seed_points=[near], **options)
+    by_point = distance_values(tensors, seed_points=[near], **options)
     lps = centre[:3] * np.array([-1, -1, 1])
-    by_lps_point = stvd.distance(tensors, seed_points=lps, lps=True, **options)
+    by_lps_point = distance_values(tensors, seed_points=lps, lps=True, **options)
     labels = np.zeros(SHAPE, np.uint8)
     labels[SEED] = 1
-    by_label = stvd.distance(tensors, seed_labels=labels, **options)
+    by_label = distance_values(tensors, seed_labels=labels, **options)
     for other in (by_point, by_lps_point, by_label):
         assert np.array_equal(other, by_index)
 
@@ -115,9 +121,9 @@ def test_masked_voxels_are_unreachable_and_hold_the_unreachable_value():
     affine = oblique_affine((1.0, 1.0, 1.0))
     mask = np.ones(SHAPE, bool)
     mask[:, :, :3] = False
-    d = stvd.distance(constant_tensors(np.eye(3)), SEED, affine=affine, tensor_kind="metric", mask=mask)
+    d = distance_values(constant_tensors(np.eye(3)), SEED, affine=affine, tensor_kind="metric", mask=mask)
     assert np.all(d[:, :, :3] == stvd.defaults.unreachable_value)
     assert np.all(d[:, :, 3:] >= 0)
-    nan_map = stvd.distance(constant_tensors(np.eye(3)), SEED, affine=affine, tensor_kind="metric", mask=mask,
+    nan_map = distance_values(constant_tensors(np.eye(3)), SEED, affine=affine, tensor_kind="metric", mask=mask,
                             unreachable_value=np.nan)
     assert np.all(np.isnan(nan_map[:, :, :3]))

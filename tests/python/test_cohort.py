@@ -7,6 +7,7 @@ import html
 import json
 import os
 import pathlib
+import re
 import shutil
 import signal
 import subprocess
@@ -86,7 +87,7 @@ def test_every_subject_is_computed_and_bad_ones_are_recorded_with_their_error(se
             assert row["status"] == "ok" and row["error"] == "" and row["regions"] == "4" and row["maps"] == "2"
             assert files == ["connectivity.tsv", "distance_CC_body.nii.gz", "distance_CST_L.nii.gz",
                              "report.html", "run.json", "statistics.json"]
-    assert "corrupt/tensors.nii.gz: cannot read the tensors" in rows["corrupt"]["error"]
+    assert rows["corrupt"]["error"].endswith("corrupt/tensors.nii.gz: the compressed data are damaged or cut short")
     assert "seed voxel" in rows["seed_outside"]["error"] and "outside the domain" in rows["seed_outside"]["error"]
 
 
@@ -126,6 +127,13 @@ def test_every_good_subject_has_a_qc_page_and_the_index_lists_all_in_the_manifes
             assert entry["figures"]["max_distance_mm"] == pytest.approx(
                 json.loads((outdir / subject / "statistics.json").read_text())["parts"]["CC_body"]["max_mm"],
                 abs=0.01)
+            # The page states what the run had (issue 31): the tensors' file,
+            # how they were read and the cap, never "n/a".
+            page = (outdir / subject / "report.html").read_text()
+            note = re.search(r"Tensors read as [^<]*", page).group(0)
+            assert re.search(r"component order \w+ \((stated|from the layout)\)", note), note
+            assert re.search(r"eigenvalue-ratio cap (\d+|none \(tensors taken as given\))\.$", note), note
+            assert re.search(r"<p>Input <code>(NiBabel image of )?/[^<]+</code>", page)
     index = (outdir / "index.html").read_text()
     rows = [index.index(f">{s['subject']}<") for s in result.subjects]
     assert rows == sorted(rows)  # the manifest's order

@@ -28,10 +28,11 @@ CALLS = {
 }
 
 # Parameters that are not options of the command line: the inputs and how
-# the call runs.
+# the call runs; label_names names the regions of stvd.Connectivity (the
+# tool's table has label values only).
 NOT_OPTIONS = {"tensors", "affine", "progress", "result", "vertices", "faces", "points", "tetrahedra",
                "metric_values", "manifest", "outdir", "client", "scheduler", "workers", "host", "serial",
-               "connectivity", "maps", "split_seed_sets", "threads", "report"}
+               "connectivity", "maps", "split_seed_sets", "threads", "report", "label_names"}
 
 
 def parameters(call):

@@ -14,7 +14,8 @@ from conftest import CC_BODY
 
 def test_the_gil_is_released_while_the_library_computes(dipy_image):
     """A Python thread runs while another one is in the library, between its
-    two progress reports on this brain. The check counts events, not time:
+    first two progress reports on this brain (at the start, and 0.05 s later
+    or at the end). The check counts events, not time:
     with the switch interval made long, the computing thread gives up the
     GIL only when the library lets go of it, and the other thread (which
     gives it up at every turn) can then see that the first report has come
@@ -45,7 +46,7 @@ def test_the_gil_is_released_while_the_library_computes(dipy_image):
         phase[0] = "done"
         watcher.join()
         sys.setswitchinterval(interval)
-    assert len(reports) == 2
+    assert len(reports) >= 2
     assert seen_between[0] > 0
 
 
@@ -69,16 +70,20 @@ def test_threads_give_the_same_maps_as_one_after_the_other(dipy_image):
 def test_a_progress_function_sees_the_front_advance_and_can_cancel(dipy_image):
     calls = []
     result = stvd.propagate(dipy_image, CC_BODY, progress=lambda *report: calls.append(report))
-    assert len(calls) == 2  # every 65,536 finalised vertices, of 132,892
-    assert [c[0] for c in calls] == [65536, 131072]
+    # At the start, at least every 0.05 s of the run, and at the end with
+    # all 132,892 domain voxels finalised.
+    assert len(calls) >= 2
+    assert calls[0] == (0, 132892, 0.0)
+    assert calls[-1][0] == 132892
     assert all(c[1] == 132892 for c in calls)
-    assert 0 < calls[0][2] < calls[1][2] < np.max(result.distance[np.isfinite(result.distance)])
+    assert [c[0] for c in calls] == sorted(c[0] for c in calls)
+    assert all(0 <= c[2] <= np.max(result.distance[np.isfinite(result.distance)]) for c in calls)
 
+    # Cancelled at its first report: the result says so and holds no distances.
     cancelled = stvd.propagate(dipy_image, CC_BODY, progress=lambda *report: False)
     assert cancelled.termination == "cancelled"
-    assert cancelled.finalized_vertices == 65536
-    partial = cancelled.distance_map()
-    assert np.count_nonzero(partial.get_fdata() >= 0) == 65536
+    assert cancelled.finalized_vertices == 0
+    assert np.count_nonzero(cancelled.distance_map().get_fdata() >= 0) == 0
 
 
 def test_an_exception_in_the_progress_function_reaches_the_caller(dipy_image):
@@ -95,6 +100,23 @@ def test_an_exception_in_the_progress_function_reaches_the_caller(dipy_image):
         labels[54:57, 53:56, 14:17] = 1
         labels[67:70, 49:52, 10:13] = 2
         stvd.connectivity(dipy_image, labels, progress=fail)
+
+
+def test_a_progress_function_that_cancels_connectivity_gets_no_table(dipy_image):
+    """Cancelled, connectivity raises instead of returning a table whose
+    missing rows would read as regions that do not reach each other."""
+    labels = np.zeros(dipy_image.shape[:3], np.uint8)
+    labels[54:57, 53:56, 14:17] = 1
+    labels[67:70, 49:52, 10:13] = 2
+    calls = []
+
+    def cancel(*report):
+        calls.append(report)
+        return False
+
+    with pytest.raises(RuntimeError, match="region connectivity was cancelled"):
+        stvd.connectivity(dipy_image, labels, progress=cancel, threads=1)
+    assert len(calls) == 1  # the first propagation's first report; nothing ran after it
 
 
 def test_progress_true_shows_a_tqdm_bar(dipy_image, capsys):

@@ -112,6 +112,79 @@ TEST(SurfaceDomain, InconsistentlyOrientedFacesAreReorientedAndGiveTheSameDistan
   for (VertexId v = 0; v < a.vertexCount(); ++v) EXPECT_NEAR(ra.distance[v], rb.distance[v], 1e-5);
 }
 
+/// Every array of the two surfaces, entry for entry and bit for bit.
+void expectSameSurface(const SurfaceDomain& a, const SurfaceDomain& b) {
+  ASSERT_EQ(a.vertexCount(), b.vertexCount());
+  EXPECT_EQ(a.faces().faceVertex, b.faces().faceVertex);
+  EXPECT_EQ(a.component(), b.component());
+  for (VertexId v = 0; v < a.vertexCount(); ++v) {
+    ASSERT_EQ(a.ringBegin(v), b.ringBegin(v));
+    ASSERT_EQ(a.ringEnd(v), b.ringEnd(v));
+    EXPECT_EQ(a.isBoundary(v), b.isBoundary(v));
+    EXPECT_EQ(a.angleSum(v), b.angleSum(v));
+    EXPECT_EQ(a.normal(v).x, b.normal(v).x);
+    EXPECT_EQ(a.normal(v).z, b.normal(v).z);
+    EXPECT_EQ(a.tangent(v).y, b.tangent(v).y);
+    for (std::uint32_t i = a.ringBegin(v); i < a.ringEnd(v); ++i) {
+      EXPECT_EQ(a.ringNeighbor(i), b.ringNeighbor(i));
+      EXPECT_EQ(a.ringAngle(i), b.ringAngle(i));
+      EXPECT_EQ(a.ringEdgeX(i), b.ringEdgeX(i));
+      EXPECT_EQ(a.ringDirectionY(i), b.ringDirectionY(i));
+      EXPECT_EQ(a.ringCorner(i).cos, b.ringCorner(i).cos);
+      EXPECT_EQ(a.ringCorner(i).sin, b.ringCorner(i).sin);
+      EXPECT_EQ(a.ringCorner(i).length, b.ringCorner(i).length);
+      EXPECT_EQ(a.ringFace(i), b.ringFace(i));
+    }
+  }
+}
+
+TEST(SurfaceDomain, ALargeSurfaceWithMixedOrientationsIsBuiltAsTheConsistentOne) {
+  // 40,962 vertices: built in blocks on two threads; the mixed copy takes
+  // the path that matches edge sides and flips faces to agree with face 0.
+  const GeneratedSurface s = icosphere(6, 80.0);
+  PolygonList mixed;
+  for (std::size_t f = 0; f < s.faces.faceCount(); ++f) {
+    std::vector<VertexId> face(s.faces.faceVertex.begin() + s.faces.faceStart[f],
+                               s.faces.faceVertex.begin() + s.faces.faceStart[f + 1]);
+    if (f % 3 == 1) std::reverse(face.begin(), face.end());
+    mixed.add(face.begin(), face.end());
+  }
+  expectSameSurface(SurfaceDomain(s.points, s.faces), SurfaceDomain(s.points, mixed));
+}
+
+TEST(SurfaceDomain, OnALargeSurfaceTheLowestVertexThatIsNoFanIsNamed) {
+  // Two extra triangles touch the sphere at one vertex each, far apart in
+  // the vertex order (different blocks of the parallel build).
+  GeneratedSurface s = icosphere(6, 80.0);
+  const VertexId extra = static_cast<VertexId>(s.points.size());
+  for (int i = 0; i < 4; ++i) s.points.push_back({200.0 + i, double(i % 2), 0.0});
+  s.faces.add({30000, extra, extra + 1});
+  s.faces.add({20000, extra + 2, extra + 3});
+  const std::string e = errorOf(s.points, s.faces);
+  EXPECT_NE(e.find("vertex 20000 is not a 2-manifold vertex"), std::string::npos) << e;
+}
+
+TEST(SurfaceDomain, AVertexOfManyFacesHasItsWholeFanInOrder) {
+  // A flat fan of 40 triangles around vertex 0 (more than a linear search
+  // covers), closed and, without its last triangle, open.
+  const int count = 40;
+  std::vector<Vec3d> p{{0, 0, 0}};
+  for (int k = 0; k < count; ++k) p.push_back({std::cos(2 * kPi * k / count), std::sin(2 * kPi * k / count), 0});
+  for (const bool closed : {true, false}) {
+    PolygonList f;
+    for (int k = 0; k < (closed ? count : count - 1); ++k)
+      f.add({0, VertexId(1 + k), VertexId(1 + (k + 1) % count)});
+    const SurfaceDomain surface(p, f);
+    EXPECT_EQ(surface.isBoundary(0), !closed);
+    ASSERT_EQ(surface.ringEnd(0) - surface.ringBegin(0), std::uint32_t(count));
+    for (int k = 0; k < count; ++k) {
+      EXPECT_EQ(surface.ringNeighbor(surface.ringBegin(0) + k), VertexId(1 + k)) << closed;
+      EXPECT_NEAR(surface.ringAngle(surface.ringBegin(0) + k), 2 * kPi * k / count, 1e-5) << closed;
+    }
+    EXPECT_NEAR(surface.angleSum(0), closed ? 2 * kPi : 2 * kPi * (count - 1) / count, 1e-9);
+  }
+}
+
 TEST(SurfaceDomain, SeveralComponentsAndIsolatedVerticesAreUnreachableFromTheOther) {
   GeneratedSurface s = planeMesh(3, 3, 3.0, 3.0, 1.0, 0.0, false, 1);
   const VertexId offset = static_cast<VertexId>(s.points.size());

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "../core/interrupt_recorder.hpp"
 #include "../core/relative_error.hpp"
 #include "stvd/propagation/propagation.hpp"
 #include "stvd/lanthier/lanthier_propagation.hpp"
@@ -256,6 +257,42 @@ TEST(SurfaceSteiner, RefusesBadInputWithAnException) {
   EXPECT_THROW(lanthierPropagate(surface, metric, {}, {}), std::invalid_argument);
   const RiemannianMetric tooSmall = RiemannianMetric::constant(2, SymTensor3{1, 0, 0, 1, 0, 1});
   EXPECT_THROW(lanthierPropagate(surface, tooSmall, {0}, {}), std::invalid_argument);
+}
+
+// The setup before the propagation (the faces' edges, sides and
+// incidences, the propagation's state) is an operation of its own,
+// "Steiner cells", with a report at least every 1024 faces or vertices of
+// its passes (the interval made zero); stopped at its first report after
+// the start, the run is cancelled before any point is final.
+TEST(SurfaceSteiner, TheSetupReportsToTheInterrupterAndCanBeStopped) {
+  const GeneratedSurface mesh = planeMesh(60, 50, 6.0, 5.0, 1.5, 0.2, false, 7);
+  const SurfaceDomain surface(mesh.points, mesh.faces);
+  const RiemannianMetric metric = isotropicSurfaceMetric(surface);
+  LanthierOptions o;
+  o.steinerPoints = 3;
+  o.progressInterval = 0.0;
+  testing::InterruptRecorder all;
+  o.interrupter = &all;
+  const LanthierResult full = lanthierPropagate(surface, metric, {0}, o);
+  EXPECT_EQ(full.termination, Termination::Completed);
+  ASSERT_EQ(all.operations().size(), 2u);
+  EXPECT_EQ(all.operations()[0].name, "Steiner cells");
+  EXPECT_EQ(all.operations()[1].name, "Steiner-point propagation");
+  // 4 passes over 6,000 triangles and 3 over 3,111 vertices.
+  EXPECT_GE(all.operations()[0].percents.size(), (4u * 6000 + 3 * 3111) / 1024);
+  for (const testing::InterruptRecorder::Operation& op : all.operations()) testing::expectCompleteReports(op);
+
+  testing::InterruptRecorder stopping;
+  stopping.stopAtFirstReportAfterStart("Steiner cells");
+  o.interrupter = &stopping;
+  const LanthierResult r = lanthierPropagate(surface, metric, {0}, o);
+  EXPECT_EQ(r.termination, Termination::Cancelled);
+  EXPECT_EQ(r.finalizedVertices, 0u);
+  for (double d : r.distance) ASSERT_EQ(d, kUnreachable);
+  ASSERT_EQ(stopping.operations().size(), 1u);
+  // Stopped after 1024 of about 95,000 steps (the cells, then 2 x 30,441 points).
+  EXPECT_EQ(stopping.operations()[0].percents, (std::vector<int>{0, 0}));
+  EXPECT_EQ(stopping.reportsAfterStop(), 0u);
 }
 
 }  // namespace

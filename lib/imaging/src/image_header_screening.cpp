@@ -15,6 +15,7 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <set>
 #include <sstream>
 
 #include "stvd/errors.hpp"
@@ -355,6 +356,61 @@ ScreenedImage screenNifti(const std::string& path, const std::string& lower, boo
 
 // --- NRRD -------------------------------------------------------------------
 
+/// The field's canonical name (NRRD0005's fields and the spellings NrrdIO
+/// takes for them, already lower case), or "" for no NRRD field.
+std::string canonicalNrrdField(const std::string& name) {
+  static const std::pair<const char*, const char*> fields[] = {
+      {"content", "content"},
+      {"number", "number"},
+      {"type", "type"},
+      {"block size", "block size"},
+      {"blocksize", "block size"},
+      {"dimension", "dimension"},
+      {"space", "space"},
+      {"space dimension", "space dimension"},
+      {"spacedimension", "space dimension"},
+      {"sizes", "sizes"},
+      {"spacings", "spacings"},
+      {"thicknesses", "thicknesses"},
+      {"axis mins", "axis mins"},
+      {"axismins", "axis mins"},
+      {"axis maxs", "axis maxs"},
+      {"axismaxs", "axis maxs"},
+      {"space directions", "space directions"},
+      {"spacedirections", "space directions"},
+      {"centers", "centers"},
+      {"centerings", "centers"},
+      {"kinds", "kinds"},
+      {"labels", "labels"},
+      {"units", "units"},
+      {"min", "min"},
+      {"max", "max"},
+      {"old min", "old min"},
+      {"oldmin", "old min"},
+      {"old max", "old max"},
+      {"oldmax", "old max"},
+      {"endian", "endian"},
+      {"encoding", "encoding"},
+      {"line skip", "line skip"},
+      {"lineskip", "line skip"},
+      {"byte skip", "byte skip"},
+      {"byteskip", "byte skip"},
+      {"sample units", "sample units"},
+      {"sampleunits", "sample units"},
+      {"space units", "space units"},
+      {"spaceunits", "space units"},
+      {"space origin", "space origin"},
+      {"spaceorigin", "space origin"},
+      {"measurement frame", "measurement frame"},
+      {"measurementframe", "measurement frame"},
+      {"data file", "data file"},
+      {"datafile", "data file"},
+  };
+  for (const auto& [spelling, canonical] : fields)
+    if (name == spelling) return canonical;
+  return {};
+}
+
 unsigned nrrdTypeBytes(const std::string& type) {
   static const std::pair<const char*, unsigned> names[] = {
       {"signed char", 1}, {"int8", 1}, {"int8_t", 1}, {"uchar", 1}, {"unsigned char", 1}, {"uint8", 1},
@@ -481,6 +537,7 @@ ScreenedImage screenNrrd(const std::string& path, bool withData) {
   long long dimension = -1, lineSkip = 0, byteSkip = 0;
   std::vector<std::string> sizes;
   std::string type, encoding = "", dataFile;
+  std::set<std::string> seenFields;
   bool attachedData = false;
   while (nextLine()) {
     if (line.empty()) {
@@ -491,7 +548,17 @@ ScreenedImage screenNrrd(const std::string& path, bool withData) {
     if (line.find(":=") != std::string::npos && line.find(":=") < line.find(": ")) continue;  // key/value pair
     const std::size_t colon = line.find(": ");
     if (colon == std::string::npos) throw ImageIoError(path, "NRRD header line \"" + line.substr(0, 60) + "\" has no \": \"");
-    const std::string field = lowercase(trim(line.substr(0, colon)));
+    const std::string field = canonicalNrrdField(lowercase(trim(line.substr(0, colon))));
+    // What NrrdIO refuses is refused here, before ITK sees the header: an
+    // unknown field, a field given twice (NrrdIO refuses the second only
+    // after it has parsed the first, which this screen would otherwise not
+    // have checked) and a line long enough that NrrdIO's message about a value
+    // it cannot parse overflows a stack buffer.
+    if (field.empty()) throw ImageIoError(path, "\"" + line.substr(0, std::min<std::size_t>(colon, 60)) + "\" is not a NRRD field");
+    if (!seenFields.insert(field).second) throw ImageIoError(path, "the NRRD field \"" + field + "\" is given twice");
+    if (line.size() > kMaxNrrdFieldLineLength && field != "content" && field != "data file")
+      throw ImageIoError(path, "the NRRD field \"" + field + "\" is longer than " +
+                                   std::to_string(kMaxNrrdFieldLineLength) + " bytes");
     const std::string value = trim(line.substr(colon + 2));
     if (field == "dimension") {
       if (!parseInteger(value, dimension) || dimension < 1 || dimension > 16)
@@ -502,13 +569,13 @@ ScreenedImage screenNrrd(const std::string& path, bool withData) {
       sizes = words(value);
     } else if (field == "encoding") {
       encoding = lowercase(value);
-    } else if (field == "line skip" || field == "lineskip") {
+    } else if (field == "line skip") {
       if (!parseInteger(value, lineSkip) || lineSkip < 0)
         throw ImageIoError(path, "line skip \"" + value + "\" is not a count of lines");
-    } else if (field == "byte skip" || field == "byteskip") {
+    } else if (field == "byte skip") {
       if (!parseInteger(value, byteSkip) || byteSkip < -1)
         throw ImageIoError(path, "byte skip \"" + value + "\" is not a count of bytes (or -1)");
-    } else if (field == "data file" || field == "datafile") {
+    } else if (field == "data file") {
       dataFile = value;
     } else if (field == "space directions" || field == "space origin" || field == "measurement frame") {
       checkVectors(value, field, path);

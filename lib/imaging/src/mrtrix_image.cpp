@@ -1,10 +1,12 @@
 // MRtrix image files: our own parser and writer (see mrtrix_image.hpp).
 #include "stvd/imaging/mrtrix_image.hpp"
+#include "stvd/imaging/detail/read_progress.hpp"
 
 #include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -194,7 +196,8 @@ void forEachElement(const MrtrixHeader& header, Visit visit) {
 
 bool isScaled(const MrtrixHeader& h) { return !(h.scalingOffset == 0.0 && h.scalingMultiplier == 1.0); }
 
-std::vector<float> decodeValues(const MrtrixHeader& header, std::string_view data) {
+std::vector<float> decodeValues(const MrtrixHeader& header, std::string_view data, InterruptScope& progress,
+                                std::uint64_t from) {
   DataType type;
   parseDataType(header.datatype, type);
   const bool swap = type.bytes > 1 && type.bigEndian == hostIsLittleEndian();
@@ -204,6 +207,7 @@ std::vector<float> decodeValues(const MrtrixHeader& header, std::string_view dat
   // its bits), so that a written file reads back bit for bit.
   const bool scaled = isScaled(header);
   forEachElement(header, [&](std::size_t e, std::size_t at) {
+    progress.step(from + e);
     const double raw = element(bytes, at, type, swap);
     values[e] = static_cast<float>(scaled ? header.scalingOffset + header.scalingMultiplier * raw : raw);
   });
@@ -213,7 +217,7 @@ std::vector<float> decodeValues(const MrtrixHeader& header, std::string_view dat
 /// Labels: integer datatypes without scaling exactly (64-bit), every other
 /// value through the rules for floating-point labels (stvd/imaging/label_values.hpp).
 std::vector<std::int64_t> decodeLabels(const MrtrixHeader& header, std::string_view data, const GridGeometry& g,
-                                       const std::string& name) {
+                                       const std::string& name, InterruptScope& progress, std::uint64_t from) {
   DataType type;
   parseDataType(header.datatype, type);
   const bool swap = type.bytes > 1 && type.bigEndian == hostIsLittleEndian();
@@ -221,6 +225,7 @@ std::vector<std::int64_t> decodeLabels(const MrtrixHeader& header, std::string_v
   std::vector<std::int64_t> labels(header.elementCount());
   const bool exact = !type.floating && !isScaled(header);
   forEachElement(header, [&](std::size_t e, std::size_t at) {
+    progress.step(from + e);
     if (!exact) {
       const double raw = element(bytes, at, type, swap);
       labels[e] = labelOfReal(isScaled(header) ? header.scalingOffset + header.scalingMultiplier * raw : raw,
@@ -583,7 +588,8 @@ MrtrixImage parseMrtrixImage(std::string_view bytes, const std::string& name) {
                                  " bytes where header and data need " + std::to_string(needed));
   MrtrixImage image;
   image.geometry = geometryOf(header, name);
-  image.values = decodeValues(header, bytes.substr(header.dataOffset, header.dataBytes()));
+  InterruptScope none(nullptr, "", 0);
+  image.values = decodeValues(header, bytes.substr(header.dataOffset, header.dataBytes()), none, 0);
   image.header = header;
   return image;
 }
@@ -639,23 +645,47 @@ StoredImage readStoredImage(const std::string& path) {
 
 }  // namespace
 
-MrtrixImage readMrtrixImage(const std::string& path) {
-  StoredImage stored = readStoredImage(path);
+MrtrixImage readMrtrixImage(const std::string& path, Interrupter* interrupter) {
+  InterruptScope progress(interrupter, "reading image", 0);
+  MrtrixImage image = detail::readMrtrixImage(path, progress);
+  progress.finish();
+  return image;
+}
+
+MrtrixLabelImage readMrtrixLabelImage(const std::string& path, Interrupter* interrupter) {
+  InterruptScope progress(interrupter, "reading labels", 0);
+  MrtrixLabelImage image = detail::readMrtrixLabelImage(path, progress);
+  progress.finish();
+  return image;
+}
+
+namespace detail {
+
+MrtrixImage readMrtrixImage(const std::string& path, InterruptScope& progress, std::uint64_t stepsAfter) {
+  StoredImage stored = readStoredImage(path);  // the bytes: read (and inflated) in one piece
+  const std::uint64_t values = stored.header.elementCount();
+  progress.setTotal(2 * values + stepsAfter);
+  progress.check(values);
   MrtrixImage image;
   image.geometry = geometryOf(stored.header, path);
-  image.values = decodeValues(stored.header, stored.data);
+  image.values = decodeValues(stored.header, stored.data, progress, values);
   image.header = std::move(stored.header);
   return image;
 }
 
-MrtrixLabelImage readMrtrixLabelImage(const std::string& path) {
+MrtrixLabelImage readMrtrixLabelImage(const std::string& path, InterruptScope& progress) {
   StoredImage stored = readStoredImage(path);
+  const std::uint64_t values = stored.header.elementCount();
+  progress.setTotal(2 * values);
+  progress.check(values);
   MrtrixLabelImage image;
   image.geometry = geometryOf(stored.header, path);
-  image.labels = decodeLabels(stored.header, stored.data, image.geometry, path);
+  image.labels = decodeLabels(stored.header, stored.data, image.geometry, path, progress, values);
   image.header = std::move(stored.header);
   return image;
 }
+
+}  // namespace detail
 
 GridGeometry readMrtrixImageGrid(const std::string& path) {
   std::error_code ec;
@@ -758,6 +788,21 @@ void writeMrtrixImage(const std::string& path, const std::string& formatPath, co
     problem.erase(0, e.path().size() + 2);
     throw ImageIoError(formatPath, problem);
   }
+}
+
+Matrix3 mrtrixStoredVoxelAxes(const MrtrixHeader& header, const GridGeometry& geometryLps) {
+  std::array<int, 3> byStride{0, 1, 2};
+  std::sort(byStride.begin(), byStride.end(), [&](int a, int b) {
+    return std::llabs(header.strides[a]) < std::llabs(header.strides[b]);
+  });
+  const Matrix3 logical = voxelAxes(geometryLps);
+  Matrix3 stored{};
+  for (int s = 0; s < 3; ++s) {
+    const int a = byStride[s];
+    const double sign = header.strides[a] < 0 ? -1.0 : 1.0;
+    for (int r = 0; r < 3; ++r) stored[3 * r + s] = sign * logical[3 * r + a];
+  }
+  return stored;
 }
 
 }  // namespace stvd::imaging

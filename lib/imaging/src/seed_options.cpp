@@ -56,10 +56,16 @@ std::vector<OptionDeclaration> declarations() {
   labels.keyword = "seed_labels";
   labels.type = OptionType::Text;
   labels.group = OptionGroup::Seeds;
-  labels.commands = seeded;
+  labels.commands = seeded | kSurfaceDistanceCommand;
+  labels.keywordCommands = seeded;
   labels.help =
       "every non-zero voxel of the image LABELS (same grid) inside the domain is a seed; the others are left out "
       "(counted in the report), and none inside is an error.";
+  labels.helpFor = {
+      {kSurfaceDistanceCommand,
+       "seed vertices from a file of the surface's vertices: a FreeSurfer .label (its vertices), an annotation "
+       "(.annot) or GIfTI label file (.label.gii) with --seed-region (the regions' vertices), or per-vertex values "
+       "(.func.gii, .shape.gii, curv, .mgh, .mgz: every non-zero vertex)."}};
   table.push_back(labels);
 
   table.push_back(triple("--target-voxel", "targets", OptionType::Voxel, OptionGroup::Targets, kPathCommand,

@@ -24,8 +24,9 @@ std::string pointText(const Vec3d& p, int decimals) {
 Vec3d lpsToRas(const Vec3d& p) { return {-p.x, -p.y, p.z}; }
 
 std::string whyOutsideDomain(std::size_t v, const TensorInput& input, const MetricOptions& metric) {
-  const SymTensor3& t = input.read.volume.tensors[v];
   if (!input.mask.empty() && input.mask[v] == 0) return "it is outside the mask (" + input.maskDescription + ")";
+  if (v >= input.read.volume.tensors.size()) return "it is outside the domain";  // an FOD input has no tensors
+  const SymTensor3& t = input.read.volume.tensors[v];
   const float c[6] = {t.xx, t.xy, t.xz, t.yy, t.yz, t.zz};
   bool zero = true;
   for (float x : c) {

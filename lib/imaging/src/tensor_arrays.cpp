@@ -1,4 +1,5 @@
 #include "stvd/imaging/tensor_arrays.hpp"
+#include "stvd/imaging/detail/read_progress.hpp"
 
 #include <cmath>
 #include <limits>
@@ -51,6 +52,19 @@ TensorComponentLayout oneVolumePerComponent(const std::array<std::size_t, 3>& si
 template <class T>
 std::vector<SymTensor3> tensorsFromArray(const T* components, const std::array<std::size_t, 3>& size,
                                          const TensorComponentLayout& layout, const Matrix3& frameChange) {
+  InterruptScope none(nullptr, "", 0);
+  return detail::tensorsFromArray(components, size, layout, frameChange, none, 0);
+}
+
+template std::vector<SymTensor3> tensorsFromArray(const float*, const std::array<std::size_t, 3>&,
+                                                  const TensorComponentLayout&, const Matrix3&);
+template std::vector<SymTensor3> tensorsFromArray(const double*, const std::array<std::size_t, 3>&,
+                                                  const TensorComponentLayout&, const Matrix3&);
+
+template <class T>
+std::vector<SymTensor3> detail::tensorsFromArray(const T* components, const std::array<std::size_t, 3>& size,
+                                                 const TensorComponentLayout& layout, const Matrix3& frameChange,
+                                                 InterruptScope& progress, std::uint64_t from) {
   std::vector<SymTensor3> tensors(size[0] * size[1] * size[2]);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   float c[6];
@@ -58,6 +72,7 @@ std::vector<SymTensor3> tensorsFromArray(const T* components, const std::array<s
   for (std::size_t k = 0; k < size[2]; ++k)
     for (std::size_t j = 0; j < size[1]; ++j)
       for (std::size_t i = 0; i < size[0]; ++i, ++v) {
+        progress.step(from + v);
         const T* voxel = components + static_cast<std::ptrdiff_t>(i) * layout.voxelStride[0] +
                          static_cast<std::ptrdiff_t>(j) * layout.voxelStride[1] +
                          static_cast<std::ptrdiff_t>(k) * layout.voxelStride[2];
@@ -78,10 +93,12 @@ std::vector<SymTensor3> tensorsFromArray(const T* components, const std::array<s
   return tensors;
 }
 
-template std::vector<SymTensor3> tensorsFromArray(const float*, const std::array<std::size_t, 3>&,
-                                                  const TensorComponentLayout&, const Matrix3&);
-template std::vector<SymTensor3> tensorsFromArray(const double*, const std::array<std::size_t, 3>&,
-                                                  const TensorComponentLayout&, const Matrix3&);
+template std::vector<SymTensor3> detail::tensorsFromArray(const float*, const std::array<std::size_t, 3>&,
+                                                          const TensorComponentLayout&, const Matrix3&,
+                                                          InterruptScope&, std::uint64_t);
+template std::vector<SymTensor3> detail::tensorsFromArray(const double*, const std::array<std::size_t, 3>&,
+                                                          const TensorComponentLayout&, const Matrix3&,
+                                                          InterruptScope&, std::uint64_t);
 
 TensorOrder resolveTensorOrder(const std::string& name, TensorFileLayout layout,
                                const std::optional<TensorOrder>& stated) {

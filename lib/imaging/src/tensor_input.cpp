@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "stvd/errors.hpp"
+#include "stvd/front_end/number_text.hpp"
 #include "stvd/imaging/tensor_input_options.hpp"
 #include "stvd/imaging/tensor_plausibility.hpp"
 
@@ -61,8 +62,9 @@ void addMask(TensorInput& input, const ScalarImage& mask, const std::string& mas
 }
 
 MetricFromTensors buildCheckedMetric(const std::string& inputName, const TensorInput& input,
-                                     const TensorInputOptions& options) {
-  MetricFromTensors built = buildMetric(input.read.volume.tensors, input.mask, options.metric);
+                                     const TensorInputOptions& options, TensorFrameCheck* frameCheck,
+                                     Interrupter* interrupter) {
+  MetricFromTensors built = buildMetric(input.read.volume.tensors, input.mask, options.metric, interrupter);
   const std::string reason = implausibleTensorsReason(built.counts);
   if (!reason.empty() && !options.acceptImplausible) {
     const auto name = [&](const std::string& flag) { return optionName(tensorInputOption(flag), options.naming); };
@@ -75,7 +77,31 @@ MetricFromTensors buildCheckedMetric(const std::string& inputName, const TensorI
                      " tries each order), or go on with " +
                      optionSwitchedOn(tensorInputOption("--accept-implausible-tensors"), options.naming));
   }
+  // The frame: only diffusion tensors say where tracts run (a metric's
+  // principal direction is the costly one, and a metric may be anything).
+  TensorFrameCheck check;
+  if (options.metric.kind == TensorKind::Diffusion) {
+    check = checkTensorFrame(input.read.volume.tensors, input.read.volume.geometry, built.inDomain);
+    if (check.verdict == TensorFrameVerdict::Mismatch && !options.acceptMisaligned)
+      throw InputError(misalignedTensorsMessage(inputName, check, options));
+  } else {
+    check.verdict = TensorFrameVerdict::NotChecked;
+    check.reason = "metric tensors";
+  }
+  if (frameCheck) *frameCheck = std::move(check);
   return built;
+}
+
+std::string misalignedTensorsMessage(const std::string& inputName, const TensorFrameCheck& check,
+                                     const TensorInputOptions& options) {
+  return inputName + ": the tensors' frame does not match the image axes: their principal directions follow the "
+                     "tracts " + axisTransformWords(check.best) + " " + axisTransformText(check.best) +
+         ", not as read (mean streamline " + text::fixed(check.bestMeanMm, 1) + " mm against " +
+         text::fixed(check.readMeanMm, 1) + " mm, " + text::withThousands(check.seeds) +
+         " seeds): the image was most likely reoriented or flipped (nibabel.as_closest_canonical, say) without "
+         "rotating its tensor components; rotate them with it (stvd info " + inputName +
+         " shows every frame), or go on with " +
+         optionSwitchedOn(tensorInputOption("--accept-misaligned-tensors"), options.naming);
 }
 
 }  // namespace stvd::imaging

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "stvd/imaging/tensor_input.hpp"
 #include "stvd/imaging/tensor_plausibility.hpp"
 
 namespace stvd::imaging {
@@ -58,8 +59,12 @@ std::vector<OptionDeclaration> declarations() {
   mask.keywordCommands = kVolumeCommands;
   mask.type = OptionType::Text;
   mask.group = OptionGroup::TensorFile;
-  mask.commands = readers | kInfoCommand;
+  mask.commands = readers | kInfoCommand | kSurfaceDistanceCommand;
   mask.help = "only voxels where FILE is non-zero (same grid as the tensors).";
+  mask.helpFor = {{kSurfaceDistanceCommand,
+                   "only the faces whose corners are all non-zero in FILE, one value per vertex (.func.gii, "
+                   ".shape.gii, .label.gii, curv, .mgh, .mgz, a FreeSurfer .label: its vertices): paths stay on "
+                   "them; other vertices are unreached."}};
   table.push_back(mask);
 
   OptionDeclaration kind;
@@ -139,6 +144,19 @@ std::vector<OptionDeclaration> declarations() {
                 " % of the tensors are not positive definite, which a wrong --tensor-order gives (otherwise exit "
                 "3; stvd info tries each order).";
   table.push_back(accept);
+
+  OptionDeclaration misaligned;
+  misaligned.flag = "--accept-misaligned-tensors";
+  misaligned.keyword = "accept_misaligned_tensors";
+  misaligned.keywordCommands = kVolumeCommands;
+  misaligned.type = OptionType::Switch;
+  misaligned.group = OptionGroup::Metric;
+  misaligned.commands = readers;
+  misaligned.help =
+      "go on although the tensors' principal directions follow the tracts clearly better with their components "
+      "flipped or permuted along the image axes, which an image reoriented without rotating its tensors gives "
+      "(otherwise exit 3; stvd info shows every frame).";
+  table.push_back(misaligned);
   return table;
 }
 
@@ -167,6 +185,10 @@ TensorInputOptions tensorInputOptionsOf(const OptionValues& values) {
   if (const auto cap = values.number("--max-anisotropy")) options.metric.maxAnisotropy = *cap;
   if (const auto threshold = values.number("--fa-threshold")) options.metric.faThreshold = *threshold;
   if (values.has("--accept-implausible-tensors")) options.acceptImplausible = true;
+  if (values.has("--accept-misaligned-tensors")) options.acceptMisaligned = true;
+  // The combinations are checked where the options are assembled, so that
+  // no front end (command or keyword call) can leave them out.
+  checkTensorInputOptions(options);
   return options;
 }
 

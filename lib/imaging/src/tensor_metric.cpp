@@ -63,7 +63,7 @@ std::optional<double> anisotropyCap(const MetricOptions& options) {
 }
 
 MetricFromTensors buildMetric(const std::vector<SymTensor3>& tensors, const std::vector<std::uint8_t>& mask,
-                              const MetricOptions& options) {
+                              const MetricOptions& options, Interrupter* interrupter) {
   const std::optional<double> cap = anisotropyCap(options);
   if (cap && !(*cap >= 1.0)) throw std::invalid_argument("the anisotropy cap must be at least 1");
   if (!mask.empty() && mask.size() != tensors.size())
@@ -77,7 +77,9 @@ MetricFromTensors buildMetric(const std::vector<SymTensor3>& tensors, const std:
   out.inDomain.assign(n, 0);
   MetricVoxelCounts& c = out.counts;
   c.total = n;
+  InterruptScope interrupt(interrupter, "metric", n);
   for (std::size_t v = 0; v < n; ++v) {
+    interrupt.step(v);
     const SymTensor3& t = tensors[v];
     if (!mask.empty() && mask[v] == 0) { ++c.masked; continue; }
     if (!isFinite(t)) { ++c.nonFinite; continue; }
@@ -104,6 +106,7 @@ MetricFromTensors buildMetric(const std::vector<SymTensor3>& tensors, const std:
     out.inDomain[v] = 1;
     ++c.domain;
   }
+  interrupt.finish();
   return out;
 }
 

@@ -19,15 +19,16 @@ void requireImageOnGrid(const std::string& path, const GridGeometry& reference, 
 }
 
 ScalarImage readScalarImageOnGrid(const std::string& path, const GridGeometry& reference,
-                                  const std::string& subject, const std::string& referenceName) {
+                                  const std::string& subject, const std::string& referenceName,
+                                  Interrupter* interrupter) {
   requireImageOnGrid(path, reference, subject, referenceName);
-  return readScalarImage(path);
+  return readScalarImage(path, interrupter);
 }
 
 LabelImage readLabelImageOnGrid(const std::string& path, const GridGeometry& reference, const std::string& subject,
-                                const std::string& referenceName) {
+                                const std::string& referenceName, Interrupter* interrupter) {
   requireImageOnGrid(path, reference, subject, referenceName);
-  return readLabelImage(path);
+  return readLabelImage(path, interrupter);
 }
 
 }  // namespace stvd::imaging

@@ -1,4 +1,5 @@
 #include "itk_io_support.hpp"
+#include "nrrd_header.hpp"
 
 #include <itkImageIOFactory.h>
 #include <itkMetaDataObject.h>
@@ -115,6 +116,22 @@ GridGeometry geometryOfAxes(itk::ImageIOBase& io, const std::string& path) {
       g.origin[a] = 0.0;
       for (unsigned r = 0; r < 3; ++r) g.direction[3 * r + a] = r == a ? 1.0 : 0.0;
     }
+  }
+  // A NRRD space left-anterior-superior differs from LPS in y alone, but ITK
+  // 5.2's NrrdImageIO converts it as if x were flipped (its LAS case negates
+  // the x of every axis and of the origin), which mirrors the grid: seen on a
+  // hand-made file, origin (10, 20, 30) LAS came out as LPS (-10, 20, 30)
+  // instead of (10, -20, 30). Undo that and apply the y flip: negate x and y.
+  // (nrrd_header.cpp converts the tensor components with the same, right,
+  // diag(1, -1, 1); tests/itk/hand_made_files_test.cpp holds both.) The
+  // space is read from the header: ITK's dictionary does not keep it.
+  if (std::string(io.GetNameOfClass()) == "NrrdImageIO" && nrrdSpaceIsLeftAnteriorSuperior(path)) {
+    for (int c = 0; c < 3; ++c) {
+      g.direction[c] = -g.direction[c];
+      g.direction[3 + c] = -g.direction[3 + c];
+    }
+    g.origin[0] = -g.origin[0];
+    g.origin[1] = -g.origin[1];
   }
   try {
     g.validate();
@@ -327,10 +344,9 @@ void writeFloatData(itk::ImageIOBase& io, const std::string& reportedPath, const
     throw ImageIoError(reportedPath, "cannot write: " + conciseItkMessage(e));
   }
   // niftilib reports a failed write ("** ERROR: NWAD: wrote only 0 of ...
-  // bytes") on standard error without ITK throwing.
-  const std::string said = quiet.text();
-  if (said.find("ERROR") != std::string::npos)
-    throw ImageIoError(reportedPath, "cannot write: " + (said.size() > 200 ? said.substr(0, 197) + "..." : said));
+  // bytes") on standard error without ITK throwing; standard error is not
+  // ours to read (library_messages.hpp), and checkWrittenImage finds the
+  // short file instead (written_files.hpp).
 }
 
 }  // namespace stvd::imaging::detail

@@ -1,111 +1,78 @@
 #include "library_messages.hpp"
 
 #include <itkOutputWindow.h>
-#include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
-#include <iostream>
 #include <mutex>
-#include <sstream>
+#include <string>
+
+#include "stvd/itk/itk_messages.hpp"
 
 namespace stvd::imaging::detail {
 namespace {
 
-std::recursive_mutex& captureLock() {
-  static std::recursive_mutex lock;
-  return lock;
-}
+/// The text collected by the captures active on this thread, and how deeply
+/// they nest.
+struct ThreadCapture {
+  int depth = 0;
+  std::string text;
+};
+thread_local ThreadCapture threadCapture;
 
-/// Text of the active captures; ITK's output window writes into it.
-std::ostringstream& collected() {
-  static std::ostringstream text;
-  return text;
-}
-int depth = 0;
-
-/// ITK's output window: into the capture while one is active, to standard
-/// error otherwise (as ITK's own window does).
-class CollectingOutputWindow : public itk::OutputWindow {
+/// stvd's output window: the text of a thread inside a capture is
+/// collected, every other thread's goes to the window installed before.
+class FilteringOutputWindow : public itk::OutputWindow {
  public:
-  ITK_DISALLOW_COPY_AND_MOVE(CollectingOutputWindow);
-  using Self = CollectingOutputWindow;
+  ITK_DISALLOW_COPY_AND_MOVE(FilteringOutputWindow);
+  using Self = FilteringOutputWindow;
   using Pointer = itk::SmartPointer<Self>;
-  static Pointer New() {
-    Pointer p = new Self;
+  static Pointer New(itk::OutputWindow::Pointer previous) {
+    Pointer p = new Self(std::move(previous));
     p->UnRegister();
     return p;
   }
+
   void DisplayText(const char* text) override {
-    std::lock_guard<std::recursive_mutex> guard(captureLock());
-    if (depth > 0)
-      collected() << text << '\n';
-    else
-      std::fputs(text, stderr);
+    if (!collect(text)) previous_->DisplayText(text);
+  }
+  void DisplayErrorText(const char* text) override {
+    if (!collect(text)) previous_->DisplayErrorText(text);
+  }
+  void DisplayWarningText(const char* text) override {
+    if (!collect(text)) previous_->DisplayWarningText(text);
+  }
+  void DisplayGenericOutputText(const char* text) override {
+    if (!collect(text)) previous_->DisplayGenericOutputText(text);
+  }
+  void DisplayDebugText(const char* text) override {
+    if (!collect(text)) previous_->DisplayDebugText(text);
   }
 
- protected:
-  CollectingOutputWindow() = default;
+ private:
+  explicit FilteringOutputWindow(itk::OutputWindow::Pointer previous) : previous_(std::move(previous)) {}
+  static bool collect(const char* text) {
+    if (threadCapture.depth == 0) return false;
+    threadCapture.text += text;
+    threadCapture.text += '\n';
+    return true;
+  }
+  const itk::OutputWindow::Pointer previous_;
 };
-
-void installOutputWindow() {
-  static std::once_flag once;
-  std::call_once(once, [] { itk::OutputWindow::SetInstance(CollectingOutputWindow::New()); });
-}
 
 }  // namespace
 
-struct LibraryMessageCapture::State {
-  std::unique_lock<std::recursive_mutex> guard{captureLock()};
-  int savedFd = -1;
-  std::FILE* sink = nullptr;
-  std::streambuf* savedCerr = nullptr;
-  std::ostringstream cerrText;
-  std::size_t start = 0;
-};
-
-LibraryMessageCapture::LibraryMessageCapture() : state_(new State) {
-  installOutputWindow();
-  State& s = *state_;
-  s.start = collected().str().size();
-  if (depth++ > 0) return;  // the outer capture diverts the streams already
-  std::fflush(stderr);
-  std::cerr.flush();
-  s.sink = std::tmpfile();
-  if (s.sink) {
-    s.savedFd = ::dup(2);
-    if (s.savedFd < 0 || ::dup2(::fileno(s.sink), 2) < 0) {
-      if (s.savedFd >= 0) ::close(s.savedFd);
-      s.savedFd = -1;
-    }
-  }
-  s.savedCerr = std::cerr.rdbuf(s.cerrText.rdbuf());
+LibraryMessageCapture::LibraryMessageCapture() {
+  if (threadCapture.depth++ == 0) threadCapture.text.clear();
+  start_ = threadCapture.text.size();
 }
 
 LibraryMessageCapture::~LibraryMessageCapture() {
-  State& s = *state_;
-  if (--depth > 0) return;
-  std::cerr.rdbuf(s.savedCerr);
-  std::fflush(stderr);
-  if (s.savedFd >= 0) {
-    ::dup2(s.savedFd, 2);
-    ::close(s.savedFd);
-  }
-  if (s.sink) std::fclose(s.sink);
-  collected().str("");
+  if (--threadCapture.depth == 0) threadCapture.text.clear();
 }
 
-std::string LibraryMessageCapture::text() {
-  State& s = *state_;
-  std::string all = collected().str().substr(s.start);
-  std::fflush(stderr);
-  if (depth > 0 && s.sink) {  // what went to file descriptor 2
-    std::rewind(s.sink);
-    char buffer[4096];
-    std::size_t n;
-    while ((n = std::fread(buffer, 1, sizeof buffer, s.sink)) > 0) all.append(buffer, n);
-    std::fseek(s.sink, 0, SEEK_END);
-  }
-  all += s.cerrText.str();
+std::string LibraryMessageCapture::text() const {
+  const std::string all = threadCapture.text.substr(std::min(start_, threadCapture.text.size()));
   std::string line;
   bool blank = false;
   for (char c : all) {
@@ -121,3 +88,14 @@ std::string LibraryMessageCapture::text() {
 }
 
 }  // namespace stvd::imaging::detail
+
+namespace stvd::imaging {
+
+void installItkMessageFilter() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    itk::OutputWindow::SetInstance(detail::FilteringOutputWindow::New(itk::OutputWindow::GetInstance()));
+  });
+}
+
+}  // namespace stvd::imaging

@@ -1,18 +1,14 @@
-// ITK, the niftilib and NrrdIO inside it, and VNL print their own messages:
-// ITK through its output window (a three-line "WARNING: In .../
-// itkNiftiImageIO.cxx, line 1015 ..."), niftilib and NrrdIO with
-// fprintf(stderr), VNL on std::cerr (a matrix dump before abort()). stvd
-// promises one line of its own per problem, so every call into these
-// libraries runs inside a LibraryMessageCapture, which collects that output
-// instead of letting it reach the terminal.
-//
-// The capture diverts the process's standard error (file descriptor 2 and
-// std::cerr) while it lives: output of other threads during a read or write
-// of an image is collected too and not shown. Captures nest; they are
-// serialised by a process-wide lock.
+// Every call into ITK runs inside a LibraryMessageCapture, which marks the
+// calling thread as inside one of stvd's calls: if the process's owner
+// installed stvd's output window (installItkMessageFilter,
+// stvd/itk/itk_messages.hpp), ITK's messages given on this thread meanwhile
+// are collected here instead of reaching the terminal. Nothing process-wide
+// changes: no output window is exchanged per call, file descriptor 2 and
+// std::cerr are never touched. Captures nest; captures on different threads
+// are independent.
 #pragma once
 
-#include <memory>
+#include <cstddef>
 #include <string>
 
 namespace stvd::imaging::detail {
@@ -24,13 +20,13 @@ class LibraryMessageCapture {
   LibraryMessageCapture(const LibraryMessageCapture&) = delete;
   LibraryMessageCapture& operator=(const LibraryMessageCapture&) = delete;
 
-  /// What the libraries printed since this capture began, as one line
-  /// (line breaks and runs of blanks made single spaces).
-  std::string text();
+  /// What stvd's output window was given on this thread since this capture
+  /// began, as one line (line breaks and runs of blanks made single spaces);
+  /// empty when the window is not installed.
+  std::string text() const;
 
  private:
-  struct State;
-  std::unique_ptr<State> state_;
+  std::size_t start_ = 0;
 };
 
 }  // namespace stvd::imaging::detail

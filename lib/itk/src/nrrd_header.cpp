@@ -48,14 +48,20 @@ int rangeAxis(const Nrrd& nrrd) {
 
 }  // namespace
 
+bool nrrdSpaceIsLeftAnteriorSuperior(const std::string& path) {
+  return loadNrrd(path, true)->space == nrrdSpaceLeftAnteriorSuperior;
+}
+
 NrrdTensorHeader readNrrdTensorHeader(const std::string& path) {
   const NrrdPtr nrrd = loadNrrd(path, true);
   NrrdTensorHeader header;
   if (nrrd->space != nrrdSpaceUnknown) header.space = airEnumStr(nrrdSpace, nrrd->space);
-  // The same conversions ITK applies to the geometry on reading.
+  // The conversions of the geometry on reading: ITK's for RAS; for LAS the
+  // y flip, which geometryOfAxes (itk_io_support.cpp) applies to the grid in
+  // place of ITK 5.2's x flip.
   switch (nrrd->space) {
     case nrrdSpaceRightAnteriorSuperior: header.spaceToLps = {-1, 0, 0, 0, -1, 0, 0, 0, 1}; break;
-    case nrrdSpaceLeftAnteriorSuperior: header.spaceToLps = {-1, 0, 0, 0, 1, 0, 0, 0, 1}; break;
+    case nrrdSpaceLeftAnteriorSuperior: header.spaceToLps = {1, 0, 0, 0, -1, 0, 0, 0, 1}; break;
     default: break;
   }
   if (nrrd->spaceDim == 3 && AIR_EXISTS(nrrd->measurementFrame[0][0])) {

@@ -14,7 +14,7 @@ struct NrrdTensorHeader {
   /// The "space" field, e.g. "left-posterior-superior"; "" when absent.
   std::string space;
   /// Maps NRRD-space coordinates to LPS: the identity for LPS (and spaces
-  /// ITK does not convert), diag(-1,-1,1) for RAS, diag(-1,1,1) for LAS.
+  /// ITK does not convert), diag(-1,-1,1) for RAS, diag(1,-1,1) for LAS.
   Matrix3 spaceToLps{1, 0, 0, 0, 1, 0, 0, 0, 1};
   bool hasMeasurementFrame = false;
   /// Columns are the measurement frame's axes in NRRD-space coordinates.
@@ -25,6 +25,11 @@ struct NrrdTensorHeader {
 
 /// Reads the header only. Throws ImageIoError naming the file.
 NrrdTensorHeader readNrrdTensorHeader(const std::string& path);
+
+/// Whether the NRRD file's "space" field is left-anterior-superior (its
+/// header only; ITK's dictionary names such a space after its own
+/// conversion). Throws ImageIoError naming the file.
+bool nrrdSpaceIsLeftAnteriorSuperior(const std::string& path);
 
 /// The confidence value of every voxel of a 3D-masked-symmetric-matrix
 /// file (the first of its seven components), in ITK's voxel order. Throws

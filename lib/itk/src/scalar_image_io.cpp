@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <type_traits>
@@ -11,6 +12,7 @@
 #include "itk_io_support.hpp"
 #include "stvd/errors.hpp"
 #include "stvd/imaging/detail/image_output.hpp"
+#include "stvd/imaging/detail/read_progress.hpp"
 #include "stvd/imaging/image_files.hpp"
 #include "stvd/imaging/label_values.hpp"
 #include "stvd/imaging/mrtrix_image.hpp"
@@ -36,9 +38,10 @@ detail::OpenedImage openScalarImage(const std::string& path) {
 
 template <class T>
 void integerLabels(const detail::RawComponents& raw, std::vector<std::int64_t>& labels, const std::string& path,
-                   const GridGeometry& g) {
+                   const GridGeometry& g, InterruptScope& progress) {
   labels.resize(raw.count);
   for (std::size_t v = 0; v < raw.count; ++v) {
+    progress.step(raw.count + v);
     T value;
     std::memcpy(&value, raw.bytes.data() + v * sizeof(T), sizeof(T));
     if constexpr (std::is_unsigned_v<T> && sizeof(T) == 8)
@@ -50,9 +53,10 @@ void integerLabels(const detail::RawComponents& raw, std::vector<std::int64_t>& 
 
 template <class T>
 void floatLabels(const detail::RawComponents& raw, std::vector<std::int64_t>& labels, const std::string& path,
-                 const GridGeometry& g) {
+                 const GridGeometry& g, InterruptScope& progress) {
   labels.resize(raw.count);
   for (std::size_t v = 0; v < raw.count; ++v) {
+    progress.step(raw.count + v);
     T value;
     std::memcpy(&value, raw.bytes.data() + v * sizeof(T), sizeof(T));
     labels[v] = labelOfReal(static_cast<double>(value), path, g, v);
@@ -69,49 +73,60 @@ void checkMrtrixScalarImage(const MrtrixHeader& header, const std::string& path)
 
 }  // namespace
 
-ScalarImage readScalarImage(const std::string& path) {
-  if (isMrtrixImagePath(path)) {
-    MrtrixImage image = readMrtrixImage(path);
-    checkMrtrixScalarImage(image.header, path);
-    return {image.geometry, std::move(image.values), {}};
-  }
-  detail::OpenedImage opened = openScalarImage(path);
+ScalarImage readScalarImage(const std::string& path, Interrupter* interrupter) {
+  InterruptScope progress(interrupter, "reading image", 0);
   ScalarImage image;
-  image.geometry = detail::geometryOf(opened, path);
-  image.values = detail::readAllComponents(opened, path);
-  image.warnings = opened.screened.warnings;
+  if (isMrtrixImagePath(path)) {
+    MrtrixImage mrtrix = detail::readMrtrixImage(path, progress);
+    checkMrtrixScalarImage(mrtrix.header, path);
+    image = {mrtrix.geometry, std::move(mrtrix.values), {}};
+  } else {
+    // One piece: ITK's read and the values' conversion to float.
+    detail::OpenedImage opened = openScalarImage(path);
+    image.geometry = detail::geometryOf(opened, path);
+    image.values = detail::readAllComponents(opened, path);
+    image.warnings = opened.screened.warnings;
+  }
+  progress.finish();
   return image;
 }
 
-LabelImage readLabelImage(const std::string& path) {
+LabelImage readLabelImage(const std::string& path, Interrupter* interrupter) {
+  InterruptScope progress(interrupter, "reading labels", 0);
   if (isMrtrixImagePath(path)) {
-    MrtrixLabelImage image = readMrtrixLabelImage(path);
-    checkMrtrixScalarImage(image.header, path);
-    return {image.geometry, std::move(image.labels), {}};
+    MrtrixLabelImage mrtrix = detail::readMrtrixLabelImage(path, progress);
+    checkMrtrixScalarImage(mrtrix.header, path);
+    progress.finish();
+    return {mrtrix.geometry, std::move(mrtrix.labels), {}};
   }
   detail::OpenedImage opened = openScalarImage(path);
   LabelImage image;
   image.geometry = detail::geometryOf(opened, path);
   image.warnings = opened.screened.warnings;
+  // Steps: the values read by ITK in one call, then a step per value
+  // turned into a label.
   const detail::RawComponents raw = detail::readRawComponents(opened, path);
+  progress.setTotal(2 * std::uint64_t(raw.count));
+  progress.check(raw.count);
   const GridGeometry& g = image.geometry;
   using C = itk::IOComponentEnum;
   switch (raw.type) {
-    case C::UCHAR: integerLabels<std::uint8_t>(raw, image.labels, path, g); break;
-    case C::CHAR: integerLabels<std::int8_t>(raw, image.labels, path, g); break;
-    case C::USHORT: integerLabels<std::uint16_t>(raw, image.labels, path, g); break;
-    case C::SHORT: integerLabels<std::int16_t>(raw, image.labels, path, g); break;
-    case C::UINT: integerLabels<std::uint32_t>(raw, image.labels, path, g); break;
-    case C::INT: integerLabels<std::int32_t>(raw, image.labels, path, g); break;
-    case C::ULONG: integerLabels<unsigned long>(raw, image.labels, path, g); break;
-    case C::LONG: integerLabels<long>(raw, image.labels, path, g); break;
-    case C::ULONGLONG: integerLabels<unsigned long long>(raw, image.labels, path, g); break;
-    case C::LONGLONG: integerLabels<long long>(raw, image.labels, path, g); break;
-    case C::FLOAT: floatLabels<float>(raw, image.labels, path, g); break;
-    case C::DOUBLE: floatLabels<double>(raw, image.labels, path, g); break;
+    case C::UCHAR: integerLabels<std::uint8_t>(raw, image.labels, path, g, progress); break;
+    case C::CHAR: integerLabels<std::int8_t>(raw, image.labels, path, g, progress); break;
+    case C::USHORT: integerLabels<std::uint16_t>(raw, image.labels, path, g, progress); break;
+    case C::SHORT: integerLabels<std::int16_t>(raw, image.labels, path, g, progress); break;
+    case C::UINT: integerLabels<std::uint32_t>(raw, image.labels, path, g, progress); break;
+    case C::INT: integerLabels<std::int32_t>(raw, image.labels, path, g, progress); break;
+    case C::ULONG: integerLabels<unsigned long>(raw, image.labels, path, g, progress); break;
+    case C::LONG: integerLabels<long>(raw, image.labels, path, g, progress); break;
+    case C::ULONGLONG: integerLabels<unsigned long long>(raw, image.labels, path, g, progress); break;
+    case C::LONGLONG: integerLabels<long long>(raw, image.labels, path, g, progress); break;
+    case C::FLOAT: floatLabels<float>(raw, image.labels, path, g, progress); break;
+    case C::DOUBLE: floatLabels<double>(raw, image.labels, path, g, progress); break;
     default:
       throw ImageIoError(path, "unsupported component type " + itk::ImageIOBase::GetComponentTypeAsString(raw.type));
   }
+  progress.finish();
   return image;
 }
 

@@ -5,12 +5,13 @@
 
 namespace stvd::imaging {
 
-TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options) {
-  TensorInput input = tensorInputOf(readTensorVolume(path, {options.order, options.frame}), path);
+TensorInput readTensorInput(const std::string& path, const TensorInputOptions& options, Interrupter* interrupter) {
+  TensorInput input = tensorInputOf(readTensorVolume(path, {options.order, options.frame}, interrupter), path);
   // The mask's header is compared with the tensors' grid before its data
   // are read (image_grid.hpp).
   if (!options.maskPath.empty())
-    addMask(input, readScalarImageOnGrid(options.maskPath, input.read.volume.geometry, "the mask is", path),
+    addMask(input,
+            readScalarImageOnGrid(options.maskPath, input.read.volume.geometry, "the mask is", path, interrupter),
             options.maskPath, path);
   return input;
 }

@@ -3,7 +3,11 @@
 // keeps ITK's tensor headers (and the Eigen copy they carry) out of stvd.
 #include <itkMetaDataObject.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <limits>
 #include <sstream>
 #include <utility>
@@ -12,6 +16,7 @@
 #include "nrrd_header.hpp"
 #include "stvd/errors.hpp"
 #include "stvd/imaging/detail/image_output.hpp"
+#include "stvd/imaging/detail/read_progress.hpp"
 #include "stvd/imaging/image_files.hpp"
 #include "stvd/imaging/mrtrix_image.hpp"
 #include "stvd/imaging/tensor_arrays.hpp"
@@ -35,15 +40,24 @@ Matrix3 transpose(const Matrix3& m) {
 }
 
 /// An MRtrix tensor image: X Y Z 6, as dwi2tensor writes it (components
-/// D11 D22 D33 D12 D13 D23 along the scanner's RAS axes).
-TensorReadResult readMrtrixTensorVolume(const std::string& path, const TensorReadOptions& options) {
-  MrtrixImage image = readMrtrixImage(path);
+/// D11 D22 D33 D12 D13 D23 along the scanner's RAS axes), or X Y Z 1 6 (any
+/// number of axes of size 1 before the six volumes), as mrconvert makes it
+/// from a NIfTI 5D tensor file.
+TensorReadResult readMrtrixTensorVolume(const std::string& path, const TensorReadOptions& options,
+                                        InterruptScope& progress) {
+  // The conversion into tensors comes after the file's values: a step per
+  // voxel, a sixth of the values.
+  const GridGeometry grid = readMrtrixImageGrid(path);
+  MrtrixImage image = detail::readMrtrixImage(path, progress, grid.voxelCount());
   const std::vector<std::size_t>& size = image.header.size;
-  if (!(size.size() == 4 && size[3] == 6)) {
+  bool tensorShape = size.size() >= 4 && size.back() == 6;
+  for (std::size_t a = 3; tensorShape && a + 1 < size.size(); ++a) tensorShape = size[a] == 1;
+  if (!tensorShape) {
     std::string dim;
     for (std::size_t s : size) dim += (dim.empty() ? "" : ",") + std::to_string(s);
-    throw ImageIoError(path, "not a tensor volume: an MRtrix tensor image has four axes with 6 volumes "
-                             "(dim X,Y,Z,6), this one has dim " + dim);
+    throw ImageIoError(path, "not a tensor volume: an MRtrix tensor image has 6 volumes along its last axis "
+                             "(dim X,Y,Z,6, or X,Y,Z,1,6 as mrconvert makes it from a NIfTI 5D file), this one "
+                             "has dim " + dim);
   }
   TensorReadResult result;
   TensorFileInfo& info = result.info;
@@ -53,17 +67,35 @@ TensorReadResult readMrtrixTensorVolume(const std::string& path, const TensorRea
   info.frame = options.frame.value_or(defaultTensorFrame(info.layout, info.order));
   info.componentType = image.header.datatype;
   result.volume.geometry = image.geometry;
-  info.componentsToLps = componentFrameToLps(info, image.geometry);
+  info.componentsToLps = info.frame == TensorFrame::Voxel ? mrtrixStoredVoxelAxes(image.header, image.geometry)
+                                                          : componentFrameToLps(info, image.geometry);
+  // The values are in logical order, axis 0 fastest: the axes of size 1
+  // change nothing, and the six volumes follow one another.
   result.volume.tensors =
-      tensorsFromArray(image.values.data(), image.geometry.size, oneVolumePerComponent(image.geometry.size, info.order),
-                       info.componentsToLps);
+      detail::tensorsFromArray(image.values.data(), image.geometry.size,
+                               oneVolumePerComponent(image.geometry.size, info.order), info.componentsToLps, progress,
+                               2 * image.values.size());
   return result;
 }
 
+TensorReadResult readItkTensorVolume(const std::string& path, const TensorReadOptions& options,
+                                     InterruptScope& progress);
+
 }  // namespace
 
-TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options) {
-  if (isMrtrixImagePath(path)) return readMrtrixTensorVolume(path, options);
+TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptions& options,
+                                  Interrupter* interrupter) {
+  InterruptScope progress(interrupter, "reading tensors", 0);
+  TensorReadResult result =
+      isMrtrixImagePath(path) ? readMrtrixTensorVolume(path, options, progress) : readItkTensorVolume(path, options, progress);
+  progress.finish();
+  return result;
+}
+
+namespace {
+
+TensorReadResult readItkTensorVolume(const std::string& path, const TensorReadOptions& options,
+                                     InterruptScope& progress) {
   detail::OpenedImage image = detail::openImageForReading(path);
   itk::ImageIOBase::Pointer io = image.io;
   const std::string ioClass = io->GetNameOfClass();
@@ -127,8 +159,14 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
 
   TensorVolume& volume = result.volume;
   volume.geometry = detail::geometryOf(image, path);
-  const std::vector<float> values = detail::readAllComponents(image, path);
   const std::size_t n = volume.geometry.voxelCount();
+  // Steps: the six values of every voxel, read by ITK in one call (done
+  // when it returns), then a step per voxel of the conversion, then (a
+  // masked NRRD) its confidence channel, read in one call.
+  const bool confidenceToo = info.layout == TensorFileLayout::NrrdMaskedSymMatrix;
+  progress.setTotal(6 * std::uint64_t(n) + n + (confidenceToo ? n : 0));
+  const std::vector<float> values = detail::readAllComponents(image, path);
+  progress.check(6 * std::uint64_t(n));
   if (values.size() != 6 * n)
     throw ImageIoError(path, "holds " + std::to_string(values.size()) + " values, expected 6 per voxel");
 
@@ -136,10 +174,12 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
   info.componentsToLps = componentFrameToLps(info, volume.geometry);
   const TensorComponentLayout layout = interleaved ? componentsPerVoxel(volume.geometry.size, bufferOrder)
                                                    : oneVolumePerComponent(volume.geometry.size, bufferOrder);
-  volume.tensors = tensorsFromArray(values.data(), volume.geometry.size, layout, info.componentsToLps);
+  volume.tensors = detail::tensorsFromArray(values.data(), volume.geometry.size, layout, info.componentsToLps,
+                                            progress, 6 * std::uint64_t(n));
 
-  if (info.layout == TensorFileLayout::NrrdMaskedSymMatrix) {
+  if (confidenceToo) {
     const std::vector<float> confidence = detail::readNrrdConfidence(path);
+    progress.check(8 * std::uint64_t(n));
     if (confidence.size() != n)
       throw ImageIoError(path, "confidence channel has " + std::to_string(confidence.size()) +
                                    " values for " + std::to_string(n) + " voxels");
@@ -149,6 +189,8 @@ TensorReadResult readTensorVolume(const std::string& path, const TensorReadOptio
   }
   return result;
 }
+
+}  // namespace
 
 void writeTensorVolume(const std::string& path, const TensorVolume& volume,
                        const TensorWriteOptions& options) {

@@ -8,6 +8,7 @@
 #include <limits>
 #include <utility>
 
+#include "stvd/surface_io/cortical_surface_files.hpp"
 #include "stvd/surface_io/surface_mesh_io.hpp"
 
 namespace stvd::surface_io {
@@ -105,9 +106,18 @@ void writeSurfaceDistances(const std::string& path, const std::string& formatPat
   if (distance.size() != mesh.points.size())
     throw MeshFileError(path + ": " + std::to_string(distance.size()) + " distances for " +
                         std::to_string(mesh.points.size()) + " vertices");
+  if (vertexValuesFormatOf(formatPath) != VertexValuesFormat::None) {
+    // Unreached vertices are NaN: what Connectome Workbench, freeview and
+    // nilearn leave uncoloured (an infinity would stretch their colour scales).
+    std::vector<double> shown(distance);
+    for (double& d : shown)
+      if (!std::isfinite(d)) d = std::numeric_limits<double>::quiet_NaN();
+    writeVertexValues(path, formatPath, mesh, shown, "geodesic distance");
+    return;
+  }
   const std::string e = lowerExtension(formatPath);
   if (e != ".ply" && e != ".vtk" && e != ".csv")
-    throw MeshFileError(formatPath + ": unknown output format (expected .ply, .vtk or .csv)");
+    throw MeshFileError(formatPath + ": unknown output format (expected .ply, .vtk, .csv, .shape.gii, .func.gii or FreeSurfer curv)");
   std::ofstream out(path, std::ios::binary);
   if (!out) throw MeshFileError(path + ": cannot create the file: " + std::strerror(errno));
   if (e == ".ply") writePly(out, mesh, distance);

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "stvd/system/files/regular_file.hpp"
+#include "stvd/surface_io/cortical_surface_files.hpp"
 #include "stvd/surface_io/surface_mesh_io.hpp"
 
 namespace stvd::surface_io {
@@ -87,12 +88,12 @@ void requireFaces(const std::string& path, const SurfaceMesh& m) {
 
 bool isSurfaceMeshPath(const std::string& path) {
   const std::string e = lowerExtension(path);
-  return e == ".obj" || e == ".off" || e == ".ply" || e == ".stl";
+  return e == ".obj" || e == ".off" || e == ".ply" || e == ".stl" || e == ".gii" || hasFreeSurferHemisphereName(path);
 }
 
 bool isSurfaceOutputPath(const std::string& path) {
   const std::string e = lowerExtension(path);
-  return e == ".ply" || e == ".vtk" || e == ".csv";
+  return e == ".ply" || e == ".vtk" || e == ".csv" || vertexValuesFormatOf(path) != VertexValuesFormat::None;
 }
 
 SurfaceMesh readSurfaceMesh(const std::string& path) {
@@ -101,7 +102,10 @@ SurfaceMesh readSurfaceMesh(const std::string& path) {
   if (e == ".off") return readOff(path);
   if (e == ".ply") return readPly(path);
   if (e == ".stl") return readStl(path);
-  throw MeshFileError(path + ": unknown surface format (expected .obj, .off, .ply or .stl)");
+  if (e == ".gii") return readGiftiSurface(path);
+  if (isFreeSurferSurfaceFile(path) || hasFreeSurferHemisphereName(path)) return readFreeSurferSurface(path);
+  throw MeshFileError(path + ": unknown surface format (expected .obj, .off, .ply, .stl, .surf.gii or a FreeSurfer "
+                             "surface such as lh.pial)");
 }
 
 // Wavefront OBJ: "v x y z [w]" and "f i i i ..." with i, i/t, i//n or i/t/n,

@@ -58,6 +58,7 @@
 #include "stvd/system/files/output_transaction.hpp"
 #include "stvd/system/files/regular_file.hpp"
 #include "stvd/system/files/termination_signals.hpp"
+#include "stvd/system/interrupter.hpp"
 #include "stvd/system/memory.hpp"
 #include "stvd/system/parallel_tasks.hpp"
 

@@ -78,10 +78,12 @@ template <class Norm>
 LanthierResult lanthierPropagate(const TetrahedralCells& mesh, const MetricField<Norm>& metric,
                                           const std::vector<VertexId>& sources, const LanthierOptions& options) {
   detail::validate(mesh, mesh.vertexCount(), metric, sources, options);
-  detail::TetSteinerCells cells(mesh, options.steinerPoints);
-  return detail::LanthierDijkstra<detail::TetSteinerCells, Norm>(cells, metric, mesh.vertexCount(),
-                                                                mesh.vertexCount(), options)
-      .run(sources);
+  const std::uint64_t m = static_cast<std::uint64_t>(options.steinerPoints);
+  const std::uint64_t points =
+      mesh.vertexCount() + m * mesh.edges().size() + m * (m - 1) / 2 * mesh.faces().size();
+  return detail::setUpAndRunLanthier<detail::TetSteinerCells>(metric, mesh.vertexCount(), mesh.vertexCount(),
+                                                               sources, options, 0, points, mesh,
+                                                               options.steinerPoints);
 }
 
 Vec3d steinerPointPosition(const TetrahedralCells& mesh, int steinerPoints, SteinerPointId p) {

@@ -17,6 +17,12 @@ namespace stvd::detail {
 class TetSteinerCells {
  public:
   TetSteinerCells(const TetrahedralCells& cells, int steinerPoints);
+  /// For a propagation: no steps of `setup` (the mesh's edges and faces are
+  /// the TetrahedralCells' own).
+  TetSteinerCells(const TetrahedralCells& cells, int steinerPoints, SetupProgress& setup)
+      : TetSteinerCells(cells, steinerPoints) {
+    (void)setup;
+  }
 
   std::uint64_t pointCount() const { return pointCount_; }
   SteinerPointId pointOfVertex(VertexId v) const { return v; }

@@ -22,6 +22,20 @@ std::vector<OptionDeclaration> declarations() {
   vertex.helpFor = {{kTetMeshDistanceCommand, "vertex number N as the .node file numbers it (repeatable)."}};
   table.push_back(vertex);
 
+  OptionDeclaration region;
+  region.flag = "--seed-region";
+  region.valueName = "NAME";
+  region.keyword = "seed_regions";
+  region.keywordCommands = kNoCommand;
+  region.type = OptionType::Text;
+  region.group = OptionGroup::Seeds;
+  region.commands = kSurfaceDistanceCommand;
+  region.repeatable = true;
+  region.help =
+      "the vertices of the region NAME of the --seeds annotation (.annot) or GIfTI label file (.label.gii) "
+      "are seeds (repeatable: their union).";
+  table.push_back(region);
+
   OptionDeclaration seedAt;
   seedAt.flag = "--seed-at";
   seedAt.valueName = "W";
@@ -55,7 +69,10 @@ std::vector<OptionDeclaration> declarations() {
        "(--anisotropy)"},
       {"tensors:FILE",
        "one 3D tensor \"xx xy xz yy yz zz\" per vertex (world frame), projected to the tangent plane"},
-      {"face-tensors:FILE", "the same per face (file order), averaged to the vertices by corner angle"}};
+      {"face-tensors:FILE", "the same per face (file order), averaged to the vertices by corner angle"},
+      {"scale:FILE",
+       "one positive number per vertex (.func.gii, .shape.gii, curv, .mgh, .mgz or a text column): a unit step "
+       "near the vertex costs that much (isotropic)"}};
   metric.choiceLayout = ChoiceLayout::Lines;
   metric.help = "{choices}.";
   metric.defaults = {std::monostate{}, std::string("isotropic"), std::monostate{}};

@@ -22,11 +22,23 @@ std::vector<OptionDeclaration> declarations() {
   threads.keyword = "threads";
   threads.type = OptionType::Integer;
   threads.group = OptionGroup::Regions;
-  threads.commands = kConnectivityCommand;
+  threads.commands = kConnectivityCommand | kSurfaceDistanceCommand | kDistanceCommand | kPathCommand;
+  threads.keywordCommands = kConnectivityCommand;
   threads.range = {1.0, 1024.0};
   // threadCountFor(0, ...): one thread per core.
   threads.defaultText = "the number of cores";
-  threads.help = "regions propagated in parallel (default: {default}); the table does not depend on N.";
+  threads.help =
+      "regions propagated in parallel, and with --fod-basis the voxels of the FOD metric's table (default: "
+      "{default}); the table does not depend on N.";
+  threads.helpFor = {{kSurfaceDistanceCommand,
+                      "with --region-matrix or --nearest-region: regions propagated in parallel (default: "
+                      "{default}); the results do not depend on N."},
+                     {kDistanceCommand,
+                      "with --fod-basis: voxels of the FOD metric's table computed in parallel (default: {default}); "
+                      "the distances do not depend on N."},
+                     {kPathCommand,
+                      "with --fod-basis: voxels of the FOD metric's table computed in parallel (default: {default}); "
+                      "the paths do not depend on N."}};
   table.push_back(threads);
   return table;
 }

@@ -10,6 +10,7 @@ namespace stvd {
 std::vector<VertexId> predecessorPath(const PropagationResult& result, VertexId target) {
   if (target >= result.distance.size() || result.predecessor.size() != result.distance.size())
     throw std::invalid_argument("target vertex " + std::to_string(target) + " is out of range");
+  if (!result.hasPredecessors) throw std::invalid_argument(detail::kNoPredecessorsMessage);
   std::vector<VertexId> path;
   if (!std::isfinite(result.distance[target])) return path;
   VertexId v = target;

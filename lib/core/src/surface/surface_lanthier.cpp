@@ -13,24 +13,59 @@
 namespace stvd::detail {
 
 SurfaceSteinerCells::SurfaceSteinerCells(const SurfaceDomain& surface, int steinerPoints)
+    : SurfaceSteinerCells(surface, steinerPoints, nullptr) {}
+
+SurfaceSteinerCells::SurfaceSteinerCells(const SurfaceDomain& surface, int steinerPoints, SetupProgress& setup)
+    : SurfaceSteinerCells(surface, steinerPoints, &setup) {}
+
+std::uint64_t SurfaceSteinerCells::setupSteps(const SurfaceDomain& surface) {
+  return 4 * std::uint64_t(surface.faces().faceCount()) + 3 * std::uint64_t(surface.vertexCount());
+}
+
+SurfaceSteinerCells::SurfaceSteinerCells(const SurfaceDomain& surface, int steinerPoints, SetupProgress* setup)
     : surface_(surface), m_(steinerPoints) {
   const PolygonList& faces = surface.faces();
   const std::size_t faceCount = faces.faceCount();
   const std::size_t cornerCount = faces.faceVertex.size();
+  const std::size_t vertexCount = surface.vertexCount();
   auto nextCorner = [&](std::uint32_t f, std::uint32_t c) {
     return c + 1 < faces.faceStart[f + 1] ? c + 1 : faces.faceStart[f];
   };
+  auto step = [&] {
+    if (setup) setup->step();
+  };
 
-  // Undirected edges in (smaller, larger) vertex order: the numbering of the
-  // edge points does not depend on the faces' orientation.
-  edges_.reserve(cornerCount);
-  for (std::uint32_t f = 0; f < faceCount; ++f)
+  // Undirected edges in (smaller, larger) vertex order, sorted: the
+  // numbering of the edge points does not depend on the faces'
+  // orientation. A counting sort by the smaller vertex, then each vertex's
+  // few larger neighbours sorted: linear, and every loop reports.
+  std::vector<std::uint32_t> sideStart(vertexCount + 1, 0);
+  for (std::uint32_t f = 0; f < faceCount; ++f, step())
     for (std::uint32_t c = faces.faceStart[f]; c < faces.faceStart[f + 1]; ++c) {
       const VertexId a = faces.faceVertex[c], b = faces.faceVertex[nextCorner(f, c)];
-      edges_.push_back({std::min(a, b), std::max(a, b)});
+      ++sideStart[std::min(a, b) + 1];
     }
-  std::sort(edges_.begin(), edges_.end());
-  edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
+  for (std::size_t v = 0; v < vertexCount; ++v, step()) sideStart[v + 1] += sideStart[v];
+  std::vector<VertexId> larger(cornerCount);
+  {
+    std::vector<std::uint32_t> fill(sideStart.begin(), sideStart.end() - 1);
+    for (std::uint32_t f = 0; f < faceCount; ++f, step())
+      for (std::uint32_t c = faces.faceStart[f]; c < faces.faceStart[f + 1]; ++c) {
+        const VertexId a = faces.faceVertex[c], b = faces.faceVertex[nextCorner(f, c)];
+        larger[fill[std::min(a, b)]++] = std::max(a, b);
+      }
+  }
+  // edgeStart[v]: the first edge whose smaller vertex is v.
+  std::vector<std::uint32_t> edgeStart(vertexCount + 1, 0);
+  edges_.reserve(cornerCount);
+  for (std::size_t v = 0; v < vertexCount; ++v, step()) {
+    edgeStart[v] = static_cast<std::uint32_t>(edges_.size());
+    const auto begin = larger.begin() + sideStart[v], end = larger.begin() + sideStart[v + 1];
+    std::sort(begin, end);
+    for (auto b = begin; b != end; ++b)
+      if (b == begin || *b != *(b - 1)) edges_.push_back({static_cast<VertexId>(v), *b});
+  }
+  edgeStart[vertexCount] = static_cast<std::uint32_t>(edges_.size());
 
   pointCount_ = surface.vertexCount() + std::uint64_t(m_) * edges_.size();
   if (pointCount_ >= FrontQueue::kFinal)
@@ -40,23 +75,24 @@ SurfaceSteinerCells::SurfaceSteinerCells(const SurfaceDomain& surface, int stein
   sideEdge_.resize(cornerCount);
   edgeFace_.assign(edges_.size(), {kNoFace, kNoFace});
   vertexFaceStart_.assign(surface.vertexCount() + 1, 0);
-  for (std::uint32_t f = 0; f < faceCount; ++f) {
+  for (std::uint32_t f = 0; f < faceCount; ++f, step()) {
     maxCorners_ = std::max(maxCorners_, static_cast<int>(faces.faceStart[f + 1] - faces.faceStart[f]));
     for (std::uint32_t c = faces.faceStart[f]; c < faces.faceStart[f + 1]; ++c) {
       const VertexId a = faces.faceVertex[c], b = faces.faceVertex[nextCorner(f, c)];
       const std::array<VertexId, 2> key{std::min(a, b), std::max(a, b)};
-      const auto e = static_cast<std::uint32_t>(std::lower_bound(edges_.begin(), edges_.end(), key) - edges_.begin());
+      const auto first = edges_.begin() + edgeStart[key[0]], last = edges_.begin() + edgeStart[key[0] + 1];
+      const auto e = static_cast<std::uint32_t>(std::lower_bound(first, last, key) - edges_.begin());
       sideEdge_[c] = e;
       // A manifold edge has at most two faces (SurfaceDomain checked that).
       edgeFace_[e][edgeFace_[e][0] == kNoFace ? 0 : 1] = f;
       ++vertexFaceStart_[a + 1];
     }
   }
-  for (std::size_t v = 0; v < surface.vertexCount(); ++v) vertexFaceStart_[v + 1] += vertexFaceStart_[v];
+  for (std::size_t v = 0; v < vertexCount; ++v, step()) vertexFaceStart_[v + 1] += vertexFaceStart_[v];
   vertexFace_.resize(cornerCount);
   {
     std::vector<std::uint32_t> fill(vertexFaceStart_.begin(), vertexFaceStart_.end() - 1);
-    for (std::uint32_t f = 0; f < faceCount; ++f)
+    for (std::uint32_t f = 0; f < faceCount; ++f, step())
       for (std::uint32_t c = faces.faceStart[f]; c < faces.faceStart[f + 1]; ++c)
         vertexFace_[fill[faces.faceVertex[c]]++] = f;
   }
@@ -105,10 +141,12 @@ namespace stvd {
 LanthierResult lanthierPropagate(const SurfaceDomain& surface, const RiemannianMetric& metric,
                                           const std::vector<VertexId>& sources, const LanthierOptions& options) {
   detail::validate(surface, surface.vertexCount(), metric, sources, options);
-  detail::SurfaceSteinerCells cells(surface, options.steinerPoints);
-  return detail::LanthierDijkstra<detail::SurfaceSteinerCells, RiemannianNorm>(
-             cells, metric, surface.vertexCount(), surface.vertexCount(), options)
-      .run(sources);
+  return detail::setUpAndRunLanthier<detail::SurfaceSteinerCells>(
+      metric, surface.vertexCount(), surface.vertexCount(), sources, options,
+      detail::SurfaceSteinerCells::setupSteps(surface),
+      // every edge is the side of a face
+      surface.vertexCount() + std::uint64_t(options.steinerPoints) * surface.faces().faceVertex.size(),
+      surface, options.steinerPoints);
 }
 
 Vec3d steinerPointPosition(const SurfaceDomain& surface, int steinerPoints, SteinerPointId p) {

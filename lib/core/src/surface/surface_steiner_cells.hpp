@@ -19,7 +19,12 @@ namespace stvd::detail {
 /// faces on each edge (one or two) and the faces around each vertex.
 class SurfaceSteinerCells {
  public:
+  /// The numbering and positions.
   SurfaceSteinerCells(const SurfaceDomain& surface, int steinerPoints);
+  /// The same for a propagation, reporting setupSteps(surface) steps to
+  /// `setup` (one per face or vertex of each pass).
+  SurfaceSteinerCells(const SurfaceDomain& surface, int steinerPoints, SetupProgress& setup);
+  static std::uint64_t setupSteps(const SurfaceDomain& surface);
 
   std::uint64_t pointCount() const { return pointCount_; }
   SteinerPointId pointOfVertex(VertexId v) const { return v; }
@@ -55,6 +60,7 @@ class SurfaceSteinerCells {
 
  private:
   static constexpr std::uint32_t kNoFace = 0xffffffffu;
+  SurfaceSteinerCells(const SurfaceDomain& surface, int steinerPoints, SetupProgress* setup);
   int gather(std::uint32_t f);  // fills id_ and position_ for face f, returns the point count
 
   const SurfaceDomain& surface_;

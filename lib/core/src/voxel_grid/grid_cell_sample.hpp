@@ -50,7 +50,7 @@ inline bool locate(const VoxelGridDomain& domain, Vec3d c, CellSample& s) {
   for (int a = 0; a < 3; ++a) s.frac[a] = frac[a];
   for (int n = 0; n < 8; ++n) {
     const int i = (n & 1) ? hi[0] : lo[0], j = (n & 2) ? hi[1] : lo[1], k = (n & 4) ? hi[2] : lo[2];
-    s.corner[n] = domain.vertexAt(i, j, k);
+    s.corner[n] = domain.vertexAtUnchecked(i, j, k);
     s.weight[n] = ((n & 1) ? frac[0] : 1.0 - frac[0]) * ((n & 2) ? frac[1] : 1.0 - frac[1]) *
                   ((n & 4) ? frac[2] : 1.0 - frac[2]);
   }

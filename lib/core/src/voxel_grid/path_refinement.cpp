@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 
 #include "grid_cell_sample.hpp"
+#include "path_progress.hpp"
 
 namespace stvd {
 namespace {
@@ -76,13 +78,19 @@ constexpr int kMaxFixingRounds = 64;
 /// lookup; G is carried over as A^T G A with A = D S.
 class PathRefiner {
  public:
+  /// Reports to `progress` from `from` to `from + span` of its total as the
+  /// iterations go.
   PathRefiner(const VoxelGridDomain& domain, const RiemannianMetric& metric, const std::vector<double>& distance,
-              const PathRefinementOptions& options)
+              const PathRefinementOptions& options, InterruptScope& progress, std::uint64_t from,
+              std::uint64_t span)
       : domain_(domain),
         geometry_(domain.geometry()),
         metric_(metric),
         reached_{domain, distance},
-        options_(options) {
+        options_(options),
+        progress_(progress),
+        progressFrom_(from),
+        progressSpan_(span) {
     for (int c = 0; c < 3; ++c) {
       const Vec3d column = geometry_.indexToPhysicalOffset(c == 0, c == 1, c == 2);
       toPhysical_.m[c] = column.x, toPhysical_.m[3 + c] = column.y, toPhysical_.m[6 + c] = column.z;
@@ -119,12 +127,20 @@ class PathRefiner {
     double startStep = 1.0;
     bool fixedAny = false;
     for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
+      // An iteration and a halving cost O(N) each: the clock is read every
+      // time (`points` is written only after the loop, so a stop leaves
+      // them as they were).
+      const std::uint64_t done =
+          progressFrom_ + progressSpan_ * static_cast<std::uint64_t>(iteration) /
+                              static_cast<std::uint64_t>(options_.maxIterations);
+      progress_.check(done);
       setActiveBounds();
       if (!solve()) break;
       bool accepted = false, descends = true;
       double alpha = startStep, trial = 0.0;
       std::size_t held = 0;
       for (int halving = 0; halving <= options_.maxHalvings && descends && !accepted; ++halving, alpha *= 0.5) {
+        if (halving > 0) progress_.check(done);
         if (halving > 0 && fixedAny) {
           // Points fixed for a longer step may be free to move on a
           // shorter one.
@@ -528,6 +544,8 @@ class PathRefiner {
   const RiemannianMetric& metric_;
   detail::ReachedVoxel reached_;  // the voxels of the domain the propagation reached
   PathRefinementOptions options_;
+  InterruptScope& progress_;
+  std::uint64_t progressFrom_, progressSpan_;
   Block toPhysical_, transposed_;
   double last_[3] = {0, 0, 0};
   // Work arrays, sized once per path.
@@ -548,7 +566,22 @@ PathRefinementReport refineGeodesicPath(const VoxelGridDomain& domain, const Rie
   if (!(options.spacingFraction > 0.0 && options.spacingFraction <= 0.5) ||
       options.maxIterations < 0 || options.maxHalvings < 0 || !(options.tolerance > 0.0))
     throw std::invalid_argument("path refinement options out of range");
-  return PathRefiner(domain, metric, distance, options).refine(points);
+  InterruptScope progress(options.interrupter, "path refinement", kPathRefinementSteps, options.progressInterval);
+  const PathRefinementReport report =
+      PathRefiner(domain, metric, distance, options, progress, 0, kPathRefinementSteps).refine(points);
+  progress.finish();
+  return report;
 }
+
+namespace detail {
+
+PathRefinementReport refineGeodesicPath(const VoxelGridDomain& domain, const RiemannianMetric& metric,
+                                        const std::vector<double>& distance, std::vector<Vec3d>& points,
+                                        const PathRefinementOptions& options, InterruptScope& progress,
+                                        std::uint64_t from, std::uint64_t span) {
+  return PathRefiner(domain, metric, distance, options, progress, from, span).refine(points);
+}
+
+}  // namespace detail
 
 }  // namespace stvd

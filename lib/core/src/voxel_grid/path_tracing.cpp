@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
 
 #include "grid_cell_sample.hpp"
+#include "path_progress.hpp"
 
 namespace stvd {
 namespace {
@@ -43,10 +45,15 @@ Vec3d clampToImage(const GridGeometry& g, Vec3d x) {
 
 class PathTracer {
  public:
+  /// The descent reports the first half of `progress`'s kTracingSteps, the
+  /// refinement the second.
+  static constexpr std::uint64_t kHalf = kPathRefinementSteps;
+  static constexpr std::uint64_t kTracingSteps = 2 * kHalf;
+
   PathTracer(const VoxelGridDomain& domain, const RiemannianMetric& metric,
-             const PropagationResult& result, const PathTracingOptions& options)
+             const PropagationResult& result, const PathTracingOptions& options, InterruptScope& progress)
       : domain_(domain), geometry_(domain.geometry()), metric_(metric), u_(result.distance),
-        reached_{domain, result.distance}, result_(result), options_(options) {
+        reached_{domain, result.distance}, result_(result), options_(options), progress_(progress) {
     const auto& s = geometry_.spacing;
     step_ = options.stepFraction * std::min({s[0], s[1], s[2]});
   }
@@ -72,7 +79,19 @@ class PathTracer {
     // Every pass either takes a Heun step (bounded by the budget) or moves
     // down the predecessor chain (bounded by the vertex count).
     const std::size_t safety = static_cast<std::size_t>(budget) + 2 * domain_.vertexCount() + 16;
+    // The share of the descent done: how far the distance has come down
+    // from the target's (never back).
+    const double u0 = ux;
+    std::uint64_t descended = 0;
+    std::uint64_t moves = 0;  // Heun steps and chain vertices: the clock is read every 64
+    auto moved = [&](double u) {
+      if ((++moves & 63) != 0) return;
+      const double share = u0 > 0.0 ? std::clamp(1.0 - u / u0, 0.0, 1.0) : 0.0;
+      descended = std::max(descended, static_cast<std::uint64_t>(share * static_cast<double>(kHalf)));
+      progress_.check(descended);
+    };
     for (std::size_t pass = 0; pass < safety; ++pass) {
+      moved(ux);
       const CellSample here = locateClamped(domain_, geometry_.physicalPointToIndex(x));
       if (const VertexId source = nearbySource(here, x); source != kNoVertex) {
         if (norm(domain_.physicalPoint(source) - x) > 0.0) points.push_back(domain_.physicalPoint(source));
@@ -117,6 +136,7 @@ class PathTracer {
       const int chain = gradientAllowed ? options_.fallbackVertices : std::numeric_limits<int>::max();
       for (int n = 0; n < chain && result_.predecessor[v] != kNoVertex; ++n) {
         v = result_.predecessor[v];
+        moved(u_[v]);
         points.push_back(domain_.physicalPoint(v));
         ++path.discretePoints;
       }
@@ -150,7 +170,7 @@ class PathTracer {
   /// and reached.
   bool fieldAt(int i, int j, int k, double& f) const {
     if (!domain_.isInsideImage(i, j, k)) return false;
-    const VertexId w = domain_.vertexAt(i, j, k);
+    const VertexId w = domain_.vertexAtUnchecked(i, j, k);
     if (!domain_.contains(w) || !std::isfinite(u_[w])) return false;
     f = u_[w] * u_[w];
     return true;
@@ -334,7 +354,8 @@ class PathTracer {
         if (inRegion(p[n - 1], smoothed) && inRegion(smoothed, p[n + 1])) p[n] = smoothed;
       }
     }
-    if (options_.refine) path.refinement = refineGeodesicPath(domain_, metric_, u_, p, options_.refinement);
+    if (options_.refine)
+      path.refinement = detail::refineGeodesicPath(domain_, metric_, u_, p, options_.refinement, progress_, kHalf, kHalf);
     for (std::size_t n = 1; n < p.size(); ++n) {
       const Vec3d d = p[n] - p[n - 1];
       path.euclideanLength += norm(d);
@@ -350,6 +371,7 @@ class PathTracer {
   detail::ReachedVoxel reached_;  // the voxels of the domain the propagation reached
   const PropagationResult& result_;
   PathTracingOptions options_;
+  InterruptScope& progress_;
   double step_ = 0.0;
 };
 
@@ -363,6 +385,7 @@ TracedPath traceGeodesicPath(const VoxelGridDomain& domain, const RiemannianMetr
     throw std::invalid_argument("metric, propagation result and domain differ in size");
   if (target >= domain.vertexCount())
     throw std::invalid_argument("target vertex " + std::to_string(target) + " is out of range");
+  if (!result.hasPredecessors) throw std::invalid_argument(detail::kNoPredecessorsMessage);
   if (!(options.stepFraction > 0.0 && options.stepFraction <= 1.0))
     throw std::invalid_argument("path step fraction must be in (0, 1]");
   if (options.fallbackVertices < 1 || options.noDescentSteps < 1 || !(options.stepBudgetFactor > 0.0) ||
@@ -372,7 +395,10 @@ TracedPath traceGeodesicPath(const VoxelGridDomain& domain, const RiemannianMetr
                           options.refinement.maxIterations >= 0 && options.refinement.maxHalvings >= 0 &&
                           options.refinement.tolerance > 0.0 && options.refinement.energyTolerance >= 0.0))
     throw std::invalid_argument("path refinement options out of range");
-  return PathTracer(domain, metric, result, options).trace(target);
+  InterruptScope progress(options.interrupter, "path tracing", PathTracer::kTracingSteps, options.progressInterval);
+  TracedPath path = PathTracer(domain, metric, result, options, progress).trace(target);
+  progress.finish();
+  return path;
 }
 
 double interpolateAtPoint(const VoxelGridDomain& domain, const std::vector<float>& values, Vec3d point) {

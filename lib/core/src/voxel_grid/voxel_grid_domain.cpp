@@ -123,6 +123,12 @@ std::vector<std::int64_t> segmentSupport(const Index3& d, VoxelConnectivity conn
 
 }  // namespace
 
+void VoxelGridDomain::throwIndexOutsideImage(int i, int j, int k) const {
+  throw std::out_of_range("voxel index (" + std::to_string(i) + ", " + std::to_string(j) + ", " + std::to_string(k) +
+                          ") is outside the image of " + std::to_string(nx_) + " x " + std::to_string(ny_) + " x " +
+                          std::to_string(nz_) + " voxels");
+}
+
 VoxelGridDomain::VoxelGridDomain(const GridGeometry& geometry, Stencil stencil,
                                  std::vector<std::uint8_t> mask, VoxelConnectivity connectivity)
     : geometry_(geometry), stencil_(std::move(stencil)), mask_(std::move(mask)), connectivity_(connectivity) {
@@ -214,7 +220,7 @@ void VoxelGridDomain::computeClearance() {
       for (const auto& o : before) {
         const int i = c.i + sign * o[0], j = c.j + sign * o[1], k = c.k + sign * o[2];
         if (i < 0 || j < 0 || k < 0 || i >= n[0] || j >= n[1] || k >= n[2]) continue;
-        best = std::min(best, clearance_[vertexAt(i, j, k)] + 1);
+        best = std::min(best, clearance_[vertexAtUnchecked(i, j, k)] + 1);
       }
       clearance_[v] = static_cast<std::uint8_t>(best);
     }
@@ -229,16 +235,16 @@ bool VoxelGridDomain::traceSegmentSupport(const VoxelIndex& a, const VoxelIndex&
                               std::int64_t denominator) {
                             if (isJoinedContact(from, to, denominator, connectivity_)) {
                               // Both ends are voxel centres; they must be in the domain.
-                              return contains(vertexAt(static_cast<int>(from[0] / denominator),
+                              return contains(vertexAtUnchecked(static_cast<int>(from[0] / denominator),
                                                        static_cast<int>(from[1] / denominator),
                                                        static_cast<int>(from[2] / denominator))) &&
-                                     contains(vertexAt(static_cast<int>(to[0] / denominator),
+                                     contains(vertexAtUnchecked(static_cast<int>(to[0] / denominator),
                                                        static_cast<int>(to[1] / denominator),
                                                        static_cast<int>(to[2] / denominator)));
                             }
                             for (int c = 0; c < count; ++c) {
                               const Index3& q = corners[c];
-                              if (mask_[vertexAt(static_cast<int>(q[0]), static_cast<int>(q[1]),
+                              if (mask_[vertexAtUnchecked(static_cast<int>(q[0]), static_cast<int>(q[1]),
                                                  static_cast<int>(q[2]))] == 0)
                                 return false;
                             }

@@ -43,17 +43,39 @@ void otherAxes(int a, int& b, int& c) {
 
 }  // namespace
 
-GridSteinerCells::GridSteinerCells(const VoxelGridDomain& domain, int steinerPoints, bool findCells)
+GridSteinerCells::GridSteinerCells(const VoxelGridDomain& domain, int steinerPoints)
+    : GridSteinerCells(domain, steinerPoints, nullptr) {}
+
+GridSteinerCells::GridSteinerCells(const VoxelGridDomain& domain, int steinerPoints, SetupProgress& setup)
+    : GridSteinerCells(domain, steinerPoints, &setup) {}
+
+bool GridSteinerCells::thinCellsPossible(const VoxelGridDomain& domain) {
+  const GridGeometry& g = domain.geometry();
+  return domain.hasMask() || g.size[0] < 2 || g.size[1] < 2 || g.size[2] < 2;
+}
+
+std::uint64_t GridSteinerCells::setupSteps(const VoxelGridDomain& domain) {
+  const bool masked = domain.domainVertexCount() < domain.vertexCount();
+  // The numbering and the bases near the domain (masked only), the cubes
+  // and edges, and where thin cells are possible the squares, the cells
+  // that depend on them and the final flags.
+  const std::uint64_t passes = (masked ? 2 : 0) + 1 + (thinCellsPossible(domain) ? 3 : 0);
+  return passes * domain.vertexCount();
+}
+
+GridSteinerCells::GridSteinerCells(const VoxelGridDomain& domain, int steinerPoints, SetupProgress* setup)
     : domain_(domain), m_(steinerPoints) {
   const std::uint64_t slots = lanthierGridPointCount(1, m_);
   if (domain.domainVertexCount() < domain.vertexCount()) {
     numberOfVoxel_.assign(domain.vertexCount(), kNoVertex);
     voxelOfNumber_.reserve(domain.domainVertexCount());
-    for (VertexId v = 0; v < domain.vertexCount(); ++v)
+    for (VertexId v = 0; v < domain.vertexCount(); ++v) {
+      if (setup) setup->step();
       if (domain.contains(v)) {
         numberOfVoxel_[v] = static_cast<std::uint32_t>(voxelOfNumber_.size());
         voxelOfNumber_.push_back(v);
       }
+    }
   }
   pointCount_ = slots * domain.domainVertexCount();
   if (pointCount_ >= FrontQueue::kFinal)
@@ -63,7 +85,7 @@ GridSteinerCells::GridSteinerCells(const VoxelGridDomain& domain, int steinerPoi
   slotDivisor_ = FixedDivisor(slots_);
   buildShapes();
   id_.resize(shapes_[kCube].position.size());
-  if (findCells) this->findCells();
+  if (setup) findCells(*setup);
 }
 
 void GridSteinerCells::buildShapes() {
@@ -177,12 +199,12 @@ void GridSteinerCells::buildShapes() {
   }
 }
 
-void GridSteinerCells::findCells() {
+void GridSteinerCells::findCells(SetupProgress& setup) {
   const GridGeometry& g = domain_.geometry();
   const int size[3] = {static_cast<int>(g.size[0]), static_cast<int>(g.size[1]), static_cast<int>(g.size[2])};
   flags_.assign(domain_.vertexCount(), 0);
   auto inDomain = [&](const Index& p) {
-    return domain_.isInsideImage(p[0], p[1], p[2]) && domain_.contains(domain_.vertexAt(p[0], p[1], p[2]));
+    return domain_.isInsideImage(p[0], p[1], p[2]) && domain_.contains(domain_.vertexAtUnchecked(p[0], p[1], p[2]));
   };
   auto complete = [&](const Index& base, int s) {
     const Shape& shape = shapes_[s];
@@ -196,11 +218,12 @@ void GridSteinerCells::findCells() {
   if (domain_.domainVertexCount() < domain_.vertexCount()) {
     nearDomain.assign(domain_.vertexCount(), 0);
     for (VertexId v = 0; v < domain_.vertexCount(); ++v) {
+      setup.step();
       if (!domain_.contains(v)) continue;
       const VoxelIndex c = domain_.indexOf(v);
       for (int n = 0; n < 8; ++n) {
         const int i = c.i - (n & 1), j = c.j - ((n >> 1) & 1), k = c.k - ((n >> 2) & 1);
-        if (i >= 0 && j >= 0 && k >= 0) nearDomain[domain_.vertexAt(i, j, k)] = 1;
+        if (i >= 0 && j >= 0 && k >= 0) nearDomain[domain_.vertexAtUnchecked(i, j, k)] = 1;
       }
     }
   }
@@ -208,7 +231,8 @@ void GridSteinerCells::findCells() {
     for (int k = 0; k < size[2]; ++k)
       for (int j = 0; j < size[1]; ++j)
         for (int i = 0; i < size[0]; ++i) {
-          const VertexId v = domain_.vertexAt(i, j, k);
+          setup.step();
+          const VertexId v = domain_.vertexAtUnchecked(i, j, k);
           if (nearDomain.empty() || nearDomain[v]) visit(Index{i, j, k}, v);
         }
   };
@@ -217,10 +241,7 @@ void GridSteinerCells::findCells() {
     for (int a = 0; a < 3; ++a)
       if (complete(p, kEdge + a)) flags_[v] |= 1u << (kEdge + a);
   });
-  // Without a mask every square lies in a complete cube, unless an axis has
-  // a single voxel.
-  const bool thinPossible = domain_.hasMask() || size[0] < 2 || size[1] < 2 || size[2] < 2;
-  if (!thinPossible) return;
+  if (!thinCellsPossible(domain_)) return;
 
   // Complete squares first (kept in their bits for now, whether or not a
   // complete cube holds them), then what depends on them.
@@ -230,7 +251,7 @@ void GridSteinerCells::findCells() {
   });
   auto has = [&](const Index& p, int s) {
     return domain_.isInsideImage(p[0], p[1], p[2]) &&
-           (flags_[domain_.vertexAt(p[0], p[1], p[2])] & (1u << s)) != 0;
+           (flags_[domain_.vertexAtUnchecked(p[0], p[1], p[2])] & (1u << s)) != 0;
   };
   const VoxelConnectivity connectivity = domain_.connectivity();
   std::vector<std::uint32_t> lower(domain_.vertexCount(), 0);
@@ -251,6 +272,7 @@ void GridSteinerCells::findCells() {
   });
   const std::uint32_t cubeAndEdges = (1u << kCube) | (7u << kEdge);
   for (VertexId v = 0; v < domain_.vertexCount(); ++v) {
+    setup.step();
     flags_[v] = (flags_[v] & cubeAndEdges) | lower[v];
     hasThinCells_ = hasThinCells_ || lower[v] != 0;
   }
@@ -271,14 +293,14 @@ template <class Norm>
 LanthierResult lanthierPropagate(const VoxelGridDomain& domain, const MetricField<Norm>& metric,
                                           const std::vector<VertexId>& sources, const LanthierOptions& options) {
   detail::validate(domain, domain.vertexCount(), metric, sources, options);
-  detail::GridSteinerCells cells(domain, options.steinerPoints);
-  return detail::LanthierDijkstra<detail::GridSteinerCells, Norm>(cells, metric, domain.vertexCount(),
-                                                                 domain.domainVertexCount(), options)
-      .run(sources);
+  return detail::setUpAndRunLanthier<detail::GridSteinerCells>(
+      metric, domain.vertexCount(), domain.domainVertexCount(), sources, options,
+      detail::GridSteinerCells::setupSteps(domain),
+      lanthierGridPointCount(domain.domainVertexCount(), options.steinerPoints), domain, options.steinerPoints);
 }
 
 Vec3d steinerPointPosition(const VoxelGridDomain& domain, int steinerPoints, SteinerPointId p) {
-  const detail::GridSteinerCells cells(domain, steinerPoints, false);
+  const detail::GridSteinerCells cells(domain, steinerPoints);
   if (p >= cells.pointCount()) throw std::invalid_argument("Steiner point " + std::to_string(p) + " out of range");
   return cells.position(p);
 }
@@ -287,6 +309,9 @@ template LanthierResult lanthierPropagate(const VoxelGridDomain&, const Riemanni
                                                    const std::vector<VertexId>&, const LanthierOptions&);
 template LanthierResult lanthierPropagate(const VoxelGridDomain&, const RandersMetric&,
                                                    const std::vector<VertexId>&, const LanthierOptions&);
+// Tabulated (Finsler) norms: the FOD metrics of the imaging adapter (docs/fod.md).
+template LanthierResult lanthierPropagate(const VoxelGridDomain&, const MetricField<LatticeTableNorm<2>>&,
+                                          const std::vector<VertexId>&, const LanthierOptions&);
 
 std::uint64_t lanthierGridPointCount(std::uint64_t domainVoxelCount, int steinerPoints) {
   const std::uint64_t m = static_cast<std::uint64_t>(steinerPoints);

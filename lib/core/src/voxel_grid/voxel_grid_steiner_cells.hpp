@@ -36,9 +36,12 @@ namespace stvd::detail {
 /// the background.
 class GridSteinerCells {
  public:
-  /// Without `findCells` only the numbering and positions are set up (no
-  /// propagation possible).
-  GridSteinerCells(const VoxelGridDomain& domain, int steinerPoints, bool findCells = true);
+  /// The numbering and positions only (no propagation possible).
+  GridSteinerCells(const VoxelGridDomain& domain, int steinerPoints);
+  /// The numbering and the cells, reporting setupSteps(domain) steps to
+  /// `setup` (one per voxel of each pass over the grid).
+  GridSteinerCells(const VoxelGridDomain& domain, int steinerPoints, SetupProgress& setup);
+  static std::uint64_t setupSteps(const VoxelGridDomain& domain);
 
   std::uint64_t pointCount() const { return pointCount_; }
   /// The centre point of voxel v; kNoVertex when v is outside the domain.
@@ -69,7 +72,7 @@ class GridSteinerCells {
     for (std::size_t a = 0; a < count; ++a) {
       const Incidence& in = around[a];
       if (c.i < in.d[0] || c.j < in.d[1] || c.k < in.d[2]) continue;
-      const VertexId base = domain_.vertexAt(c.i - in.d[0], c.j - in.d[1], c.k - in.d[2]);
+      const VertexId base = domain_.vertexAtUnchecked(c.i - in.d[0], c.j - in.d[1], c.k - in.d[2]);
       if (!(flags_[base] & in.flag)) continue;
       const Shape& shape = shapes_[in.shape];
       // The cell's points are numbered with its corner voxels. A shape with
@@ -117,8 +120,12 @@ class GridSteinerCells {
   std::uint32_t numberOf(VertexId v) const { return numberOfVoxel_.empty() ? v : numberOfVoxel_[v]; }
   VertexId voxelOf(std::uint32_t n) const { return voxelOfNumber_.empty() ? n : voxelOfNumber_[n]; }
 
+  GridSteinerCells(const VoxelGridDomain& domain, int steinerPoints, SetupProgress* setup);
   void buildShapes();
-  void findCells();
+  void findCells(SetupProgress& setup);
+  /// Without a mask: every square lies in a complete cube, unless an axis
+  /// has a single voxel.
+  static bool thinCellsPossible(const VoxelGridDomain& domain);
 
   const VoxelGridDomain& domain_;
   int m_;

@@ -11,6 +11,9 @@
 // headers in stvd/imaging/detail/ are detail: they may change without notice.
 #pragma once
 
+#include "stvd/imaging/fod_cost.hpp"
+#include "stvd/imaging/fod_field.hpp"
+#include "stvd/imaging/fod_metric.hpp"
 #include "stvd/imaging/image_files.hpp"
 #include "stvd/imaging/label_values.hpp"
 #include "stvd/imaging/metric_sampling.hpp"
@@ -19,9 +22,11 @@
 #include "stvd/imaging/scalar_image.hpp"
 #include "stvd/imaging/seed_options.hpp"
 #include "stvd/imaging/seed_voxels.hpp"
+#include "stvd/imaging/spherical_harmonics.hpp"
 #include "stvd/imaging/streamline_io.hpp"
 #include "stvd/imaging/symmetric_eigen.hpp"
 #include "stvd/imaging/tensor_arrays.hpp"
+#include "stvd/imaging/tensor_frame_check.hpp"
 #include "stvd/imaging/tensor_frames.hpp"
 #include "stvd/imaging/tensor_input.hpp"
 #include "stvd/imaging/tensor_input_options.hpp"

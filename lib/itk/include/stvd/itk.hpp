@@ -10,7 +10,9 @@
 #pragma once
 
 #include "stvd/imaging.hpp"
+#include "stvd/itk/fod_volume_io.hpp"
 #include "stvd/itk/image_grid.hpp"
+#include "stvd/itk/itk_messages.hpp"
 #include "stvd/itk/scalar_image_io.hpp"
 #include "stvd/itk/tensor_input_io.hpp"
 #include "stvd/itk/tensor_volume_io.hpp"

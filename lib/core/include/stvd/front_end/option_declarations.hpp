@@ -31,6 +31,7 @@ enum OptionCommand : unsigned {
   kTetMeshDistanceCommand = 1u << 4,  ///< stvd distance MESH.node (stvd.tet_mesh_distance)
   kInfoCommand = 1u << 5,             ///< stvd info
   kCohortCommand = 1u << 6,           ///< stvd cohort (stvd.cohort.run)
+  kFodDistanceCommand = 1u << 7,      ///< stvd distance FOD --fod-basis (stvd.fod_distance): keywords only
 };
 using OptionCommands = unsigned;
 inline constexpr OptionCommands kNoCommand = 0;
@@ -52,6 +53,7 @@ enum class OptionGroup {
   Propagation,
   TensorFile,
   Metric,
+  FodFile,
   SurfaceMetric,
   MeshMetric,
   Paths,

@@ -19,6 +19,12 @@
 //     // chain-mean screen and its segment samples rely on it where a norm
 //     // states it (EdgeRuleIsMean below).
 //     static constexpr bool kEdgeRuleIsMean = true;
+//     // Optional: the first float of VertexParams that describes the norm
+//     // itself; the floats before it describe the domain and are the same at
+//     // every vertex of a field (a lattice table's index transform). How near
+//     // two vertices' norms are is the relative difference of the floats from
+//     // there on (STVD's source factoring, ComparedParamsBegin below).
+//     static constexpr int kComparedParamsBegin = 0;
 //   };
 //
 // RiemannianNorm and RandersNorm below are the two built in. The
@@ -96,5 +102,14 @@ struct EdgeRuleIsMean : std::false_type {};
 template <class Norm>
 struct EdgeRuleIsMean<Norm, std::void_t<decltype(Norm::kEdgeRuleIsMean)>>
     : std::bool_constant<Norm::kEdgeRuleIsMean> {};
+
+
+/// Norm::kComparedParamsBegin where the norm states it, else 0 (all of
+/// VertexParams describes the norm).
+template <class Norm, class = void>
+struct ComparedParamsBegin : std::integral_constant<int, 0> {};
+template <class Norm>
+struct ComparedParamsBegin<Norm, std::void_t<decltype(Norm::kComparedParamsBegin)>>
+    : std::integral_constant<int, Norm::kComparedParamsBegin> {};
 
 }  // namespace stvd

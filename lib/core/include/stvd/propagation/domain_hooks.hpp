@@ -23,7 +23,7 @@ inline constexpr bool kHasNoDomainHooks = false;
 /// displacement, physicalPoint; docs/architecture.md). A specialisation
 /// defines:
 ///
-///   template <class Norm> using CandidatePath = ...;
+///   `template <class Norm> using CandidatePath = ...;`
 ///       whether the path an STVD candidate stands for lies in the domain,
 ///       and its length (the interface: propagation/candidate_path.hpp);
 ///   using ChainUnfolding = ...;

@@ -11,6 +11,7 @@
 
 #include "stvd/metric/metric_field.hpp"
 #include "stvd/propagation/domain_hooks.hpp"
+#include "stvd/system/interrupter.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd {
@@ -102,6 +103,10 @@ struct PropagationProgress {
   std::uint64_t finalizedVertices = 0;
   std::uint64_t domainVertices = 0;  // vertices inside the domain
   double frontDistance = 0.0;        // distance of the last finalised vertex
+  /// The share of the work done, 0 in the first report, finalised / domain
+  /// vertices while the front runs, exactly 1 in the last report of a run
+  /// that was not cancelled (also when vertices stayed unreached).
+  double fraction = 0.0;
 };
 
 struct PropagationOptions {
@@ -135,8 +140,26 @@ struct PropagationOptions {
   double maxDistance = std::numeric_limits<double>::infinity();
   /// When not empty: stop as soon as all these vertices are final.
   std::vector<VertexId> targets;
-  /// Called about every 65536 finalised vertices; return false to cancel.
+  /// When not empty: the distance each source starts at, one per source in
+  /// the order given (by default 0). A source at distance d stands for a
+  /// path of length d that ends there (the copies of a split non-manifold
+  /// vertex, surface/manifold_sheets.hpp); finite and not negative.
+  std::vector<double> sourceDistances;
+  /// Called once at the start (fraction 0), at least about every
+  /// progressInterval seconds while the front runs, and once at the end
+  /// (fraction 1) unless the run was cancelled; return false to cancel.
+  /// The loop looks at the clock every 1024 finalised vertices, so the
+  /// calls cost nothing measurable (bench/propagation_speed).
+  ///
+  /// A cancelled run returns Termination::Cancelled and no distances: every
+  /// vertex is kUnreachable with predecessor kNoVertex (a half-finished map
+  /// cannot be mistaken for a result); the counters say how far it came.
   std::function<bool(const PropagationProgress&)> progress;
+  /// The same reports for an Interrupter (system/interrupter.hpp):
+  /// start("propagation"), wasInterrupted(percent), end(). Not owned.
+  Interrupter* interrupter = nullptr;
+  /// The longest time between two reports, seconds.
+  double progressInterval = kDefaultInterruptInterval;
 };
 
 enum class Termination {
@@ -166,6 +189,11 @@ struct PropagationResult {
   /// Predecessor of each final vertex on its propagation path; kNoVertex for
   /// sources and for vertices that are not final.
   std::vector<VertexId> predecessor;
+  /// Whether `predecessor` holds the propagation's paths. False for a
+  /// Steiner-point propagation (LanthierResult), whose paths run through
+  /// Steiner points and are not kept: predecessorPath, discreteGeodesicPath
+  /// and traceGeodesicPath refuse such a result with std::invalid_argument.
+  bool hasPredecessors = true;
   Termination termination = Termination::Completed;
   std::uint64_t finalizedVertices = 0;
   /// Distance updates evaluated: one per (finalised v, neighbour w) pair

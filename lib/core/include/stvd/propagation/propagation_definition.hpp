@@ -28,6 +28,12 @@ PropagationResult propagate(const Domain& domain, const MetricField<Norm>& metri
     if (!domain.contains(s))
       throw std::invalid_argument("source vertex " + std::to_string(s) +
                                   " lies outside the domain");
+  if (!options.sourceDistances.empty() && options.sourceDistances.size() != sources.size())
+    throw std::invalid_argument(std::to_string(options.sourceDistances.size()) + " source distances for " +
+                                std::to_string(sources.size()) + " sources");
+  for (const double d : options.sourceDistances)
+    if (!(d >= 0.0) || !std::isfinite(d))
+      throw std::invalid_argument("a source distance must be finite and not negative");
   for (const VertexId t : options.targets)
     if (!domain.contains(t))
       throw std::invalid_argument("target vertex " + std::to_string(t) +

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "stvd/metric/metric_field.hpp"
+#include "stvd/system/interrupter.hpp"
 #include "stvd/types.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
 
@@ -61,6 +62,14 @@ struct PathRefinementOptions {
   /// trilinear metric (cell faces) kept moving points by hundredths of a
   /// voxel at no gain, up to maxIterations.
   double energyTolerance = 1e-8;
+  /// Hears refineGeodesicPath as one operation, "path refinement": 0 %,
+  /// the share of maxIterations done at least every progressInterval
+  /// seconds (looked at in every iteration and every halving of its step),
+  /// 100 %. Stopped, it throws Cancelled and leaves `points` as they were.
+  /// Within traceGeodesicPath the tracing's interrupter is used instead.
+  /// Not owned.
+  Interrupter* interrupter = nullptr;
+  double progressInterval = kDefaultInterruptInterval;
 };
 
 struct PathRefinementReport {
@@ -78,7 +87,8 @@ struct PathRefinementReport {
 /// vertices (finite values); it is not otherwise used. Leaves `points`
 /// unchanged when it has fewer than 2 points or its end points coincide.
 /// Throws std::invalid_argument when sizes disagree or the options are out
-/// of range.
+/// of range, and Cancelled (with `points` unchanged) when
+/// options.interrupter asks to stop.
 PathRefinementReport refineGeodesicPath(const VoxelGridDomain& domain, const RiemannianMetric& metric,
                                         const std::vector<double>& distance, std::vector<Vec3d>& points,
                                         const PathRefinementOptions& options = {});

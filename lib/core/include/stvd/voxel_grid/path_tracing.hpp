@@ -67,6 +67,13 @@ struct PathTracingOptions {
   /// on the distance field's errors.
   bool refine = true;
   PathRefinementOptions refinement;
+  /// Hears traceGeodesicPath as one operation, "path tracing": 0 %, the
+  /// descent up to 50 % (by how far the distance has come down from the
+  /// target's), the refinement up to 100 % (by its iterations), at least
+  /// every progressInterval seconds. Stopped, traceGeodesicPath throws
+  /// Cancelled: a path that does not reach a source is no path. Not owned.
+  Interrupter* interrupter = nullptr;
+  double progressInterval = kDefaultInterruptInterval;
 };
 
 struct TracedPath {
@@ -99,7 +106,8 @@ struct TracedPath {
 /// Traces the path from `target` back to the sources of `result` (vertices
 /// of distance 0) over `domain` under `metric` (the field the propagation
 /// used). Throws std::invalid_argument when sizes disagree, the target is
-/// out of range or the options are out of range.
+/// out of range or the options are out of range, and Cancelled when
+/// options.interrupter asks to stop.
 TracedPath traceGeodesicPath(const VoxelGridDomain& domain, const RiemannianMetric& metric,
                              const PropagationResult& result, VertexId target,
                              const PathTracingOptions& options = {});
@@ -115,7 +123,9 @@ double interpolateAtPoint(const VoxelGridDomain& domain, const std::vector<float
 /// The discrete path of `target` in the form of a traced one: the voxel
 /// centres of its predecessor chain (predecessorPath) as points, its
 /// geodesic and Euclidean lengths; no metric length (NaN), gradient steps,
-/// fallbacks or refinement. Empty when the target was not reached.
+/// fallbacks or refinement. Empty when the target was not reached. Takes no
+/// interrupter: one step per vertex of the path (microseconds for a path
+/// across the sample brain).
 TracedPath discreteGeodesicPath(const VoxelGridDomain& domain, const PropagationResult& result, VertexId target);
 
 /// A per-voxel scalar (e.g. FA) along a path: its value at each point

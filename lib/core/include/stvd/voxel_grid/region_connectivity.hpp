@@ -50,6 +50,16 @@ struct RegionConnectivity {
 /// written only by the thread that propagates from region a, so the result
 /// does not depend on the number of threads. Throws what propagate() and
 /// traceGeodesicPath() throw.
+///
+/// options.interrupter hears the run as one operation, "region
+/// connectivity" (0 %, the share of pairs measured at least every
+/// options.progressInterval, 100 %), with each propagation and each path
+/// (when `tracing` names no interrupter of its own) as operations of their
+/// own within it, from several threads at once when threads > 1. When it
+/// asks to stop, or a propagation's progress callback does, the
+/// propagations and paths under way end at their next report and
+/// Cancelled is thrown: a table with rows missing would pass for regions
+/// that do not reach each other.
 RegionConnectivity regionConnectivity(const VoxelGridDomain& domain, const RiemannianMetric& metric,
                                       const std::vector<std::vector<VertexId>>& regionVoxels,
                                       const PropagationOptions& options, unsigned threads,

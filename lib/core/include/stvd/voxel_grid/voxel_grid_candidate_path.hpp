@@ -161,7 +161,7 @@ class VoxelGridCandidatePath {
     const VertexId strideJ = static_cast<VertexId>(domain_.geometry().size[0]);
     const VertexId strideK = strideJ * static_cast<VertexId>(domain_.geometry().size[1]);
     for (int m = 0; m < samples; ++m) {
-      const VertexId row = domain_.vertexAt(low[0], low[1], low[2]);
+      const VertexId row = domain_.vertexAtUnchecked(low[0], low[1], low[2]);
       const VertexId nextJ = remainder[1] != 0 ? strideJ : 0, nextK = remainder[2] != 0 ? strideK : 0;
       for (const VertexId r : {row, row + nextJ, row + nextK, row + nextJ + nextK})
         detail::prefetchRange(&metric_[r], &metric_[r + (remainder[0] != 0 ? 1 : 0)]);

@@ -89,7 +89,18 @@ class VoxelGridDomain {
   VertexId domainVertexCount() const { return domainVertexCount_; }
   bool contains(VertexId v) const { return v < vertexCount_ && (mask_.empty() || mask_[v] != 0); }
 
+  /// The vertex of voxel (i, j, k). Throws std::out_of_range naming the
+  /// index and the image size when (i, j, k) lies outside the image: the
+  /// linear index of (nx, 0, 0) is that of (0, 1, 0), so an unchecked index
+  /// past an edge would silently be another voxel.
   VertexId vertexAt(int i, int j, int k) const {
+    if (!isInsideImage(i, j, k)) throwIndexOutsideImage(i, j, k);
+    return vertexAtUnchecked(i, j, k);
+  }
+  /// vertexAt without the check, for loops that stay inside the image by
+  /// construction. An index outside the image gives another voxel's vertex
+  /// or one past the end.
+  VertexId vertexAtUnchecked(int i, int j, int k) const {
     return static_cast<VertexId>(i) + nx_ * (static_cast<VertexId>(j) + ny_ * static_cast<VertexId>(k));
   }
   bool isInsideImage(int i, int j, int k) const {
@@ -144,7 +155,7 @@ class VoxelGridDomain {
     const int jFirst = std::max(c.j - r, 0), jLast = std::min(c.j + r, static_cast<int>(ny_) - 1);
     const int kFirst = std::max(c.k - r, 0), kLast = std::min(c.k + r, static_cast<int>(nz_) - 1);
     for (int k = kFirst; k <= kLast; ++k)
-      for (int j = jFirst; j <= jLast; ++j) f(vertexAt(iFirst, j, k), vertexAt(iLast, j, k));
+      for (int j = jFirst; j <= jLast; ++j) f(vertexAtUnchecked(iFirst, j, k), vertexAtUnchecked(iLast, j, k));
   }
 
   /// Nothing to ask for ahead of forEachNeighbor: the edge vectors come from
@@ -206,6 +217,7 @@ class VoxelGridDomain {
   const std::vector<std::uint8_t>& clearance() const { return clearance_; }
 
  private:
+  [[noreturn]] void throwIndexOutsideImage(int i, int j, int k) const;
   bool stepSupportInDomain(VertexId v, int s) const {
     for (std::uint32_t m = supportStart_[s]; m < supportStart_[s + 1]; ++m)
       if (mask_[static_cast<VertexId>(static_cast<std::int64_t>(v) + supportOffset_[m])] == 0) return false;

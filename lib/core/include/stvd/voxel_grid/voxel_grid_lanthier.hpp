@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "stvd/lanthier/lanthier_propagation.hpp"
+#include "stvd/metric/lattice_table_norm.hpp"
 #include "stvd/metric/metric_field.hpp"
 #include "stvd/types.hpp"
 #include "stvd/voxel_grid/voxel_grid_domain.hpp"
@@ -69,5 +70,7 @@ extern template LanthierResult lanthierPropagate(const VoxelGridDomain&,
                                                           const RandersMetric&,
                                                           const std::vector<VertexId>&,
                                                           const LanthierOptions&);
+extern template LanthierResult lanthierPropagate(const VoxelGridDomain&, const MetricField<LatticeTableNorm<2>>&,
+                                                 const std::vector<VertexId>&, const LanthierOptions&);
 
 }  // namespace stvd

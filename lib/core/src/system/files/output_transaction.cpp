@@ -344,6 +344,16 @@ void OutputTransaction::commit() {
         fs::remove(m->destination, ec);
     }
   };
+  // First every file an output replaces is kept (a hard link in the
+  // staging folder's .previous), then the renames. Between the two, a
+  // termination signal that has arrived ends the run as if the commit had
+  // never begun: once a signal is sent, nothing more is committed.
+  struct Planned {
+    const std::string* output;  // the path the caller named
+    fs::path file;
+    Move move;
+  };
+  std::vector<Planned> plan;
   for (const auto& s : staged_) {
     if (s->destination.isStream()) continue;
     const fs::path previousFolder = fs::path(s->stagingFolder) / Staged::kPrevious;
@@ -361,14 +371,18 @@ void OutputTransaction::commit() {
         const fs::path keep = previousFolder / file.filename();
         if (::link(move.destination.c_str(), keep.c_str()) == 0) move.previous = keep;
       }
-      std::error_code ec;
-      fs::rename(file, move.destination, ec);
-      if (ec) {
-        undo();
-        throw OutputError(s->path, "cannot move " + file.filename().string() + " into place: " + ec.message());
-      }
-      done.push_back(move);
+      plan.push_back({&s->path, file, move});
     }
+  }
+  if (const int signal = detail::terminationSignalArrived()) detail::endBySignalWithRegistryLocked(signal);
+  for (const Planned& step : plan) {
+    std::error_code ec;
+    fs::rename(step.file, step.move.destination, ec);
+    if (ec) {
+      undo();
+      throw OutputError(*step.output, "cannot move " + step.file.filename().string() + " into place: " + ec.message());
+    }
+    done.push_back(step.move);
   }
   committed_ = true;
   lock.unlock();

@@ -22,4 +22,16 @@ struct ProcessRegistry {
 
 ProcessRegistry& processRegistry();
 
+/// A termination signal that removeStagedOutputsOnTerminationSignals()
+/// handles and that has arrived - pending or already taken by its thread -
+/// or 0. A commit asks with the registry locked, before its first rename:
+/// a signal that arrived before that point is never overtaken by the
+/// commit, however late its thread gets to run.
+int terminationSignalArrived();
+
+/// What the signal thread does, for a thread that holds the registry's
+/// lock: removes the staged outputs, stops the children, prints the
+/// interruption line and ends the process by `signal`.
+[[noreturn]] void endBySignalWithRegistryLocked(int signal);
+
 }  // namespace stvd::files::detail

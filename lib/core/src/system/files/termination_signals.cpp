@@ -1,12 +1,15 @@
 #include "stvd/system/files/termination_signals.hpp"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <pthread.h>
 #include <signal.h>
+#include <sys/signalfd.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <filesystem>
 #include <mutex>
@@ -25,9 +28,8 @@ std::string& programNameForMessages() {
 }
 
 /// A duplicate of standard error made when the handling is installed: code
-/// that diverts standard error for a while (the image adapter collects the
-/// messages of the libraries it calls that way) must not swallow the line
-/// that says the run was interrupted.
+/// that diverts standard error for a while (a host program may) must not
+/// swallow the line that says the run was interrupted.
 int& messageDescriptor() {
   static int fd = STDERR_FILENO;
   return fd;
@@ -41,6 +43,52 @@ sigset_t& handledSignals() {
     return none;
   }();
   return handled;
+}
+
+/// The termination signal the waiting thread has seen arrive (0 before).
+/// Set before the signal leaves the pending set, so that a commit that
+/// looks for a signal always finds it in one of the two.
+std::atomic<int>& arrivedSignal() {
+  static std::atomic<int> signal{0};
+  return signal;
+}
+
+/// A handled signal pending for the process (blocked everywhere but not yet
+/// taken by the waiting thread), or 0.
+int pendingHandledSignal() {
+  sigset_t pending;
+  sigemptyset(&pending);
+  if (::sigpending(&pending) != 0) return 0;
+  const sigset_t handled = handledSignals();
+  for (const int s : kTerminationSignals)
+    if (sigismember(&handled, s) == 1 && sigismember(&pending, s) == 1) return s;
+  return 0;
+}
+
+/// Waits for a handled signal and returns it. The signal is recorded in
+/// arrivedSignal() while it is still pending and only then taken: a thread
+/// that asks terminationSignalArrived() between the two never misses it.
+int waitForTerminationSignal(const sigset_t& handled) {
+  const int fd = ::signalfd(-1, &handled, SFD_CLOEXEC);
+  if (fd >= 0) {
+    for (;;) {
+      pollfd ready{fd, POLLIN, 0};
+      if (::poll(&ready, 1, -1) <= 0) continue;  // EINTR
+      const int signal = pendingHandledSignal();
+      if (signal == 0) continue;
+      arrivedSignal().store(signal);
+      signalfd_siginfo taken{};
+      (void)!::read(fd, &taken, sizeof taken);  // a second signal meanwhile counts as a second one
+      return signal;
+    }
+  }
+  // Without signalfd (it cannot fail for want of anything but descriptors):
+  // sigwait, which takes the signal before it can be recorded.
+  int signal = 0;
+  while (::sigwait(&handled, &signal) != 0) {
+  }
+  arrivedSignal().store(signal);
+  return signal;
 }
 
 /// With the registry locked: the children are told to stop and waited for
@@ -118,15 +166,23 @@ void removeStagedOutputsOnTerminationSignals(const std::string& programName) {
       // that the process has taken charge of the signals (the tests wait
       // for it before they send one).
       ::pthread_setname_np(::pthread_self(), "stvd-signals");
-      int signal = 0;
-      while (::sigwait(&handled, &signal) != 0) {
-      }
+      const int signal = waitForTerminationSignal(handled);
       detail::ProcessRegistry& registry = detail::processRegistry();
       registry.mutex.lock();  // held to the end: nothing is staged or committed meanwhile
       cleanUp(registry, signal);
       endWithLockHeld(signal, /*report=*/true);
     }).detach();
   });
+}
+
+int detail::terminationSignalArrived() {
+  const int arrived = arrivedSignal().load();
+  return arrived != 0 ? arrived : pendingHandledSignal();
+}
+
+void detail::endBySignalWithRegistryLocked(int signal) {
+  cleanUp(processRegistry(), signal);
+  endWithLockHeld(signal, /*report=*/true);
 }
 
 void reportInterruptionsAs(const std::string& programName) {

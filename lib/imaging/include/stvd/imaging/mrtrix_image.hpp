@@ -35,6 +35,8 @@
 #include <string_view>
 #include <vector>
 
+#include "stvd/imaging/tensor_frames.hpp"
+#include "stvd/system/interrupter.hpp"
 #include "stvd/voxel_grid/grid_geometry.hpp"
 
 namespace stvd::imaging {
@@ -96,8 +98,11 @@ MrtrixHeader parseMrtrixHeader(std::string_view bytes, const std::string& name, 
 MrtrixImage parseMrtrixImage(std::string_view bytes, const std::string& name);
 
 /// Reads a .mif, .mif.gz or .mih file (with its data file). Throws
-/// ImageIoError with one line naming the file.
-MrtrixImage readMrtrixImage(const std::string& path);
+/// ImageIoError with one line naming the file. `interrupter` hears
+/// "reading image": 0 %, 50 % once the file's bytes are read (in one
+/// piece), the decoding of its values, 100 %; when it asks to stop,
+/// Cancelled is thrown.
+MrtrixImage readMrtrixImage(const std::string& path, Interrupter* interrupter = nullptr);
 
 /// The grid of a .mif, .mif.gz or .mih file from its header alone: no data
 /// read, a .mif.gz decompressed only as far as its header. Throws
@@ -106,14 +111,23 @@ GridGeometry readMrtrixImageGrid(const std::string& path);
 
 /// Reads a .mif, .mif.gz or .mih file of labels without a detour through
 /// float. Throws ImageIoError with one line naming the file (and the voxel,
-/// for a value that is no label).
-MrtrixLabelImage readMrtrixLabelImage(const std::string& path);
+/// for a value that is no label). `interrupter`: as for readMrtrixImage
+/// ("reading labels").
+MrtrixLabelImage readMrtrixLabelImage(const std::string& path, Interrupter* interrupter = nullptr);
 
 /// The file that holds the data of the image at `path`: `path` itself for
 /// .mif and .mif.gz, the data file a .mih header names (relative to the
 /// header's folder), or "" when the header cannot be read (reading the
 /// image then fails with its own message).
 std::string mrtrixDataFile(const std::string& path);
+
+/// An MRtrix image's voxel frame: its first three axes in the order and
+/// direction they are stored (the layout), in LPS, as columns. An image
+/// that mrconvert made from a NIfTI file keeps that file's storage, and
+/// components given along the voxel axes (tensors, spherical harmonics)
+/// stay in that file's voxel frame whatever axes MRtrix shows; a file stvd
+/// writes stores its axes as they are, so the two frames agree.
+Matrix3 mrtrixStoredVoxelAxes(const MrtrixHeader& header, const GridGeometry& geometryLps);
 
 /// How MRtrix numbers the voxels of an image. MRtrix reorders the axes of
 /// every image it opens (NIfTI, NRRD or its own) so that the first, second

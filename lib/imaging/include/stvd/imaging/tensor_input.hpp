@@ -11,6 +11,7 @@
 
 #include "stvd/front_end/option_declarations.hpp"
 #include "stvd/imaging/scalar_image.hpp"
+#include "stvd/imaging/tensor_frame_check.hpp"
 #include "stvd/imaging/tensor_layout.hpp"
 #include "stvd/imaging/tensor_metric.hpp"
 #include "stvd/imaging/tensor_volume.hpp"
@@ -20,7 +21,7 @@ namespace stvd::imaging {
 /// How to read a tensor file and turn it into a metric (the tool's
 /// --tensor-order, --tensor-frame, --tensor-kind, --diffusion-metric,
 /// --max-anisotropy, --fa-threshold, --mask and
-/// --accept-implausible-tensors).
+/// --accept-implausible-tensors, --accept-misaligned-tensors).
 struct TensorInputOptions {
   std::optional<TensorOrder> order;
   std::optional<TensorFrame> frame;
@@ -29,6 +30,9 @@ struct TensorInputOptions {
   /// Go on when the tensors look read in a wrong layout
   /// (implausibleTensorsReason, tensor_plausibility.hpp).
   bool acceptImplausible = false;
+  /// Go on when the tensors' frame does not match the image axes
+  /// (checkTensorFrame, tensor_frame_check.hpp).
+  bool acceptMisaligned = false;
   /// How messages about these options name them: the tool's flags, or the
   /// Python package's keywords.
   OptionNaming naming = OptionNaming::Flags;
@@ -78,12 +82,23 @@ TensorInput tensorInputOf(TensorReadResult read, const std::string& name);
 /// tensors (geometryMismatch).
 void addMask(TensorInput& input, const ScalarImage& mask, const std::string& maskName, const std::string& inputName);
 
-/// buildMetric on the input's tensors and mask, then the check of the
+/// buildMetric on the input's tensors and mask, then the checks of the
 /// layout: when the tensors are implausible (most of them not positive
 /// definite, tensor_plausibility.hpp), InputError naming `inputName`, the
 /// layout, order and frame as read and the options to check, unless
-/// options.acceptImplausible.
+/// options.acceptImplausible; for diffusion tensors, when their frame
+/// clearly does not match the image axes (a Mismatch of checkTensorFrame,
+/// tensor_frame_check.hpp, over the domain), InputError naming the
+/// transform that fits, unless options.acceptMisaligned. An inconclusive
+/// check never stops a run. `frameCheck`, when given, receives the check
+/// (verdict NotChecked for metric tensors). `interrupter`: as for
+/// buildMetric.
 MetricFromTensors buildCheckedMetric(const std::string& inputName, const TensorInput& input,
+                                     const TensorInputOptions& options, TensorFrameCheck* frameCheck = nullptr,
+                                     Interrupter* interrupter = nullptr);
+
+/// The message of buildCheckedMetric for a frame that does not match.
+std::string misalignedTensorsMessage(const std::string& inputName, const TensorFrameCheck& check,
                                      const TensorInputOptions& options);
 
 }  // namespace stvd::imaging

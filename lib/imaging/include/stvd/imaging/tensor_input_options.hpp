@@ -22,8 +22,8 @@ const std::vector<OptionDeclaration>& tensorInputOptionDeclarations();
 const OptionDeclaration& tensorInputOption(const std::string& flag);
 
 /// The options the given ones make (defaults for the others); their
-/// messages will be in the values' naming. Combinations are checked by
-/// checkTensorInputOptions.
+/// messages will be in the values' naming. Their combinations are checked
+/// too (checkTensorInputOptions): OptionError.
 TensorInputOptions tensorInputOptionsOf(const OptionValues& values);
 
 }  // namespace stvd::imaging

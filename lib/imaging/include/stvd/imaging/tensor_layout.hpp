@@ -29,8 +29,10 @@ enum class TensorFileLayout {
   NiftiSixVolumes,     ///< X Y Z 6 (or X Y Z 1 6 without the intent): order must be stated
   NrrdSymMatrix,       ///< kind 3D-symmetric-matrix (order fixed: fsl)
   NrrdMaskedSymMatrix, ///< kind 3D-masked-symmetric-matrix: confidence + 6 (order fixed: fsl)
-  /// MRtrix image (.mif, .mif.gz, .mih), X Y Z 6: order mrtrix unless
-  /// stated (MRtrix's tensor convention; the file does not say it)
+  /// MRtrix image (.mif, .mif.gz, .mih), X Y Z 6 (or X Y Z 1 6, as
+  /// mrconvert makes it from a NIfTI 5D file): order mrtrix unless stated
+  /// (MRtrix's tensor convention; the file does not say it); its voxel frame
+  /// is the axes as stored (the layout)
   MrtrixSixVolumes,
 };
 

@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "stvd/system/interrupter.hpp"
 #include "stvd/types.hpp"
 
 namespace stvd::imaging {
@@ -110,8 +111,10 @@ std::optional<double> anisotropyCap(const MetricOptions& options);
 /// Builds the metric and the domain from per-voxel tensors. `mask`, when
 /// not empty, holds one byte per voxel (0 = outside). Throws
 /// std::invalid_argument for maxAnisotropy < 1 or a mask of the wrong size.
+/// `interrupter`, when given, hears start("metric"), the progress and
+/// end(); when it asks to stop, Cancelled is thrown.
 MetricFromTensors buildMetric(const std::vector<SymTensor3>& tensors, const std::vector<std::uint8_t>& mask,
-                              const MetricOptions& options);
+                              const MetricOptions& options, Interrupter* interrupter = nullptr);
 
 /// Throws NothingToCompute naming `inputName` when buildMetric left no voxel
 /// in the domain; the message says whether a mask (`masked`) and an FA

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "stvd/imaging/scalar_image.hpp"
+#include "stvd/system/interrupter.hpp"
 #include "stvd/voxel_grid/grid_geometry.hpp"
 
 namespace stvd::imaging {
@@ -32,8 +33,9 @@ void requireImageOnGrid(const std::string& path, const GridGeometry& reference, 
 /// readScalarImage and readLabelImage of a side input, after
 /// requireImageOnGrid: an image on another grid is refused from its header.
 ScalarImage readScalarImageOnGrid(const std::string& path, const GridGeometry& reference,
-                                  const std::string& subject, const std::string& referenceName);
+                                  const std::string& subject, const std::string& referenceName,
+                                  Interrupter* interrupter = nullptr);
 LabelImage readLabelImageOnGrid(const std::string& path, const GridGeometry& reference, const std::string& subject,
-                                const std::string& referenceName);
+                                const std::string& referenceName, Interrupter* interrupter = nullptr);
 
 }  // namespace stvd::imaging

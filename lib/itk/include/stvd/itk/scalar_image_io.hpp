@@ -8,6 +8,7 @@
 
 #include "stvd/imaging/scalar_image.hpp"
 #include "stvd/system/files/output_transaction.hpp"
+#include "stvd/system/interrupter.hpp"
 #include "stvd/voxel_grid/grid_geometry.hpp"
 
 namespace stvd::imaging {
@@ -19,14 +20,23 @@ namespace stvd::imaging {
 /// stays non-zero. The header is checked before the file's data are read
 /// (see docs/reliability.md). Throws ImageIoError naming the file when it is
 /// unreadable, truncated, hostile or not a scalar image.
-ScalarImage readScalarImage(const std::string& path);
+///
+/// `interrupter` hears "reading image": 0 %, 100 %, and for an MRtrix
+/// image 50 % once its bytes are read and the decoding of its values in
+/// between; ITK's read of a NIfTI or NRRD file and the conversion of its
+/// values to float are one piece that cannot be cut. When it asks to stop,
+/// Cancelled is thrown.
+ScalarImage readScalarImage(const std::string& path, Interrupter* interrupter = nullptr);
 
 /// Reads a 3D label image. Integer component types are taken exactly
 /// (unsigned 64-bit values above 2^63 - 1 are refused). A floating-point
 /// file must hold integers of magnitude at most 2^53 (NaN counts as 0, no
 /// label); another value is refused with the voxel and value named. Throws
-/// ImageIoError naming the file.
-LabelImage readLabelImage(const std::string& path);
+/// ImageIoError naming the file. `interrupter` hears "reading labels": 0 %,
+/// 50 % once the values are read (ITK's read in one piece), their
+/// conversion into labels, 100 %; when it asks to stop, Cancelled is
+/// thrown.
+LabelImage readLabelImage(const std::string& path, Interrupter* interrupter = nullptr);
 
 /// Writes a float32 scalar image with exactly this geometry, atomically: the
 /// file appears under `path` complete or not at all, and a file that was

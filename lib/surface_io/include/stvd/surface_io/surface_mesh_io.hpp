@@ -1,9 +1,10 @@
 // Reading polygon surfaces from .obj, .off and .ply (ASCII and binary
 // little/big-endian), and writing a per-vertex distance as .ply, .vtk
-// (legacy POLYDATA) or .csv. No dependency beyond the core. See
+// (legacy POLYDATA) or .csv (GIfTI and FreeSurfer: cortical_surface_files.hpp). See
 // docs/surfaces.md for what each reader accepts.
 #pragma once
 
+#include <array>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -19,6 +20,19 @@ enum class ScalarType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Floa
 /// PLY's name of the type: "char", "uchar", ..., "float", "double".
 const char* plyTypeName(ScalarType type);
 
+/// The space a surface's coordinates are in, as its file states it, and
+/// the transform to another space when the file gives one.
+struct SurfaceCoordinateSystem {
+  /// "tkr-RAS" or "scanner RAS" (FreeSurfer), a GIfTI DataSpace
+  /// ("NIFTI_XFORM_TALAIRACH", ...); empty when the file says nothing.
+  std::string space;
+  /// Where `transform` leads ("scanner RAS", a GIfTI TransformedSpace).
+  std::string transformedSpace;
+  bool hasTransform = false;
+  /// Row-major 4 x 4 affine from `space` to `transformedSpace`.
+  std::array<double, 16> transform{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+};
+
 struct SurfaceMesh {
   std::vector<Vec3d> points;  // in file order: vertex i is the i-th vertex of the file
   PolygonList faces;          // polygons as given (not triangulated)
@@ -32,12 +46,22 @@ struct SurfaceMesh {
   /// two of their corners coincided.
   std::size_t weldedVertices = 0;
   std::size_t degenerateFacets = 0;
+  /// GIfTI and FreeSurfer surfaces: the coordinates' space (the
+  /// coordinates are kept as stored), and the anatomical structure
+  /// (GIfTI's AnatomicalStructurePrimary; CortexLeft/CortexRight for a
+  /// FreeSurfer file named lh.* / rh.*), written into GIfTI outputs.
+  SurfaceCoordinateSystem coordinates;
+  std::string anatomicalStructure;
+  /// The format read: "obj", "off", "ply", "stl", "gifti", "freesurfer".
+  std::string format;
 };
 
-/// True when the path ends in .obj, .off, .ply or .stl (any letter case).
+/// True when the path ends in .obj, .off, .ply, .stl or .gii (any letter
+/// case), or is named like a FreeSurfer hemisphere file (lh.*, rh.*).
 bool isSurfaceMeshPath(const std::string& path);
 
-/// Reads by the extension. Throws MeshFileError.
+/// Reads by the extension (GIfTI for .gii); a FreeSurfer surface by its
+/// magic number (any name). Throws MeshFileError.
 SurfaceMesh readSurfaceMesh(const std::string& path);
 SurfaceMesh readObj(const std::string& path);
 SurfaceMesh readOff(const std::string& path);
@@ -50,7 +74,9 @@ SurfaceMesh readPly(const std::string& path);
 /// appearance, and facets with two equal corners are left out.
 SurfaceMesh readStl(const std::string& path);
 
-/// True when the path ends in .ply, .vtk or .csv (any letter case).
+/// True when the path ends in .ply, .vtk, .csv or .gii (but not .surf.gii
+/// or .label.gii), or .curv, or is a FreeSurfer hemisphere name (lh.*,
+/// rh.*: a curv file).
 bool isSurfaceOutputPath(const std::string& path);
 
 /// Writes the mesh and one distance per vertex to `path` in the format of
@@ -61,8 +87,12 @@ bool isSurfaceOutputPath(const std::string& path);
 ///        propagation measures edges in); faces
 ///  .vtk  legacy ASCII POLYDATA, POINT_DATA SCALARS distance double
 ///  .csv  "vertex,distance" then one row per vertex, vertices from 0
-/// A vertex that was not reached has distance +inf in .ply and .csv ("inf")
-/// and -1 in .vtk (legacy VTK readers do not parse "inf"). Throws
+///  .gii  GIfTI shape/func file, .curv or lh.* / rh.*: FreeSurfer curv
+///        (cortical_surface_files.hpp: writeVertexValues)
+/// A vertex that was not reached has distance +inf in .ply and .csv ("inf"),
+/// -1 in .vtk (legacy VTK readers do not parse "inf") and NaN in GIfTI and
+/// curv files (what Connectome Workbench, freeview and nilearn leave
+/// uncoloured). Throws
 /// MeshFileError when the file cannot be written.
 void writeSurfaceDistances(const std::string& path, const std::string& formatPath,
                            const SurfaceMesh& mesh, const std::vector<double>& distance);

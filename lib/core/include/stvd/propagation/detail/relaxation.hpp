@@ -21,7 +21,9 @@
 #include <utility>
 #include <vector>
 
+#include "stvd/metric/norms.hpp"
 #include "stvd/propagation/candidate_path.hpp"
+#include "stvd/propagation/detail/progress_hook.hpp"
 #include "stvd/propagation/chain_unfolding.hpp"
 #include "stvd/propagation/detail/chain_screen.hpp"
 #include "stvd/propagation/detail/front_queue.hpp"
@@ -65,16 +67,22 @@ class Propagation {
         path_(makeCandidatePath(domain, metric, options)) {}
 
   PropagationResult run(const std::vector<VertexId>& sources) {
-    if (sources.size() < kFewSources) fewSources_ = sources;
+    // With start distances a listed source may be reached from another one
+    // first (then it is no source of its distance): read the records.
+    if (sources.size() < kFewSources && options_.sourceDistances.empty()) fewSources_ = sources;
     else fewSources_.assign(kFewSources, kNoVertex);  // size kFewSources: read the records
-    for (const VertexId s : sources) {
+    for (std::size_t i = 0; i < sources.size(); ++i) {
+      const VertexId s = sources[i];
+      const double start = options_.sourceDistances.empty() ? 0.0 : options_.sourceDistances[i];
       if constexpr (SegmentMeasure) {
-        state_[s].measured = 0.0;
-        state_[s].open.key = 0.0;
+        if (start >= state_[s].measured) continue;  // a source given twice keeps its shortest start
+        state_[s].measured = start;
+        state_[s].open.key = start;
       } else {
-        state_[s].distance = 0.0;
+        if (start >= state_[s].distance) continue;
+        state_[s].distance = start;
       }
-      queue_.pushOrDecrease(s, 0.0);
+      queue_.pushOrDecrease(s, start);
     }
     std::vector<std::uint8_t> isTarget;
     std::size_t remainingTargets = 0;
@@ -113,7 +121,9 @@ class Propagation {
     // times more to touch first than small ones (docs/performance.md).
     result.distance = std::vector<double>(domain_.vertexCount(), kUnreachable);
     result.predecessor = std::vector<VertexId>(domain_.vertexCount(), kNoVertex);
-    for (VertexId v = 0; v < domain_.vertexCount(); ++v) {
+    // A cancelled run holds no distances (PropagationOptions::progress).
+    const VertexId filled = termination_ == Termination::Cancelled ? 0 : domain_.vertexCount();
+    for (VertexId v = 0; v < filled; ++v) {
       if (queue_.isFinal(v)) {
         if (SegmentMeasure && state_[v].finalDistance() > options_.maxDistance) {
           --finalized_;  // settled a little beyond the limit: not reached
@@ -147,9 +157,13 @@ class Propagation {
   template <class Relax>
   void loop(const std::vector<std::uint8_t>& isTarget, std::size_t remainingTargets,
             Relax&& relax) {
-    constexpr std::uint64_t kProgressInterval = 1u << 16;
+    ProgressHook hook(options_.progress, options_.interrupter, options_.progressInterval, "propagation");
     PropagationProgress progress;
     progress.domainVertices = domain_.domainVertexCount();
+    if (hook.active() && !hook.report(progress)) {
+      termination_ = Termination::Cancelled;
+      return;
+    }
     while (!queue_.empty()) {
       if (queue_.minKey() > options_.maxDistance) {
         // Segment measure: a key may be a screened estimate, and a candidate
@@ -182,11 +196,12 @@ class Propagation {
         termination_ = Termination::TargetsReached;
         break;
       }
-      if (options_.progress && finalized_ % kProgressInterval == 0) {
+      if (hook.due(finalized_)) {
         peakBytes_ = std::max(peakBytes_, stateBytes());
         progress.finalizedVertices = finalized_;
         progress.frontDistance = state_[v].finalDistance();
-        if (!options_.progress(progress)) {
+        progress.fraction = double(finalized_) / double(std::max<std::uint64_t>(progress.domainVertices, 1));
+        if (!hook.report(progress)) {
           termination_ = Termination::Cancelled;
           break;
         }
@@ -195,6 +210,11 @@ class Propagation {
       if (options_.method != Method::Dijkstra && !queue_.empty()) prefetchChain(queue_.minVertex());
     }
     peakBytes_ = std::max(peakBytes_, stateBytes());
+    if (hook.active() && termination_ != Termination::Cancelled) {
+      progress.finalizedVertices = finalized_;
+      progress.fraction = 1.0;
+      hook.report(progress);  // the work is done: a late cancel changes nothing
+    }
   }
 
   // The vertex now at the top of the queue is nearly always the next one
@@ -370,7 +390,7 @@ class Propagation {
         bool inChain = false;
         for (int j = 1; j < latticeCount; ++j) inChain = inChain || chain[j] == a;
         if (!inChain) {
-          const bool source = sa.finalDistance() == 0.0;
+          const bool source = sa.done.base == kNoVertex;
           const int reach = source && nearSourceMetric(v, a) ? sourceReach_ : segmentReach_;
           if (path_.steps(v, a) > reach) break;
           chain[count++] = a;
@@ -393,28 +413,35 @@ class Propagation {
   }
   static constexpr int kPassedOver = 2;
 
-  // Whether v is a source: from the few sources of a run without reading
-  // v's record (a cache miss at the front), else from its distance.
+  // Whether the final vertex v is a source of its distance (one that was
+  // measured from no vertex: a source, with its start distance, that no
+  // other source reached first): from the few sources of a run without
+  // reading v's record (a cache miss at the front), else from its record.
   STVD_ALWAYS_INLINE bool isSource(VertexId v) const {
     if (fewSources_.size() < kFewSources) {
       for (const VertexId s : fewSources_) if (s == v) return true;
       return false;
     }
-    return state_[v].finalDistance() == 0.0;
+    return state_[v].done.base == kNoVertex;
   }
   static constexpr std::size_t kFewSources = 16;
 
   // Whether the norm at v is close to the one at the source s: the region
   // where the straight segment from the source is a candidate beyond the
   // segment reach (source factoring, as fast marching factors the distance
-  // near a seed with the seed's metric).
+  // near a seed with the seed's metric). Compared: the relative (Euclidean)
+  // difference of the norm's parameters, those that describe the norm
+  // (ComparedParamsBegin: a tensor's six entries, a lattice table's
+  // tabulated lengths, not the grid's index transform that it also holds).
   STVD_ALWAYS_INLINE bool nearSourceMetric(VertexId v, VertexId s) const {
     constexpr int kFloats = ChainMemory<Norm>::kNormFloats;
+    constexpr int kBegin = ComparedParamsBegin<Norm>::value;
+    static_assert(kBegin >= 0 && kBegin < kFloats, "a norm is described by some of its parameters");
     float a[kFloats], b[kFloats];
     std::memcpy(a, &metric_[v], sizeof a);
     std::memcpy(b, &metric_[s], sizeof b);
     float difference = 0.f, size = 0.f;
-    for (int f = 0; f < kFloats; ++f) {
+    for (int f = kBegin; f < kFloats; ++f) {
       difference += (a[f] - b[f]) * (a[f] - b[f]);
       size += b[f] * b[f];
     }

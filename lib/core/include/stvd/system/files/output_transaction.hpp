@@ -73,8 +73,11 @@ class OutputTransaction {
   /// Moves every staged file into place (per output: companions first, the
   /// named file last), then flushes the output folders. When a rename
   /// fails, those done are undone (the replaced files restored) and
-  /// OutputError is thrown. Termination signals handled by
-  /// removeStagedOutputsOnTerminationSignals() wait until it is done.
+  /// OutputError is thrown. With removeStagedOutputsOnTerminationSignals()
+  /// in force, a termination signal that has arrived by the time the
+  /// replaced files are kept - even one its thread has not yet taken -
+  /// ends the process before the first rename, nothing committed; one that
+  /// arrives later waits until every file is in place.
   void commit();
 
  private:

@@ -15,13 +15,14 @@ namespace stvd::files {
 
 /// Blocks SIGINT, SIGTERM and SIGHUP in the calling thread and in every
 /// thread it creates afterwards, and starts a thread that waits for them
-/// (sigwait), named "stvd-signals" (/proc/PID/task/*/comm): once it shows,
+/// (signalfd), named "stvd-signals" (/proc/PID/task/*/comm): once it shows,
 /// a termination signal is handled. Call it first in main(), before any
 /// other thread exists.
 /// Signals whose disposition is "ignore" when it is called (a program
 /// started in the background by a non-interactive shell ignores SIGINT)
 /// stay ignored. On a signal the thread waits for a commit in progress to
-/// finish, then sends the signal to the registered child processes and
+/// finish (a commit that has not yet moved a file gives way to the signal
+/// instead: OutputTransaction::commit), then sends the signal to the registered child processes and
 /// waits for them to end (a second termination signal meanwhile kills them
 /// with SIGKILL), removes the staging folders of every OutputTransaction,
 /// prints "<programName>: interrupted (SIGINT)" on stderr (unless

@@ -23,6 +23,12 @@ constexpr double kMaxCoordinateMm = 1e6;
 constexpr std::size_t kMaxAsciiTokenLength = 64;
 /// Most header bytes read for NIfTI extensions or NRRD header lines.
 constexpr std::size_t kMaxNrrdHeaderBytes = 1 << 20;
+/// Longest NRRD field line accepted (but for "content" and "data file"):
+/// NrrdIO formats a value it cannot parse into an error message of about
+/// 1 KB on the stack, and a line of 1,000 bytes overflows it (SIGABRT).
+/// Real fields are far shorter: 16 space directions at full precision take
+/// about 400 bytes.
+constexpr std::size_t kMaxNrrdFieldLineLength = 512;
 /// Deflate cannot expand more than about 1032 to 1: a gzip stream that is
 /// claimed to hold more is refused before anything is decompressed.
 constexpr double kMaxDeflateRatio = 1032.0;

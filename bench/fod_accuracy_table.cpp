@@ -1,0 +1,321 @@
+// STVD and Lanthier's method on FOD metrics against exact answers (the
+// tables of docs/fod.md, "STVD and Lanthier"):
+//
+//  norms     how far each way of measuring a segment vector on an FOD
+//            metric lies above F*_exact, the convexified continuous norm
+//            (the gauge of the hull of F's unit ball along 40962 icosphere
+//            directions and the refined maxima), at 2000 random directions,
+//            and its time per call (and an experiment: the lattice helped by
+//            the voxel's fibres), and the tables' cost per voxel;
+//  constant  a constant FOD field of two crossing fibres (90, 60, 45, 30
+//            degrees, in a plane tilted against the grid), whose distance
+//            from the seed (the grid's centre) is F*_exact(x - s): mean,
+//            p99, max relative error over all voxels, the voxels below
+//            exact, and CPU seconds, per method and grid size;
+//  curved    the bundle crossing of tests/itk/fod_propagation_test.cpp
+//            (bundles that end, lobes that vary from voxel to voxel)
+//            against Lanthier with M = 12.
+//
+// Usage: stvd_fod_accuracy_table [norms|constant|curved]... (all three when
+// none is named). Tab-separated rows on stdout; CPU time of this process.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "fod_exact_norms.hpp"
+#include "stvd/imaging/fod_cost.hpp"
+#include "stvd/imaging/fod_metric.hpp"
+#include "stvd/imaging/fod_segment_norm.hpp"
+#include "stvd/voxel_grid/stencil.hpp"
+#include "stvd/voxel_grid/voxel_grid_domain.hpp"
+#include "stvd/voxel_grid/voxel_grid_lanthier.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
+
+namespace {
+
+using namespace stvd;
+using namespace stvd::imaging;
+using stvd::testing::ExactFodNorm;
+
+double cpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+struct Summary {
+  double mean = 0, p99 = 0, max = 0, min = 0;
+  std::size_t below = 0, count = 0;
+};
+
+/// Relative errors; `below` counts those under -1e-5 (float rounding).
+Summary summarise(std::vector<double> e) {
+  Summary s;
+  s.count = e.size();
+  if (e.empty()) return s;
+  for (double x : e) {
+    s.mean += x;
+    if (x < -1e-5) ++s.below;
+  }
+  s.mean /= static_cast<double>(e.size());
+  std::sort(e.begin(), e.end());
+  s.min = e.front();
+  s.max = e.back();
+  s.p99 = e[std::min(e.size() - 1, static_cast<std::size_t>(std::ceil(0.99 * static_cast<double>(e.size()))) - 1)];
+  return s;
+}
+
+std::vector<Vec3d> randomDirections(int count) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n;
+  std::vector<Vec3d> d;
+  for (int i = 0; i < count; ++i) {
+    Vec3d v{n(rng), n(rng), n(rng)};
+    d.push_back((1.0 / std::sqrt(dot(v, v))) * v);
+  }
+  return d;
+}
+
+const double kAngles[] = {90, 60, 45, 30};
+
+template <int Order>
+void latticeRow(const char* name, double angle, const FodCostSampler& sampler, const std::vector<Vec3d>& dirs,
+                const std::vector<double>& exact) {
+  const auto metric = fodLatticeMetric<Order>(sampler);
+  const auto& g = metric[0];
+  std::vector<double> e;
+  for (std::size_t i = 0; i < dirs.size(); ++i)
+    e.push_back(LatticeTableNorm<Order>::length(g, float(dirs[i].x), float(dirs[i].y), float(dirs[i].z)) / exact[i] - 1);
+  const double t0 = cpuSeconds();
+  float sink = 0;
+  const int repeats = 2000;
+  for (int r = 0; r < repeats; ++r)
+    for (const Vec3d& d : dirs) sink += LatticeTableNorm<Order>::length(g, float(d.x), float(d.y) + 1e-7f * r, float(d.z));
+  const double ns = 1e9 * (cpuSeconds() - t0) / (repeats * double(dirs.size()));
+  const Summary s = summarise(e);
+  std::printf("norms\t%.0f\t%s\t%d\t%.4f\t%.4f\t%.4f\t%.5f\t%zu\t%.1f\t(%g)\n", angle, name, LatticeTableNorm<Order>::kCount,
+              s.mean, s.p99, s.max, s.min, s.below, ns, double(sink) * 0);
+}
+
+void norms() {
+  std::printf("# norms: relative excess over F*_exact at 2000 random directions; ns per call\n");
+  std::printf("table\tangle\tnorm\tvalues/voxel\tmean\tp99\tmax\tmin\tbelow\tns/call\n");
+  const std::vector<Vec3d> dirs = randomDirections(2000);
+  for (double angle : kAngles) {
+    GridGeometry one;
+    const FodField field = testing::constantCrossingField(one, angle);
+    ExactFodNorm exact(field, 6);
+    std::vector<double> ex;
+    for (const Vec3d& d : dirs) ex.push_back(exact(d));
+    const FodCostSampler sampler(field, defaultFodSamplingDirections(field.geometry));
+    FodUnitBall ball;
+    sampler.unitBall(0, ball);
+    {  // F* of the 668 sampled points itself: the best any table of it can do.
+      std::vector<double> e;
+      for (std::size_t i = 0; i < dirs.size(); ++i)
+        e.push_back(convexHullGauge(ball.points.data(), ball.points.size(), dirs[i]) / ex[i] - 1);
+      const double t0 = cpuSeconds();
+      double sink = 0;
+      for (int r = 0; r < 5; ++r)
+        for (const Vec3d& d : dirs) sink += convexHullGauge(ball.points.data(), ball.points.size(), d);
+      const double ns = 1e9 * (cpuSeconds() - t0) / (5 * double(dirs.size()));
+      const Summary s = summarise(e);
+      std::printf("norms\t%.0f\tF* simplex (668+peaks)\t-\t%.4f\t%.4f\t%.4f\t%.5f\t%zu\t%.0f\t(%g)\n", angle, s.mean,
+                  s.p99, s.max, s.min, s.below, ns, sink * 0);
+    }
+    {  // Today's: the gauge of the hull of the 26 tabulated points.
+      const FodStencilMetric metric = fodStencilMetric(sampler);
+      std::vector<double> e;
+      for (std::size_t i = 0; i < dirs.size(); ++i)
+        e.push_back(FodStencilNorm::length(metric[0], float(dirs[i].x), float(dirs[i].y), float(dirs[i].z)) / ex[i] - 1);
+      const double t0 = cpuSeconds();
+      float sink = 0;
+      for (int r = 0; r < 20; ++r)
+        for (const Vec3d& d : dirs) sink += FodStencilNorm::length(metric[0], float(d.x), float(d.y), float(d.z));
+      const double ns = 1e9 * (cpuSeconds() - t0) / (20 * double(dirs.size()));
+      const Summary s = summarise(e);
+      std::printf("norms\t%.0f\thull of 26 (simplex)\t26\t%.4f\t%.4f\t%.4f\t%.5f\t%zu\t%.0f\t(%g)\n", angle, s.mean,
+                  s.p99, s.max, s.min, s.below, ns, double(sink) * 0);
+    }
+    if (angle == 90) {  // The tables' cost: F* along each lattice's directions, per voxel (CPU).
+      GridGeometry many;
+      many.size = {200, 1, 1};
+      const FodField field200 = testing::constantCrossingField(many, angle);
+      const FodCostSampler s200(field200, defaultFodSamplingDirections(many));
+      double t0 = cpuSeconds();
+      (void)fodStencilMetric(s200);
+      const double stencilUs = 1e6 * (cpuSeconds() - t0) / 200;
+      t0 = cpuSeconds();
+      (void)fodLatticeMetric<2>(s200);
+      const double order2Us = 1e6 * (cpuSeconds() - t0) / 200;
+      t0 = cpuSeconds();
+      (void)fodLatticeMetric<3>(s200);
+      const double order3Us = 1e6 * (cpuSeconds() - t0) / 200;
+      std::printf("# table cost per voxel (us, CPU, unit ball included): 26 directions (13 programs) %.0f, "
+                  "lattice n=2 (49) %.0f, n=3 (109) %.0f\n",
+                  stencilUs, order2Us, order3Us);
+    }
+    {  // An experiment (not in the library): the order-2 lattice helped by the
+       // voxel's fibres, |a| F*(p1) + |b| F*(p2) + L(v - a p1 - b p2) over
+       // the projections of v on the peaks and on their plane, the least.
+      const auto metric = fodLatticeMetric<2>(sampler);
+      const auto& g = metric[0];
+      std::vector<Vec3d> peaks;
+      for (const Vec3d& p : ball.peaks) {
+        bool known = false;
+        for (const Vec3d& q : peaks) known = known || std::abs(dot(p, q)) > 0.99;
+        if (!known) peaks.push_back(p);
+      }
+      std::vector<double> peakCost;
+      for (const Vec3d& p : peaks) peakCost.push_back(convexHullGauge(ball.points.data(), ball.points.size(), p));
+      const auto L = [&](const Vec3d& v) { return double(LatticeTableNorm<2>::length(g, float(v.x), float(v.y), float(v.z))); };
+      std::vector<double> e;
+      for (std::size_t i = 0; i < dirs.size(); ++i) {
+        const Vec3d& v = dirs[i];
+        double best = L(v);
+        for (std::size_t k = 0; k < peaks.size(); ++k) {
+          const double t = dot(v, peaks[k]);
+          best = std::min(best, std::abs(t) * peakCost[k] + L(v - t * peaks[k]));
+          for (std::size_t m = k + 1; m < peaks.size(); ++m) {
+            // v's projection on the plane of the two peaks: a p_k + b p_m.
+            const double c = dot(peaks[k], peaks[m]), vk = dot(v, peaks[k]), vm = dot(v, peaks[m]);
+            const double det = 1 - c * c;
+            if (det < 1e-6) continue;
+            const double a = (vk - c * vm) / det, b = (vm - c * vk) / det;
+            best = std::min(best, std::abs(a) * peakCost[k] + std::abs(b) * peakCost[m] +
+                                      L(v - a * peaks[k] - b * peaks[m]));
+          }
+        }
+        e.push_back(best / ex[i] - 1);
+      }
+      const Summary s = summarise(e);
+      std::printf("norms\t%.0f\tlattice n=2 + fibres (experiment)\t49+\t%.4f\t%.4f\t%.4f\t%.5f\t%zu\t-\n", angle, s.mean,
+                  s.p99, s.max, s.min, s.below);
+    }
+    latticeRow<1>("lattice n=1", angle, sampler, dirs, ex);
+    latticeRow<2>("lattice n=2", angle, sampler, dirs, ex);
+    latticeRow<3>("lattice n=3", angle, sampler, dirs, ex);
+    std::fflush(stdout);
+  }
+}
+
+struct Method {
+  std::string name;
+  int kind;  // 0 Dijkstra, 1 STVD, 2 Lanthier
+  int parameter;
+};
+
+template <class Metric>
+std::vector<double> run(const VoxelGridDomain& domain, const Metric& metric, VertexId seed, const Method& m,
+                        double* seconds) {
+  const double t0 = cpuSeconds();
+  std::vector<double> d;
+  if (m.kind == 2) {
+    LanthierOptions o;
+    o.steinerPoints = m.parameter;
+    d = lanthierPropagate(domain, metric, {seed}, o).distance;
+  } else {
+    PropagationOptions o;
+    o.method = m.kind == 0 ? stvd::Method::Dijkstra : stvd::Method::ShortTermVectorDijkstra;
+    if (m.kind == 1) o.k = m.parameter;
+    d = propagate(domain, metric, {seed}, o).distance;
+  }
+  *seconds = cpuSeconds() - t0;
+  return d;
+}
+
+void constant() {
+  std::printf("# constant: relative error against F*_exact(x - s) over all voxels but the seed; CPU s\n");
+  std::printf("table\tangle\tgrid\tmethod\tmean\tp99\tmax\tbelow exact\tvoxels\tcpu s\n");
+  for (double angle : kAngles)
+    for (int n : {17, 33}) {
+      GridGeometry g;
+      g.size = {std::size_t(n), std::size_t(n), std::size_t(n)};
+      const FodField one = testing::constantCrossingField(GridGeometry{}, angle);
+      ExactFodNorm exact(one, 6);
+      const FodCostSampler sampler(one, defaultFodSamplingDirections(g));
+      const FodSegmentMetric metric = FodSegmentMetric::constant(g.voxelCount(), fodSegmentMetric(sampler)[0]);
+      const VoxelGridDomain domain(g, Stencil::full26());
+      const int c = n / 2;
+      const VertexId seed = domain.vertexAt(c, c, c);
+      std::vector<double> reference(g.voxelCount());
+      for (int k = 0; k < n; ++k)
+        for (int j = 0; j < n; ++j)
+          for (int i = 0; i < n; ++i) reference[domain.vertexAt(i, j, k)] = exact.ofOffset(i - c, j - c, k - c);
+      std::vector<Method> methods = {{"dijkstra", 0, 0}, {"stvd k=6", 1, 6}, {"stvd k=12", 1, 12},
+                                     {"lanthier M=2", 2, 2}, {"lanthier M=4", 2, 4}};
+      if (n <= 17) methods.push_back({"lanthier M=8", 2, 8});
+      for (const Method& m : methods) {
+        double seconds = 0;
+        const std::vector<double> d = run(domain, metric, seed, m, &seconds);
+        std::vector<double> e;
+        for (std::size_t v = 0; v < d.size(); ++v)
+          if (v != seed) e.push_back(d[v] / reference[v] - 1);
+        const Summary s = summarise(e);
+        std::printf("constant\t%.0f\t%d^3\t%s\t%.4f\t%.4f\t%.4f\t%zu\t%zu\t%.2f\n", angle, n, m.name.c_str(), s.mean,
+                    s.p99, s.max, s.below, s.count, seconds);
+        std::fflush(stdout);
+      }
+    }
+}
+
+void curved() {
+  std::printf("# curved: the bundle crossing (25 x 25 x 3, 5-voxel bundles) against Lanthier M = 12, voxels of the bundles\n");
+  std::printf("table\tangle\tmethod\tmean\tp99\tmax\tmin\tbelow reference\tvoxels\tcpu s\n");
+  for (double angle : {90.0, 45.0}) {
+    constexpr int kN = 25, kC = 12;
+    FodField f;
+    f.geometry.size = {kN, kN, 3};
+    f.lmax = 8;
+    f.basis = ShBasis::Tournier07;
+    f.frame = FodFrame::Scanner;
+    f.lpsToShFrame = lpsToFodFrame(FodFrame::Scanner, f.geometry);
+    f.coefficients.assign(f.geometry.voxelCount() * 45, 0.f);
+    const Vec3d dir[2] = {{1, 0, 0}, {std::cos(angle * M_PI / 180), std::sin(angle * M_PI / 180), 0}};
+    std::vector<std::uint8_t> inBundle(f.geometry.voxelCount(), 0);
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < kN; ++j)
+        for (int i = 0; i < kN; ++i)
+          for (int b = 0; b < 2; ++b) {
+            const double x = i - kC, y = j - kC, along = x * dir[b].x + y * dir[b].y;
+            if (std::hypot(x - along * dir[b].x, y - along * dir[b].y) <= 2 + 1e-9) {
+              const std::size_t v = i + kN * (j + kN * k);
+              testing::addFodLobe(f, f.coefficients.data() + 45 * v, dir[b]);
+              inBundle[v] = 1;
+            }
+          }
+    const FodCostSampler sampler(f, defaultFodSamplingDirections(f.geometry));
+    const FodSegmentMetric metric = fodSegmentMetric(sampler, nullptr, 0);
+    const VoxelGridDomain domain(f.geometry, Stencil::full26());
+    const VertexId seed = domain.vertexAt(0, kC, 1);
+    double seconds = 0;
+    const std::vector<double> reference = run(domain, metric, seed, {"lanthier M=12", 2, 12}, &seconds);
+    std::printf("curved\t%.0f\tlanthier M=12 (reference)\t-\t-\t-\t-\t-\t-\t%.2f\n", angle, seconds);
+    for (const Method& m : std::vector<Method>{{"dijkstra", 0, 0}, {"stvd k=6", 1, 6}, {"stvd k=12", 1, 12},
+                                               {"lanthier M=2", 2, 2}, {"lanthier M=4", 2, 4}, {"lanthier M=8", 2, 8}}) {
+      const std::vector<double> d = run(domain, metric, seed, m, &seconds);
+      std::vector<double> e;
+      for (std::size_t v = 0; v < d.size(); ++v)
+        if (v != seed && inBundle[v]) e.push_back(d[v] / reference[v] - 1);
+      const Summary s = summarise(e);
+      std::printf("curved\t%.0f\t%s\t%.4f\t%.4f\t%.4f\t%.4f\t%zu\t%zu\t%.2f\n", angle, m.name.c_str(), s.mean, s.p99,
+                  s.max, s.min, s.below, s.count, seconds);
+      std::fflush(stdout);
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const auto wanted = [&](const char* name) {
+    if (argc < 2) return true;
+    for (int i = 1; i < argc; ++i)
+      if (!std::strcmp(argv[i], name)) return true;
+    return false;
+  };
+  if (wanted("norms")) norms();
+  if (wanted("constant")) constant();
+  if (wanted("curved")) curved();
+}

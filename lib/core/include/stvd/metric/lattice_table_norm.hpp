@@ -1,0 +1,155 @@
+// A symmetric norm given by a table of its values along the lattice
+// directions of a voxel grid, interpolated linearly over the faces of the
+// cube: the norm of a general (Finsler) metric that has no closed form,
+// such as the convexified FOD norm (docs/fod.md, "STVD and Lanthier"), in a
+// form that STVD's segment measure and Lanthier's cells evaluate in a few
+// dozen flops, with no allocation, branch table or call per edge.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
+#include "stvd/types.hpp"
+
+namespace stvd {
+
+/// The table: the lengths C_d = F(A d) of the physical vectors A d of the
+/// index offsets d in {-n, ..., n}^3 whose largest component is n = Order
+/// in absolute value (the lattice points on the surface of the cube of
+/// radius n; 26 for n = 1, 98 for n = 2, 218 for n = 3), one of each pair
+/// +-d (F symmetric): kCount = 13, 49, 109 values.
+///
+/// A vector v is measured in index space, f = A^-1 v: with m = |f|_inf along
+/// axis a, the point p = (n / m) f lies on the cube's face p_a = +-n, in a
+/// unit square of its lattice, and F(v) = (m / n) L(p), where L is the
+/// linear interpolation of the table over the triangle of that square that
+/// holds p; of the square's two diagonals, the one whose end values sum
+/// less (the lower convex hull of the square's four values).
+///
+/// * Along a lattice direction (every neighbour step, for any n) the length
+///   is the table's value: exact.
+/// * Never below the norm tabulated: along a face (an affine plane) a norm
+///   is convex, and the linear interpolation of a convex function over a
+///   triangle of its values is at least the function. When the table holds
+///   the lengths of real paths (as F* does, docs/fod.md), so does every
+///   value interpolated.
+/// * Between lattice directions it exceeds F by at most the interpolation
+///   error of a convex function, O((1/n)^2) where F is smooth (measured for
+///   FOD norms in docs/fod.md).
+template <int Order>
+struct LatticeTableNorm {
+  static_assert(Order >= 1 && Order <= 3, "lattice orders 1 to 3 are supported");
+  static constexpr int kOrder = Order;
+  static constexpr int kSide = 2 * Order + 1;
+  static constexpr int kCount = (kSide * kSide * kSide - (kSide - 2) * (kSide - 2) * (kSide - 2)) / 2;
+
+  struct VertexParams {
+    /// Physical vector (mm) to index offset: A^-1 = (D diag(spacing))^-1, row-major.
+    float toIndex[9];
+    /// C_d for the lattice offsets d in the order of latticeOffset(t).
+    float cost[kCount];
+  };
+  using EdgeParams = VertexParams;
+  static constexpr bool kEdgeRuleIsMean = true;
+  /// The norm is its table: toIndex is the grid's, the same at every voxel,
+  /// so two voxels' norms are compared by their tabulated lengths (the
+  /// relative root-mean-square difference of F along the lattice
+  /// directions; STVD's source factoring, norms.hpp).
+  static constexpr int kComparedParamsBegin = 9;
+
+  /// The index offset of table entry t: the lattice points d with first
+  /// non-zero component positive, in the order (dk slowest, then dj, di).
+  static std::array<int, 3> latticeOffset(int t) { return kLattice.offset[t]; }
+
+  STVD_ALWAYS_INLINE static EdgeParams edgeParams(const VertexParams& a, const VertexParams& b) {
+    EdgeParams e;
+    for (int i = 0; i < 9; ++i) e.toIndex[i] = 0.5f * (a.toIndex[i] + b.toIndex[i]);
+    for (int q = 0; q < kCount; ++q) e.cost[q] = 0.5f * (a.cost[q] + b.cost[q]);
+    return e;
+  }
+
+  STVD_ALWAYS_INLINE static float length(const EdgeParams& g, float x, float y, float z) {
+    const float f[3] = {g.toIndex[0] * x + g.toIndex[1] * y + g.toIndex[2] * z,
+                        g.toIndex[3] * x + g.toIndex[4] * y + g.toIndex[5] * z,
+                        g.toIndex[6] * x + g.toIndex[7] * y + g.toIndex[8] * z};
+    const float ax = std::abs(f[0]), ay = std::abs(f[1]), az = std::abs(f[2]);
+    // The face: the axis of the largest component, its sign made positive
+    // (F(-v) = F(v)).
+    int a = 0;
+    float m = ax;
+    if (ay > m) a = 1, m = ay;
+    if (az > m) a = 2, m = az;
+    if (!(m > 0.f)) return 0.f;
+    const int b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;
+    const float s = (f[a] < 0.f ? -1.f : 1.f) * (static_cast<float>(Order) / m);
+    // The point on the face, in lattice units from the face's corner -n.
+    const float pb = s * f[b] + Order, pc = s * f[c] + Order;
+    int ib = static_cast<int>(pb), ic = static_cast<int>(pc);
+    ib = ib < 0 ? 0 : (ib > 2 * Order - 1 ? 2 * Order - 1 : ib);
+    ic = ic < 0 ? 0 : (ic > 2 * Order - 1 ? 2 * Order - 1 : ic);
+    float u = pb - static_cast<float>(ib), w = pc - static_cast<float>(ic);
+    u = u < 0.f ? 0.f : (u > 1.f ? 1.f : u);
+    w = w < 0.f ? 0.f : (w > 1.f ? 1.f : w);
+    const short* corner = kLattice.square[a][ib][ic];
+    const float v00 = g.cost[corner[0]], v10 = g.cost[corner[1]], v01 = g.cost[corner[2]], v11 = g.cost[corner[3]];
+    float l;
+    if (v00 + v11 <= v10 + v01)
+      l = u >= w ? v00 + u * (v10 - v00) + w * (v11 - v10) : v00 + w * (v01 - v00) + u * (v11 - v01);
+    else
+      l = u + w <= 1.f ? v00 + u * (v10 - v00) + w * (v01 - v00)
+                       : v11 + (1.f - u) * (v01 - v11) + (1.f - w) * (v10 - v11);
+    return (m / static_cast<float>(Order)) * l;
+  }
+
+  static std::string invalidReason(const VertexParams& p) {
+    for (float c : p.cost)
+      if (!(c > 0.f) || !std::isfinite(c)) return "a tabulated length is not a positive finite number";
+    for (float t : p.toIndex)
+      if (!std::isfinite(t)) return "the grid's index transform is not finite";
+    return {};
+  }
+
+ private:
+  struct Lattice {
+    std::array<int, 3> offset[kCount];
+    /// Per face axis a and unit square (ib, ic) of the face p_a = +n: the
+    /// table entries of its corners (ib, ic), (ib + 1, ic), (ib, ic + 1),
+    /// (ib + 1, ic + 1) along the other two axes b < c.
+    short square[3][2 * Order][2 * Order][4];
+  };
+  static Lattice makeLattice() {
+    Lattice t{};
+    short slot[kSide][kSide][kSide];
+    int count = 0;
+    for (int k = -Order; k <= Order; ++k)
+      for (int j = -Order; j <= Order; ++j)
+        for (int i = -Order; i <= Order; ++i) {
+          const int top = std::max(std::abs(i), std::max(std::abs(j), std::abs(k)));
+          if (top != Order) continue;
+          const int first = i != 0 ? i : (j != 0 ? j : k);
+          if (first < 0) continue;
+          t.offset[count] = {i, j, k};
+          slot[i + Order][j + Order][k + Order] = slot[Order - i][Order - j][Order - k] = static_cast<short>(count);
+          ++count;
+        }
+    for (int a = 0; a < 3; ++a) {
+      const int b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;
+      for (int ib = 0; ib < 2 * Order; ++ib)
+        for (int ic = 0; ic < 2 * Order; ++ic)
+          for (int n = 0; n < 4; ++n) {
+            int d[3];
+            d[a] = Order;
+            d[b] = ib + (n & 1) - Order;
+            d[c] = ic + (n >> 1) - Order;
+            t.square[a][ib][ic][n] = slot[d[0] + Order][d[1] + Order][d[2] + Order];
+          }
+    }
+    return t;
+  }
+  static inline const Lattice kLattice = makeLattice();
+};
+
+}  // namespace stvd

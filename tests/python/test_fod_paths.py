@@ -1,0 +1,162 @@
+"""stvd.fod_paths and stvd.fod_connectivity (docs/fod.md, "Paths and
+connectivity"): on DIPY's CSD fit of a 90-degree crossing (fod_phantoms.py),
+given as a file, a NiBabel image, an array with its affine and DIPY's fit
+object, the package's paths are the tool's (`stvd path FOD --fod-basis`)
+byte for byte in the file they save, and its connectivity the tool's table;
+a path to its own bundle's far end stays on the bundle's axis and reports
+its polyline's F*-length; STVD, tracing keywords and missing bases are
+refused."""
+
+import csv
+import re
+import subprocess
+
+import nibabel as nib
+import numpy as np
+import pytest
+
+import stvd
+from conftest import TOOL
+
+from fod_phantoms import crossing_fit
+
+BASIS = "descoteaux07_legacy"  # DIPY 1.6's CSD fits (docs/fod.md, "The bases")
+SPACING = 2.0
+AFFINE = np.diag([SPACING, SPACING, SPACING, 1.0])
+SEED = (0, 10, 1)
+TARGETS = [(20, 10, 1), (10, 20, 1)]  # the seed's own bundle's far end, the other bundle's
+
+
+@pytest.fixture(scope="module")
+def crossing(tmp_path_factory):
+    fit, _, in_bundle = crossing_fit(90)
+    path = tmp_path_factory.mktemp("fod") / "crossing_fod.nii.gz"
+    nib.save(nib.Nifti1Image(fit.shm_coeff.astype(np.float32), AFFINE), path)
+    return fit, path, in_bundle
+
+
+def tool(*arguments):
+    run = subprocess.run([str(TOOL), *map(str, arguments), "--quiet"], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    return run
+
+
+def tsv_rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f, delimiter="\t"))
+
+
+def test_the_paths_are_the_tools_byte_for_byte(tmp_path, crossing):
+    fit, path, _ = crossing
+    out = tmp_path / "tool.tck"
+    tool("path", path, "--fod-basis", BASIS, "--seed-voxel", ",".join(map(str, SEED)), *sum(
+        (["--target-voxel", ",".join(map(str, t))] for t in TARGETS), []), "-o", out, "--threads", "2")
+    table = tsv_rows(tmp_path / "tool.tsv")
+    for n, (given, affine) in enumerate(((path, None), (nib.load(path), None), (fit.shm_coeff, AFFINE),
+                                         (fit, AFFINE))):
+        paths = stvd.fod_paths(given, SEED, TARGETS, fod_basis=BASIS, affine=affine, threads=1)
+        mine = tmp_path / f"mine{n}.tck"
+        paths.save(mine)
+        assert mine.read_bytes() == out.read_bytes(), type(given)
+        for p, row in enumerate(table):
+            assert f"{paths.geodesic_mm[p]:.4f}" == row["geodesic_mm"]
+            assert f"{paths.metric_length_mm[p]:.4f}" == row["metric_length_mm"]
+            assert f"{paths.euclidean_mm[p]:.4f}" == row["euclidean_mm"]
+            assert tuple(paths.seed_voxels[p]) == (int(row["seed_i"]), int(row["seed_j"]), int(row["seed_k"]))
+            assert paths.discrete_points[p] == int(row["discrete_points"]) == len(paths[p])
+
+
+def test_a_path_stays_on_its_bundle_and_reports_its_f_star_length(crossing):
+    _, path, in_bundle = crossing
+    paths = stvd.fod_paths(path, SEED, TARGETS, fod_basis=BASIS)
+    to_index = np.linalg.inv(AFFINE)
+    for p, target in enumerate(TARGETS):
+        points = np.c_[paths[p], np.ones(len(paths[p]))] @ to_index.T
+        assert np.allclose(points[0, :3], SEED) and np.allclose(points[-1, :3], target)
+        for i, j, k, _ in points:
+            if p == 0:  # straight through the crossing on the bundle's axis
+                assert j == pytest.approx(10.0) and k == pytest.approx(1.0)
+            else:  # along bundle 0, then bundle 1: never outside both
+                assert in_bundle(0, i, j) or in_bundle(1, i, j)
+        # The reported length is the polyline's F*-length (single precision).
+        assert paths.metric_length_mm[p] == pytest.approx(paths.geodesic_mm[p], rel=1e-5)
+        assert np.isnan(paths.mean_fa[p]) and paths.refine_iterations[p] == 0
+    assert paths.geodesic_mm[0] == pytest.approx(40.0, rel=0.005)
+    assert paths.geodesic_mm[1] == pytest.approx(40.0, rel=0.02)
+    # A NiBabel tractogram of them, as for tensor paths.
+    assert len(stvd.tractogram(paths).streamlines) == 2
+
+
+def test_connectivity_is_the_tools_table(tmp_path, crossing):
+    fit, path, _ = crossing
+    labels = np.zeros((21, 21, 3), np.int16)
+    for value, (i, j) in enumerate(((0, 10), (20, 10), (10, 0), (10, 20)), start=1):
+        labels[i, j, 1] = value
+    labels_path = tmp_path / "ends.nii.gz"
+    nib.save(nib.Nifti1Image(labels, AFFINE), labels_path)
+    tool("connectivity", path, "--fod-basis", BASIS, "--labels", labels_path, "-o", tmp_path / "c.tsv")
+    rows = tsv_rows(tmp_path / "c.tsv")
+    for threads in (1, 2):
+        c = stvd.fod_connectivity(fit, labels, fod_basis=BASIS, affine=AFFINE, threads=threads,
+                                  label_names={1: "a0", 2: "a1", 3: "b0", 4: "b1"})
+        assert list(c.labels) == [1, 2, 3, 4] and c.fod_basis == BASIS and c.fod_lmax == 8
+        for row in rows:
+            a, b = int(row["region_a"]) - 1, int(row["region_b"]) - 1
+            for measure in ("geodesic_mm", "path_mm", "straight_mm", "connectivity"):
+                assert f"{getattr(c, measure)[a, b]:.4f}" == row[measure], (a, b, measure)
+        # Each end's own far end: 20 voxels of 2 mm, straight through the crossing.
+        for a, b in ((0, 1), (1, 0), (2, 3), (3, 2)):
+            assert c.geodesic_mm[a, b] == pytest.approx(40.0, rel=0.005)
+            assert c.path_mm[a, b] == pytest.approx(40.0, rel=1e-6)
+        assert list(c.to_dataframe()["name_a"][:3]) == ["a0", "a0", "a0"]
+
+
+def test_bad_calls_are_refused(crossing):
+    _, path, _ = crossing
+    with pytest.raises(ValueError, match="method='dijkstra'"):
+        stvd.fod_paths(path, SEED, TARGETS, fod_basis=BASIS, method="stvd")
+    with pytest.raises(ValueError, match="fod_basis"):
+        stvd.fod_paths(path, SEED, TARGETS)
+    with pytest.raises(ValueError, match="target"):
+        stvd.fod_paths(path, SEED, fod_basis=BASIS)
+    with pytest.raises(ValueError, match="outside the image"):
+        stvd.fod_paths(path, SEED, (30, 10, 1), fod_basis=BASIS)
+    with pytest.raises(TypeError):
+        stvd.fod_paths(path, SEED, TARGETS, fod_basis=BASIS, step=0.5)  # no tracing: no such keyword
+    with pytest.raises(ValueError, match="method='dijkstra'"):
+        stvd.fod_connectivity(path, np.ones((21, 21, 3)), fod_basis=BASIS, method="lanthier")
+
+
+def test_report_pages_of_fod_runs_state_the_metric_and_draw_the_run(tmp_path, crossing):
+    """`--report` of FOD runs (docs/report.md): the page states the metric
+    (FOD, basis, frame, lmax, floor, power), draws the map, the paths or
+    the regions as for tensors, and links and embeds nothing from outside
+    (data: URIs only; docs/reliability.md, "Security")."""
+    _, path, _ = crossing
+    labels = np.zeros((21, 21, 3), np.int16)
+    labels[0, 10, 1], labels[20, 10, 1], labels[10, 0, 1], labels[10, 20, 1] = 1, 2, 3, 4
+    nib.save(nib.Nifti1Image(labels, AFFINE), tmp_path / "ends.nii.gz")
+    fod = ["--fod-basis", BASIS, "--fod-floor", "0.2", "--fod-power", "2"]
+    tool("distance", path, *fod, "--seed-voxel", "0,10,1", "-o", tmp_path / "d.nii.gz", "--report",
+         tmp_path / "distance.html")
+    tool("path", path, *fod, "--seed-voxel", "0,10,1", "--target-voxel", "20,10,1", "-o", tmp_path / "p.tck",
+         "--report", tmp_path / "path.html")
+    tool("connectivity", path, *fod, "--labels", tmp_path / "ends.nii.gz", "-o", tmp_path / "c.tsv", "--report",
+         tmp_path / "connectivity.html")
+    note = (f"FOD image read in the basis {BASIS}, in the voxel frame (the default for this basis and format), lmax 8; "
+            "metric: the convexified FOD norm F* (floor 0.2, power 2, 668 sampling directions)")
+    for name in ("distance", "path", "connectivity"):
+        text = (tmp_path / f"{name}.html").read_text()
+        assert note in text, name
+        # The statistics table lists the parameters too.
+        assert f"<tr><th>parameters.fod_basis</th><td class=\"mono\">{BASIS}</td></tr>" in text, name
+        assert "<tr><th>parameters.metric</th><td class=\"mono\">fod</td></tr>" in text, name
+        for link in re.findall(r"(?:src|href)=\"([^\"]*)\"", text):
+            assert link.startswith(("data:", "#")), (name, link[:40])
+        assert "http://" not in text and "https://" not in text, name
+    distance_page = (tmp_path / "distance.html").read_text()
+    assert "Slices through voxel (0, 10, 1): distance map over the background" in distance_page
+    assert "Background: none: an FOD run has no tensors" in distance_page
+    path_page = (tmp_path / "path.html").read_text()
+    assert "<table id=\"stvd-paths\">" in path_page and "voxel (20, 10, 1)" in path_page
+    assert "geodesic distance heat map" in (tmp_path / "connectivity.html").read_text()
