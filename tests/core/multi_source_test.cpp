@@ -72,32 +72,28 @@ TEST(MultiSource, DijkstraIsExactlyTheMinimumWithMaskAndRandersNorm) {
       {domain.vertexAt(9, 9, 9), domain.vertexAt(20, 22, 25), domain.vertexAt(25, 20, 20)});
 }
 
-// Measured with k = 8 on the scene below (64000 vertices, three sources):
-//   vertices whose second-nearest source is at least 20 % farther than the
-//   nearest (72 % of all): with the chain of edges alone all equal to the
-//   single-source minimum bit for bit (at a 10 % margin too); with the
-//   default any-angle ancestor 2 of 46467 differ, by +0.9 % and -0.01 %;
-//   all vertices: 0.35 % differ, by at most 1.2 % relative.
-// Why any do: a vertex's chain of edges continues through the neighbour
-// whose screened candidate last lowered its key, even when that candidate
-// then measured longer, so it depends on the order in which the queue
-// offers neighbours with near-equal keys, and other fronts' vertices
-// change that order; the chain alone rarely turns such a difference into
-// another distance, an any-angle ancestor carries it on to the vertices
-// that are measured from it.
+// Away from the meeting zone (vertices whose second-nearest source is at
+// least 20 % farther than the nearest) the multi-source run equals the
+// single-source minimum bit for bit, with the chain of edges alone and with
+// the default any-angle ancestor. It did not always: a vertex whose screened
+// key was raised once measured (FrontQueue::requeueMin) could reach the top
+// of the queue again by an entry left from its earlier, lower key, and be
+// settled there out of order; whether such an entry was left behind depends
+// on where the queue's buckets lie, and so on the other sources' fronts.
+// Measured before the fix (separated vertices that differed): the three
+// sources below 0 of 46472; the second set 1732 of 57478 with the default
+// ancestor (k = 8, by up to 4.4 %); the third set 1362 of 60989 with the
+// chain alone at k = 12. After it: 0 in each. Nearer the meeting zone the
+// two differ by up to the method's own error, in either direction.
 constexpr double kSeparatedMargin = 0.2;
 constexpr double kMaxDeviationNearBoundary = 0.025;
 constexpr double kMinEqualFraction = 0.982;
-/// Of the vertices away from the meeting zone, how many may differ (with
-/// the any-angle ancestor), and by how much at most.
-constexpr double kMaxDifferingSeparatedFraction = 1e-4;
-constexpr double kMaxSeparatedDeviation = 0.015;
 
-void expectStvdNearlyMinimumOfSingleRuns(int k, int anyAngleAncestors) {
+void expectStvdNearlyMinimumOfSingleRuns(const std::vector<VoxelIndex>& seeds, int k, int anyAngleAncestors) {
   const VoxelGridDomain domain(test::obliqueGrid({40, 40, 40}), Stencil::full26());
   const RiemannianMetric metric(test::smoothVaryingTensors(domain));
-  const std::vector<VertexId> sources{domain.vertexAt(5, 5, 5), domain.vertexAt(30, 20, 10),
-                                      domain.vertexAt(12, 33, 30)};
+  std::vector<VertexId> sources;
+  for (const VoxelIndex& s : seeds) sources.push_back(domain.vertexAt(s.i, s.j, s.k));
   PropagationOptions o;
   o.method = Method::ShortTermVectorDijkstra;
   o.k = k;
@@ -119,26 +115,28 @@ void expectStvdNearlyMinimumOfSingleRuns(int k, int anyAngleAncestors) {
     largestDeviation = std::max(largestDeviation, std::abs(multi.distance[v] - d[0]) / d[0]);
     if (d[1] >= (1.0 + kSeparatedMargin) * d[0]) {
       ++separated;
-      if (multi.distance[v] != d[0]) {
-        ++separatedDiffering;
-        if (anyAngleAncestors == 0) ADD_FAILURE() << "vertex " << v << " far from the meeting zone";
-        EXPECT_LE(std::abs(multi.distance[v] - d[0]) / d[0], kMaxSeparatedDeviation) << "vertex " << v;
-      }
+      separatedDiffering += multi.distance[v] == d[0] ? 0 : 1;
+      EXPECT_EQ(multi.distance[v], d[0]) << "vertex " << v << " far from the meeting zone";
     }
   }
   const std::size_t count = domain.vertexCount() - sources.size();
   std::printf("[ measured ] multi-source STVD k=%d, %d any-angle ancestors: %zu of %zu equal, %zu separated "
               "(%zu of them differ), largest deviation %.4f\n",
               k, anyAngleAncestors, equal, count, separated, separatedDiffering, largestDeviation);
-  EXPECT_LE(static_cast<double>(separatedDiffering), kMaxDifferingSeparatedFraction * separated);
   EXPECT_GE(separated, count / 2);
   EXPECT_GE(static_cast<double>(equal), kMinEqualFraction * count);
   EXPECT_LE(largestDeviation, kMaxDeviationNearBoundary);
 }
 
 TEST(MultiSource, StvdEqualsMinimumOfSingleRunsAwayFromWhereFrontsMeet) {
-  expectStvdNearlyMinimumOfSingleRuns(8, 0);
-  expectStvdNearlyMinimumOfSingleRuns(8, kDefaultAnyAngleAncestors);
+  const std::vector<VoxelIndex> seeds{{5, 5, 5}, {30, 20, 10}, {12, 33, 30}};
+  expectStvdNearlyMinimumOfSingleRuns(seeds, 8, 0);
+  expectStvdNearlyMinimumOfSingleRuns(seeds, 8, kDefaultAnyAngleAncestors);
+}
+
+TEST(MultiSource, NoVertexIsSettledByAnEntryLeftFromAnEarlierKey) {
+  expectStvdNearlyMinimumOfSingleRuns({{8, 30, 5}, {33, 8, 20}, {20, 20, 35}}, 8, kDefaultAnyAngleAncestors);
+  expectStvdNearlyMinimumOfSingleRuns({{19, 19, 19}, {2, 37, 3}}, 12, 0);
 }
 
 }  // namespace

@@ -105,6 +105,10 @@ class FrontQueue {
   /// it again where that key belongs (the heap, a bucket or the overflow);
   /// only after empty() returned false. The propagation uses it when a
   /// vertex's key was an estimate that turned out too low once measured.
+  /// A key raised into a later bucket leaves the vertex's earlier, lower
+  /// entries in the buckets valid in the queue's eyes (it knows a vertex's
+  /// entries only by its slot): the caller recognises one when it reaches
+  /// the top with a key below the vertex's own, and requeues it.
   void requeueMin(double key) {
     const VertexId top = heap_.front().id;
     if ((key - base_) * inverseWidth_ < hotEnd_) {

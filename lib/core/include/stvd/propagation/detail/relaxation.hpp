@@ -740,6 +740,19 @@ class Propagation {
   bool settleMin() {
     const VertexId w = queue_.minVertex();
     VertexState& sw = state_[w];
+    if (queue_.minKey() < sw.open.key) {
+      // An entry left from a lower key that the vertex had before its key
+      // was raised (requeueMin below, into a later bucket): the front queue
+      // takes a cold vertex's lowest entry for its key, as keys only fall
+      // there (FrontQueue::requeueMin). Queue the vertex with its own key.
+      // Measured and settled at this entry instead, it was finalised out of
+      // order whenever the buckets had left the old entry behind, and where
+      // the buckets lie depends on the whole front: a multi-source run then
+      // differed from its single-source runs far from where the fronts meet
+      // (multi_source_test.cpp).
+      queue_.requeueMin(sw.open.key);
+      return false;
+    }
     if (sw.open.pendingBase != kNoVertex) {
       measurePending(w, sw);
       // A screen that was only a little too low (or too high: the measured
@@ -754,12 +767,11 @@ class Propagation {
         sw.open.key = sw.measured;
         return true;
       }
-    } else if (!(queue_.minKey() < sw.open.key)) {
+    } else {
       return true;  // measured, and queued with that distance
     }
     // The vertex's key was a screened estimate well below its measured
-    // distance (or an entry left from an earlier key): queue it with its
-    // measured distance.
+    // distance: queue it with its measured distance.
     sw.open.key = sw.measured;
     queue_.requeueMin(sw.measured);
     return false;
