@@ -54,11 +54,14 @@ struct LatticeTableNorm {
   };
   using EdgeParams = VertexParams;
   static constexpr bool kEdgeRuleIsMean = true;
-  /// The norm is its table: toIndex is the grid's, the same at every voxel,
-  /// so two voxels' norms are compared by their tabulated lengths (the
-  /// relative root-mean-square difference of F along the lattice
-  /// directions; STVD's source factoring, norms.hpp).
-  static constexpr int kComparedParamsBegin = 9;
+  /// Exact along the lattice directions only, above the norm between them
+  /// (norms.hpp): STVD runs its chain of edges without any-angle ancestors
+  /// or source factoring on it. Measured on constant FOD crossings, where a
+  /// straight segment from the seed is no better measured than the chain's
+  /// segments: the ancestors and the seed's segment lowered no error and
+  /// cost 1.5 times the propagation's time (docs/accuracy.md, "FOD
+  /// metrics").
+  static constexpr bool kExactInEveryDirection = false;
 
   /// The index offset of table entry t: the lattice points d with first
   /// non-zero component positive, in the order (dk slowest, then dj, di).

@@ -19,12 +19,13 @@
 //     // chain-mean screen and its segment samples rely on it where a norm
 //     // states it (EdgeRuleIsMean below).
 //     static constexpr bool kEdgeRuleIsMean = true;
-//     // Optional: the first float of VertexParams that describes the norm
-//     // itself; the floats before it describe the domain and are the same at
-//     // every vertex of a field (a lattice table's index transform). How near
-//     // two vertices' norms are is the relative difference of the floats from
-//     // there on (STVD's source factoring, ComparedParamsBegin below).
-//     static constexpr int kComparedParamsBegin = 0;
+//     // Optional: false when length() is exact only along some directions
+//     // and above the norm between them (a lattice table's interpolation).
+//     // STVD's any-angle ancestors and source factoring offer long straight
+//     // segments in any direction, which pay only where such a segment is
+//     // measured as exactly as a chain of short ones (ExactInEveryDirection
+//     // below; docs/accuracy.md, "FOD metrics").
+//     static constexpr bool kExactInEveryDirection = true;
 //   };
 //
 // RiemannianNorm and RandersNorm below are the two built in. The
@@ -104,12 +105,11 @@ struct EdgeRuleIsMean<Norm, std::void_t<decltype(Norm::kEdgeRuleIsMean)>>
     : std::bool_constant<Norm::kEdgeRuleIsMean> {};
 
 
-/// Norm::kComparedParamsBegin where the norm states it, else 0 (all of
-/// VertexParams describes the norm).
+/// Norm::kExactInEveryDirection where the norm states it, else true.
 template <class Norm, class = void>
-struct ComparedParamsBegin : std::integral_constant<int, 0> {};
+struct ExactInEveryDirection : std::true_type {};
 template <class Norm>
-struct ComparedParamsBegin<Norm, std::void_t<decltype(Norm::kComparedParamsBegin)>>
-    : std::integral_constant<int, Norm::kComparedParamsBegin> {};
+struct ExactInEveryDirection<Norm, std::void_t<decltype(Norm::kExactInEveryDirection)>>
+    : std::bool_constant<Norm::kExactInEveryDirection> {};
 
 }  // namespace stvd

@@ -430,18 +430,16 @@ class Propagation {
   // where the straight segment from the source is a candidate beyond the
   // segment reach (source factoring, as fast marching factors the distance
   // near a seed with the seed's metric). Compared: the relative (Euclidean)
-  // difference of the norm's parameters, those that describe the norm
-  // (ComparedParamsBegin: a tensor's six entries, a lattice table's
-  // tabulated lengths, not the grid's index transform that it also holds).
+  // difference of the norm's parameters (a tensor's six entries; a norm
+  // whose parameters are not the norm's own, a lattice table's, runs no
+  // source factoring: ExactInEveryDirection).
   STVD_ALWAYS_INLINE bool nearSourceMetric(VertexId v, VertexId s) const {
     constexpr int kFloats = ChainMemory<Norm>::kNormFloats;
-    constexpr int kBegin = ComparedParamsBegin<Norm>::value;
-    static_assert(kBegin >= 0 && kBegin < kFloats, "a norm is described by some of its parameters");
     float a[kFloats], b[kFloats];
     std::memcpy(a, &metric_[v], sizeof a);
     std::memcpy(b, &metric_[s], sizeof b);
     float difference = 0.f, size = 0.f;
-    for (int f = kBegin; f < kFloats; ++f) {
+    for (int f = 0; f < kFloats; ++f) {
       difference += (a[f] - b[f]) * (a[f] - b[f]);
       size += b[f] * b[f];
     }
@@ -799,7 +797,11 @@ class Propagation {
   // meshes), and only with deferred measurement, whose records keep where
   // each distance was measured from.
   static constexpr bool kAnyAngle = !CandidatePath<Domain, Norm>::usesPlacedChain();
-  const int anyAngle_ = SegmentMeasure && kAnyAngle ? options_.anyAngleAncestors : 0;
+  // Offered only for norms that measure a straight segment exactly in every
+  // direction (norms.hpp); on the others (lattice tables) the chain alone,
+  // still with every distance's predecessor where it was measured from.
+  const int anyAngle_ =
+      SegmentMeasure && kAnyAngle && ExactInEveryDirection<Norm>::value ? options_.anyAngleAncestors : 0;
   const int segmentReach_ = reachOption(options_.segmentReach, false);
   const int sourceReach_ = reachOption(options_.sourceReach, true);
   Termination termination_ = Termination::Completed;
