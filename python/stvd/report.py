@@ -3,7 +3,8 @@
 calls from Python), and a cohort index page over many of them.
 
 A run page shows axial, coronal and sagittal slices through the seed of the
-distance map over FA (computed from the tensors when no FA image is given)
+distance map over FA (computed from the tensors when no FA image is given;
+for FOD runs the FOD's GFA)
 with the seeds marked and the paths projected, the connectivity matrix as a
 heat map, the run's statistics with the stvd version and command line, and
 the warnings a reviewer must see. Slices are shown in a stated convention
@@ -76,6 +77,7 @@ class _RunContent:
         self.shape = tuple(int(n) for n in shape[:3])
         self.fa = fa                        # on the tensors' grid
         self.fa_source = fa_source
+        self.fa_name = "FA"                 # GFA for FOD runs (docs/fod.md), unless an FA image is given
         self.distance = None                # float, NaN where not reached
         self.seeds = np.zeros((0, 3), np.int64)  # voxel indices
         self.seed_region = None             # bool array of label seeds
@@ -341,11 +343,11 @@ def _render(content, subject, convention):
         orientation += f", oblique by {oblique:.1f} degrees (each slice is the voxel plane nearest to it)"
     orientation += "."
     source_voxel = _centre_voxel(content)
-    fod = s.get("parameters", {}).get("metric") == "fod"  # no tensors, no FA (docs/fod.md)
-    background = "the background" if fod else "FA"
+    background = content.fa_name  # FA, or an FOD run's GFA (docs/fod.md)
     what = f"distance map over {background}" if content.distance is not None else background
     body.append(f"<h2>Slices through voxel ({', '.join(str(int(c)) for c in source_voxel)}): {what}</h2>")
-    body.append(f"<p>{orientation} {'Background' if fod else 'FA'}: {page.escape(content.fa_source)}.</p>")
+    body.append(f"<p>{orientation} {page.escape(background[0].upper() + background[1:])}: "
+                f"{page.escape(content.fa_source)}.</p>")
     legend = []
     if content.distance is not None:
         import matplotlib
@@ -557,21 +559,33 @@ def _fa_of_tensors(tensors, parameters, mask):
     return field
 
 
-def _fod_grid(distance, labels, mask):
+GFA_SOURCE = "the generalised fractional anisotropy of the FOD, from its coefficients (0 outside the domain)"
+
+
+def _fod_grid(fod, parameters, distance, labels, mask):
     """The grid of an FOD run's page and its background: the distance map's
     grid (distance and path runs) or the labels' (connectivity), and the
-    mask (0.3 inside) or nothing, since an FOD has no FA."""
+    FOD's GFA (docs/fod.md: an FOD has no FA), read from the run's FOD file
+    in the basis the run was given, 0 outside the mask."""
     source, role = (distance, "distance map") if distance is not None else (labels, "label")
     if source is None:
         raise ReportError("the page of an FOD run draws its distance map or its labels: give --distance or --labels")
     image = _load_nifti(source, role)
     shape = tuple(int(n) for n in image.shape[:3])
-    background = np.zeros(shape)
-    text = "none: an FOD run has no tensors (black background)"
+    _require_regular(fod, "FOD input")
+    from . import _core
+
+    try:
+        gfa, fod_affine = _core.fod_gfa(str(fod), parameters.get("fod_basis_given") or parameters.get("fod_basis"))
+    except (ValueError, RuntimeError, OSError) as error:
+        raise ReportError(f"{fod}: cannot read the FOD for its GFA: {error}") from None
+    if tuple(gfa.shape) != shape or not np.allclose(fod_affine, image.affine,
+                                                   atol=1e-3 * float(np.abs(image.affine[:3, :3]).max())):
+        raise ReportError(f"{source}: the {role} image is not on the grid of the FOD {fod}")
+    background = np.array(gfa, dtype=np.float64)
     if mask is not None:
-        background = 0.3 * (_on_grid(_load_nifti(mask, "mask"), mask, "mask", image.affine, shape) != 0)
-        text = "none: an FOD run has no tensors (the mask in grey)"
-    return image.affine, shape, background, text
+        background[_on_grid(_load_nifti(mask, "mask"), mask, "mask", image.affine, shape) == 0] = 0.0
+    return image.affine, shape, background, GFA_SOURCE
 
 
 def _content_from_files(statistics_path, distance, paths, paths_table, table, labels, fa):
@@ -599,7 +613,7 @@ def _content_from_files(statistics_path, distance, paths, paths_table, table, la
     if parameters.get("metric") == "fod":
         # An FOD image has no tensors and no FA: the grid is the run's
         # distance map's (or its labels'), on the FOD's grid by construction.
-        affine, shape, background, fa_source = _fod_grid(distance, labels, mask)
+        affine, shape, background, fa_source = _fod_grid(tensors, parameters, distance, labels, mask)
     else:
         field = _fa_of_tensors(tensors, parameters, mask)
         affine, shape = field.affine, field.shape
@@ -611,6 +625,8 @@ def _content_from_files(statistics_path, distance, paths, paths_table, table, la
     else:
         fa_data = background if background is not None else np.array(field.fractional_anisotropy, dtype=np.float64)
     content = _RunContent(kind, statistics, affine, shape, fa_data, fa_source)
+    if parameters.get("metric") == "fod" and fa is None:
+        content.fa_name = "GFA"
 
     if distance is not None:
         values = _on_grid(_load_nifti(distance, "distance map"), distance, "distance map", affine, shape)
@@ -754,8 +770,8 @@ def write_report(output, result=None, *, paths=None, connectivity=None, labels=N
     returned, ``paths`` the ``stvd.Paths`` of ``stvd.fod_paths``,
     ``connectivity`` the ``stvd.Connectivity`` of ``stvd.fod_connectivity``
     (with ``labels``); the page is the one the tool's ``--report`` writes
-    for the same run. ``mask`` then draws the background (default: the
-    run's own mask); the tensor keywords are refused.
+    for the same run, over the FOD's GFA (0 outside ``mask``, by default
+    the run's own mask); the tensor keywords are refused.
 
     Writes ``output`` atomically and returns the page's summary.
     """
@@ -888,10 +904,11 @@ def _write_fod_report(output, result, paths, connectivity, labels, target_labels
     for other in (distance_run, paths_run, connectivity_run):
         if other is not None and (other.shape != shape or not np.allclose(other.affine, affine, atol=1e-4)):
             raise ValueError("write_report: the runs given are on different grids")
-    background, background_source = _fod_background(run, mask, affine, shape)
+    background, background_source, name = _fod_background(run, mask, affine, shape), GFA_SOURCE, "GFA"
     if fa is not None:
-        background, background_source = _array_on_grid(fa, "fa", affine, shape).astype(np.float64), "given"
+        background, background_source, name = _array_on_grid(fa, "fa", affine, shape).astype(np.float64), "given", "FA"
     content = _RunContent(kind, statistics, affine, shape, background, background_source)
+    content.fa_name = name
     if result is not None:
         values = np.asanyarray(result.dataobj).astype(np.float64)
         unreachable = distance_run.statistics["parameters"].get("unreachable_value")
@@ -930,12 +947,12 @@ def _write_fod_report(output, result, paths, connectivity, labels, target_labels
 
 def _fod_background(run, mask, affine, shape):
     """The background of an FOD run's page from Python, as the tool's page
-    of the run draws it (_fod_grid): the mask in grey, or black."""
+    of the run draws it (_fod_grid): the FOD's GFA, 0 outside the mask."""
+    background = np.array(run.gfa, dtype=np.float64)
     mask = mask if mask is not None else run.mask
-    if mask is None:
-        return np.zeros(shape), "none: an FOD run has no tensors (black background)"
-    inside = _array_on_grid(mask, "mask", affine, shape) != 0
-    return 0.3 * inside, "none: an FOD run has no tensors (the mask in grey)"
+    if mask is not None:
+        background[_array_on_grid(mask, "mask", affine, shape) == 0] = 0.0
+    return background
 
 
 def _array_on_grid(value, name, affine, shape):

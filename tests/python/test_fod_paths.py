@@ -155,8 +155,8 @@ def test_report_pages_of_fod_runs_state_the_metric_and_draw_the_run(tmp_path, cr
             assert link.startswith(("data:", "#")), (name, link[:40])
         assert "http://" not in text and "https://" not in text, name
     distance_page = (tmp_path / "distance.html").read_text()
-    assert "Slices through voxel (0, 10, 1): distance map over the background" in distance_page
-    assert "Background: none: an FOD run has no tensors" in distance_page
+    assert "Slices through voxel (0, 10, 1): distance map over GFA" in distance_page
+    assert "GFA: the generalised fractional anisotropy of the FOD, from its coefficients" in distance_page
     path_page = (tmp_path / "path.html").read_text()
     assert "<table id=\"stvd-paths\">" in path_page and "voxel (20, 10, 1)" in path_page
     assert "geodesic distance heat map" in (tmp_path / "connectivity.html").read_text()
@@ -169,7 +169,7 @@ def page_parts(text):
     parts = {"title": re.search(r"<title>(.*?)</title>", text).group(1),
              "notes": re.search(r"<div class=\"notes\" id=\"stvd-notes\">.*?</div>", text).group(0),
              "slices": re.search(r"<h2>Slices through.*?</h2>", text).group(0),
-             "background": re.search(r"Background: [^<]*", text).group(0),
+             "background": re.search(r"\bG?FA: [^<]*", text).group(0),
              "paths": (re.search(r"<table id=\"stvd-paths\">.*?</table>", text) or re.match("", "")).group(0),
              "heat maps": re.findall(r"alt=\"([^\"]*heat map)\"", text),
              "warnings": (re.search(r"<div class=\"warnings\".*?</div>", text) or re.match("", "")).group(0)}
@@ -252,3 +252,33 @@ def test_a_page_from_python_takes_the_basis_as_given_and_refuses_mixed_runs(tmp_
     with pytest.raises(TypeError, match="holds no FOD run"):
         stvd.report.write_report(tmp_path / "x.html", nib.Nifti1Image(np.zeros((21, 21, 3), np.float32), AFFINE))
     assert not (tmp_path / "x.html").exists()
+
+
+def test_fod_pages_draw_the_fods_gfa_under_the_run(tmp_path, crossing):
+    """An FOD run's page draws the FOD's generalised fractional anisotropy
+    (GFA) where a tensor run's draws FA, labelled as GFA, from the tool and
+    from Python alike: the GFA of the coefficients (stvd._core.fod_gfa, held
+    to DIPY's in test_fod_distance.py), 0 outside the run's mask."""
+    import stvd.report
+
+    _, path, in_bundle = crossing
+    inside = np.zeros((21, 21, 3), bool)
+    for i in range(21):
+        for j in range(21):
+            inside[i, j, :] = in_bundle(0, i, j) or in_bundle(1, i, j)
+    mask = inside.astype(np.uint8)
+    nib.save(nib.Nifti1Image(mask, AFFINE), tmp_path / "mask.nii.gz")
+    tool("distance", path, "--fod-basis", BASIS, "--seed-voxel", "0,10,1", "--mask", tmp_path / "mask.nii.gz", "-o",
+         tmp_path / "d.nii.gz", "--report", tmp_path / "tool.html")
+    distance = stvd.fod_distance(path, SEED, fod_basis=BASIS, mask=tmp_path / "mask.nii.gz")
+    gfa, affine = stvd._core.fod_gfa(str(path), BASIS)
+    assert np.allclose(affine, AFFINE) and gfa.shape == (21, 21, 3)
+    assert np.array_equal(distance.extra["stvd_fod_run"].gfa, gfa)
+    assert 0.3 < gfa[inside].min() and gfa.max() <= 1.0
+    stvd.report.write_report(tmp_path / "python.html", distance)
+    for name in ("tool", "python"):
+        text = (tmp_path / f"{name}.html").read_text()
+        assert "Slices through voxel (0, 10, 1): distance map over GFA</h2>" in text, name
+        assert ("GFA: the generalised fractional anisotropy of the FOD, from its coefficients (0 outside the "
+                "domain).") in text, name
+        assert "not reached: GFA only." in text, name
