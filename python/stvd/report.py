@@ -884,10 +884,12 @@ def _write_fod_report(output, result, paths, connectivity, labels, target_labels
     (``result``: its image), stvd.fod_paths and stvd.fod_connectivity: what
     the tool's ``--report`` draws for the same run (docs/fod.md, "The
     tool")."""
-    distance_run = result.extra["stvd_fod_run"] if result is not None else None
+    extra = getattr(result, "extra", None)
+    distance_run = extra.get("stvd_fod_run") if isinstance(extra, dict) else None
     paths_run = getattr(paths, "fod_run", None) if paths is not None else None
     connectivity_run = getattr(connectivity, "fod_run", None) if connectivity is not None else None
-    for value, run, what in ((paths, paths_run, "paths: the stvd.Paths of stvd.fod_paths"),
+    for value, run, what in ((result, distance_run, "result: the image of stvd.fod_distance"),
+                             (paths, paths_run, "paths: the stvd.Paths of stvd.fod_paths"),
                              (connectivity, connectivity_run, "connectivity: the stvd.Connectivity of "
                                                              "stvd.fod_connectivity")):
         if value is not None and run is None:

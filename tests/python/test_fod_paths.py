@@ -249,6 +249,10 @@ def test_a_page_from_python_takes_the_basis_as_given_and_refuses_mixed_runs(tmp_
     assert "<title>stvd distance: run</title>" in text  # an array has no file name
     with pytest.raises(ValueError, match="tensor keywords do not apply"):
         stvd.report.write_report(tmp_path / "x.html", distance, tensor_order="fsl")
+    tensor_run = stvd.propagate(np.tile(np.eye(3), (21, 21, 3, 1, 1)), (0, 10, 1), affine=AFFINE)
+    with pytest.raises(TypeError, match="a tensor run's does not go on an FOD run's page"):
+        stvd.report.write_report(tmp_path / "x.html", tensor_run, paths=stvd.fod_paths(
+            fit.shm_coeff, SEED, [(20, 10, 1)], fod_basis="mrtrix3", affine=AFFINE))
     with pytest.raises(TypeError, match="holds no FOD run"):
         stvd.report.write_report(tmp_path / "x.html", nib.Nifti1Image(np.zeros((21, 21, 3), np.float32), AFFINE))
     assert not (tmp_path / "x.html").exists()
