@@ -6,6 +6,7 @@
 
 #include "stvd/errors.hpp"
 #include "stvd/imaging/fod_cost.hpp"
+#include "stvd/imaging/fod_run_description.hpp"
 #include "stvd/imaging/spherical_harmonics.hpp"
 #include "stvd/imaging/tensor_input_options.hpp"
 #include "stvd/itk/fod_volume_io.hpp"
@@ -80,10 +81,7 @@ std::vector<std::string> fodMetricParameters(const FodInput& input, const imagin
           "\"fod_floor\": " + jsonNumber(options.cost.floor),
           "\"fod_power\": " + jsonNumber(options.cost.power),
           "\"fod_directions\": " + std::to_string(table.directions),
-          table.segments ? "\"fod_norm\": \"convexified F* along the lattice directions of order " +
-                               std::to_string(imaging::kFodLatticeOrder) + " (" +
-                               std::to_string(imaging::FodSegmentNorm::kCount) + " per voxel), interpolated\""
-                         : "\"fod_norm\": \"convexified F* along the 26 neighbour directions\""};
+          "\"fod_norm\": " + jsonString(imaging::fodNormDescription(table.segments.has_value()))};
 }
 
 std::string fodPrecomputationMember(const FodInput& input, const FodTable& table) {
