@@ -19,6 +19,8 @@
 //   FOD segment table and FOD STVD (k = 6): what the tool's default for FOD
 //   images computes (fodSegmentMetric, then STVD over it);
 //   FOD table, 162 + 26 directions: a coarser sampling, for the record;
+//   the same tables and propagations with the sampling adapted to each
+//   voxel (adaptiveFodSampling: the coarse set and caps around the maxima);
 //   reference table: the simple computation the tests hold the table to
 //   (convexifiedFodNormsReference), on every S-th domain voxel (default 64),
 //   scaled to the domain: the table's cost before it was made fast.
@@ -153,6 +155,16 @@ int main(int argc, char** argv) {
   // computes, measured for the record.
   const FodCostSampler coarse(fod, defaultFodSamplingDirections(g, 2));
   const Times tableCoarse = timed([&] { fodStencilMetric(coarse, &built.inDomain, 1); });
+  // The sampling adapted to each voxel (162 + 26 directions and caps of the
+  // 2562-direction icosphere around the maxima: adaptiveFodSampling), both
+  // tables and their propagations.
+  const FodCostSampler caps(fod, adaptiveFodSampling(g));
+  FodStencilMetric capsMetric = fodStencilMetric(caps, &built.inDomain, 1);
+  const Times capsTable = timed([&] { capsMetric = fodStencilMetric(caps, &built.inDomain, 1); });
+  const Times capsDijkstra = timed([&] { propagate(domain, capsMetric, {source}, dijkstra); });
+  FodSegmentMetric capsSegment = fodSegmentMetric(caps, &built.inDomain, 1);
+  const Times capsSegmentTable = timed([&] { capsSegment = fodSegmentMetric(caps, &built.inDomain, 1); });
+  const Times capsStvd = timed([&] { propagate(domain, capsSegment, {source}, stvd); });
 
   // The reference computation on every stride-th domain voxel, as a field
   // of those voxels alone.
@@ -202,6 +214,14 @@ int main(int argc, char** argv) {
   const Times totalStvd{segmentTable.cpu + fodStvd.cpu, segmentTable.wall + fodStvd.wall};
   row("FOD segment table + STVD (default)", totalStvd, d);
   row("FOD table, 162 + 26 directions", tableCoarse, d);
+  row("FOD table, caps sampling", capsTable, d);
+  row("FOD Dijkstra over it", capsDijkstra, d);
+  const Times capsTotal{capsTable.cpu + capsDijkstra.cpu, capsTable.wall + capsDijkstra.wall};
+  row("FOD table, caps + Dijkstra", capsTotal, d);
+  row("FOD segment table, caps sampling", capsSegmentTable, d);
+  row("FOD STVD k=6 over it", capsStvd, d);
+  const Times capsTotalStvd{capsSegmentTable.cpu + capsStvd.cpu, capsSegmentTable.wall + capsStvd.wall};
+  row("FOD segment table, caps + STVD", capsTotalStvd, d);
   const double scale = d / double(sampled);
   const Times referenceScaled{referenceSample.cpu * scale, referenceSample.wall * scale};
   const Times fastScaled{fastSample.cpu * scale, fastSample.wall * scale};

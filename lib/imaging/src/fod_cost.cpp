@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <map>
 #include <stdexcept>
@@ -88,7 +89,26 @@ std::vector<Vec3d> defaultFodSamplingDirections(const GridGeometry& geometry, in
   return d;
 }
 
-FodCostSampler::FodCostSampler(const FodField& field, std::vector<Vec3d> directions, FodCostOptions options)
+FodSampling adaptiveFodSampling(const GridGeometry& geometry, int coarse, int dense, double capRadiusDegrees) {
+  if (!(capRadiusDegrees > 0.0 && capRadiusDegrees <= 90.0))
+    throw std::invalid_argument("FOD sampling: the caps' radius must be in (0, 90] degrees, not " +
+                                std::to_string(capRadiusDegrees));
+  FodSampling s;
+  s.directions = defaultFodSamplingDirections(geometry, coarse);
+  // The dense icosphere turned with the grid as the coarse one is (its
+  // first vertices are the coarse icosphere's: the sampler drops those).
+  std::vector<Vec3d> d = icosphereDirections(dense);
+  const Matrix3 axes = voxelAxes(geometry);
+  for (Vec3d& g : d)
+    g = normalised({axes[0] * g.x + axes[1] * g.y + axes[2] * g.z, axes[3] * g.x + axes[4] * g.y + axes[5] * g.z,
+                    axes[6] * g.x + axes[7] * g.y + axes[8] * g.z});
+  s.caps.directions = std::move(d);
+  s.caps.radius = capRadiusDegrees * M_PI / 180.0;
+  return s;
+}
+
+FodCostSampler::FodCostSampler(const FodField& field, std::vector<Vec3d> directions, FodCostOptions options,
+                               FodPeakCaps caps)
     : field_(field), directions_(std::move(directions)), options_(options) {
   options_.validate();
   const Matrix3 axes = voxelAxes(field.geometry);
@@ -142,6 +162,42 @@ FodCostSampler::FodCostSampler(const FodField& field, std::vector<Vec3d> directi
   for (std::size_t r = 0; r < rows_; ++r)
     for (int j = 0; j < count; ++j)
       basisByCoefficient_[static_cast<std::size_t>(j) * rows_ + r] = basis_[rowDirection[r] * count + j];
+  // The caps: the dense directions that are neither a sampling direction
+  // nor the opposite of one (those points are in the ball already).
+  if (!caps.directions.empty() && caps.radius > 0.0) {
+    if (!(caps.radius <= M_PI / 2))
+      throw std::invalid_argument("FOD cost: the caps' radius must be at most 90 degrees");
+    capRadius_ = caps.radius;
+    capCos_ = std::cos(caps.radius);
+    for (const Vec3d& raw : caps.directions) {
+      const Vec3d d = normalised(raw);
+      bool known = false;
+      for (std::size_t i = 0; i < n && !known; ++i) known = std::abs(dot(d, directions_[i])) > 1.0 - 1e-12;
+      if (!known) capDirections_.push_back(d);
+    }
+    capBasis_.resize(capDirections_.size() * static_cast<std::size_t>(count));
+    for (std::size_t i = 0; i < capDirections_.size(); ++i) {
+      const Vec3d s = field.toShFrame(capDirections_[i]);
+      evaluateShBasis(field.basis, field.lmax, s.x, s.y, s.z, capBasis_.data() + i * count);
+    }
+    // One row per direction up to sign (the first of a pair).
+    std::vector<unsigned char> paired(capDirections_.size(), 0);
+    for (std::size_t i = 0; i < capDirections_.size(); ++i) {
+      if (paired[i]) continue;
+      capRowDirection_.push_back(static_cast<int>(i));
+      for (std::size_t j = i + 1; j < capDirections_.size(); ++j)
+        if (!paired[j] && dot(capDirections_[i], capDirections_[j]) < -1.0 + 1e-12) {
+          paired[j] = 1;
+          break;
+        }
+    }
+    capRows_ = capRowDirection_.size();
+    capRowBasis_.resize(capRows_ * static_cast<std::size_t>(count));
+    for (std::size_t r = 0; r < capRows_; ++r)
+      std::copy(capBasis_.begin() + static_cast<std::ptrdiff_t>(capRowDirection_[r]) * count,
+                capBasis_.begin() + static_cast<std::ptrdiff_t>(capRowDirection_[r] + 1) * count,
+                capRowBasis_.begin() + static_cast<std::ptrdiff_t>(r * count));
+  }
 }
 
 namespace {
@@ -401,6 +457,18 @@ void FodCostSampler::unitBallReference(std::size_t v, FodUnitBall& ball) const {
   for (std::size_t k = 0; k < ball.peaks.size(); ++k)
     ball.points.push_back(std::pow(std::max(options_.floor, std::min(1.0, peakValues[k] / amax)), options_.power) *
                           ball.peaks[k]);
+  // The caps: every dense direction within the radius of a maximum whose
+  // amplitude is above the floor.
+  for (std::size_t d = 0; d < capDirections_.size(); ++d) {
+    bool near = false;
+    for (const Vec3d& p : ball.peaks) near = near || dot(p, capDirections_[d]) >= capCos_;
+    if (!near) continue;
+    const double* y = capBasis_.data() + d * count;
+    double s = 0.0;
+    for (int j = 0; j < count; ++j) s += y[j] * c[j];
+    if (s > options_.floor * amax)
+      ball.points.push_back(std::pow(std::min(1.0, s / amax), options_.power) * capDirections_[d]);
+  }
 }
 
 void FodCostSampler::unitBall(std::size_t v, FodUnitBall& ball) const {
@@ -435,10 +503,12 @@ void FodCostSampler::unitBall(std::size_t v, FodUnitBall& ball) const {
   std::vector<int>& peakOf = ball.peakOfDirection;
   peakValues.clear();
   peakOf.assign(n, -1);
-  const double least = options_.floor * amax;
+  ball.capTaken.clear();
+  ball.capAmplitudes.clear();
+  const double least0 = options_.floor * amax;
   for (std::size_t i = 0; i < n; ++i) {
     const double ai = amplitude(i);
-    if (ai < least) continue;
+    if (ai < least0) continue;
     bool isMax = true;
     for (int r : neighbourRows_[i])
       if (!(ai >= row[static_cast<std::size_t>(r)])) {
@@ -457,6 +527,23 @@ void FodCostSampler::unitBall(std::size_t v, FodUnitBall& ball) const {
       ball.peaks.push_back(refinePeak(c, directions_[i], &value, false));
       peakValues.push_back(value);
       amax = std::max(amax, value);
+      if (capRows_ > 0) {
+        // The cap's rows around this maximum (and its opposite: |cos|),
+        // each amplitude once.
+        const Vec3d p = ball.peaks.back();
+        if (ball.capSeen.size() != capRows_) ball.capSeen.assign(capRows_, 0);
+        for (std::size_t r = 0; r < capRows_; ++r) {
+          if (ball.capSeen[r]) continue;
+          const Vec3d& d = capDirections_[static_cast<std::size_t>(capRowDirection_[r])];
+          if (!(std::abs(dot(p, d)) >= capCos_)) continue;
+          ball.capSeen[r] = 1;
+          const double* y = capRowBasis_.data() + r * static_cast<std::size_t>(count);
+          double a = 0.0;
+          for (int j = 0; j < count; ++j) a += y[j] * c[j];
+          ball.capTaken.push_back(static_cast<int>(r));
+          ball.capAmplitudes.push_back(a);
+        }
+      }
     }
     peakOf[i] = static_cast<int>(ball.peaks.size()) - 1;
   }
@@ -468,6 +555,15 @@ void FodCostSampler::unitBall(std::size_t v, FodUnitBall& ball) const {
   };
   for (std::size_t i = 0; i < n; ++i) ball.points[i] = radius(amplitude(i)) * directions_[i];
   for (std::size_t k = 0; k < ball.peaks.size(); ++k) ball.points.push_back(radius(peakValues[k]) * ball.peaks[k]);
+  const double least = options_.floor * amax;
+  for (std::size_t t = 0; t < ball.capTaken.size(); ++t) {
+    const std::size_t r = static_cast<std::size_t>(ball.capTaken[t]);
+    ball.capSeen[r] = 0;  // ready for the next voxel
+    if (!(ball.capAmplitudes[t] > least)) continue;  // on the floor's sphere
+    const Vec3d w = radius(ball.capAmplitudes[t]) * capDirections_[static_cast<std::size_t>(capRowDirection_[r])];
+    ball.points.push_back(w);
+    ball.points.push_back(-1.0 * w);
+  }
 }
 
 double FodCostSampler::cost(std::size_t v, const Vec3d& d, double amplitudeMax) const {
