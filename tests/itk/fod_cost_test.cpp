@@ -506,8 +506,10 @@ TEST(FodPeakCaps, FStarIsNeverBelowTheConvergedOneAndCloseToItOnCrossings) {
       coarseGauge.reset(coarseBall.points.data(), coarseBall.points.size());
       for (const Vec3d& q : queries) {
         const double e = exact(q), fs = gauge(q);
-        // (the maxima of both refined to 1e-3 rad: F* along them to 1e-6)
-        EXPECT_GE(fs, e * (1 - 1e-5)) << fibres << " fibres, " << degrees << " degrees";
+        // Both refine the maxima to 1e-3 rad from different starts: the
+        // vertex of the hull on each fibre may lie 1e-3 rad aside, which
+        // moves F* near the fibre by up to 1e-4 (measured 6e-5).
+        EXPECT_GE(fs, e * (1 - 1e-4)) << fibres << " fibres, " << degrees << " degrees";
         worstCaps = std::max(worstCaps, fs / e - 1);
         worstCoarse = std::max(worstCoarse, coarseGauge(q) / e - 1);
       }

@@ -29,6 +29,18 @@ Vec3d normalised(const Vec3d& v) {
   return {v.x / n, v.y / n, v.z / n};
 }
 
+/// sum_j y_j c_j in four interleaved partial sums (j mod 4), added at the
+/// end: four chains of additions instead of one (the caps' amplitudes, one
+/// row at a time); the fast ball and its reference both sum so.
+double capDot(const double* y, const double* c, int count) {
+  double s[4] = {0.0, 0.0, 0.0, 0.0};
+  int j = 0;
+  for (; j + 4 <= count; j += 4)
+    for (int q = 0; q < 4; ++q) s[q] += y[j + q] * c[j + q];
+  for (; j < count; ++j) s[j % 4] += y[j] * c[j];
+  return (s[0] + s[1]) + (s[2] + s[3]);
+}
+
 }  // namespace
 
 std::vector<Vec3d> icosphereDirections(int subdivisions) {
@@ -192,6 +204,8 @@ FodCostSampler::FodCostSampler(const FodField& field, std::vector<Vec3d> directi
         }
     }
     capRows_ = capRowDirection_.size();
+    capSpacing_ = std::sqrt(4.0 * M_PI / static_cast<double>(directionCount()));
+    nearCos_ = std::cos(std::min(M_PI / 2, spacing_));
     capRowBasis_.resize(capRows_ * static_cast<std::size_t>(count));
     for (std::size_t r = 0; r < capRows_; ++r)
       std::copy(capBasis_.begin() + static_cast<std::ptrdiff_t>(capRowDirection_[r]) * count,
@@ -382,12 +396,12 @@ double FodCostSampler::amplitudeAt(const float* c, const Vec3d& unitLps, bool si
   return shExpansion<ShBasis::Descoteaux07Legacy>(field_.lmax, s.x, s.y, s.z, c);
 }
 
-Vec3d FodCostSampler::refinePeak(const float* c, Vec3d u, double* amplitude, bool simple) const {
+Vec3d FodCostSampler::refinePeak(const float* c, Vec3d u, double step, double* amplitude, bool simple) const {
   // A pattern search on the sphere: steps along two tangent directions,
   // halved when none improves, from half a spacing down to 1e-3 rad (0.06
   // degrees; F* = F = 1 at the point found, however precise).
   double best = amplitudeAt(c, u, simple);
-  for (double step = 0.5 * spacing_; step > 1e-3;) {
+  while (step > 1e-3) {
     // Tangents from the grid's axes (not LPS's), so that the search turns
     // with the image as the sampling directions do.
     const Vec3d helper = std::abs(dot(u, axisI_)) < 0.9 ? axisI_ : axisJ_;
@@ -439,15 +453,36 @@ void FodCostSampler::unitBallReference(std::size_t v, FodUnitBall& ball) const {
     for (std::size_t i = 0; i < n; ++i) ball.points[i] = lowest * directions_[i];
     return;
   }
-  // The local maxima over the sampling directions, refined.
+  // The local maxima over the sampling directions, refined; with caps,
+  // each from the best of its cap's directions within a spacing, by steps
+  // from half the caps' spacing.
   std::vector<double> peakValues;
+  std::vector<Vec3d> centres;
+  double coefficients[91];
+  for (int j = 0; j < count; ++j) coefficients[j] = c[j];
+  auto capAmplitude = [&](std::size_t d) { return capDot(capBasis_.data() + d * count, coefficients, count); };
   for (std::size_t i = 0; i < n; ++i) {
     if (a[i] < options_.floor * amax) continue;
     bool isMax = true;
     for (int j : neighbours_[i]) isMax = isMax && a[i] >= a[j];
     if (!isMax) continue;
     double value = 0.0;
-    ball.peaks.push_back(refinePeak(c, directions_[i], &value, true));
+    Vec3d start = directions_[i];
+    double step = 0.5 * spacing_;
+    if (!capDirections_.empty()) {
+      centres.push_back(directions_[i]);
+      double best = a[i];
+      for (std::size_t d = 0; d < capDirections_.size(); ++d)
+        if (dot(directions_[i], capDirections_[d]) >= nearCos_) {
+          const double s = capAmplitude(d);
+          if (s > best) {
+            best = s;
+            start = capDirections_[d];
+          }
+        }
+      step = 0.5 * capSpacing_;
+    }
+    ball.peaks.push_back(refinePeak(c, start, step, &value, true));
     peakValues.push_back(value);
     amax = std::max(amax, value);
   }
@@ -457,15 +492,13 @@ void FodCostSampler::unitBallReference(std::size_t v, FodUnitBall& ball) const {
   for (std::size_t k = 0; k < ball.peaks.size(); ++k)
     ball.points.push_back(std::pow(std::max(options_.floor, std::min(1.0, peakValues[k] / amax)), options_.power) *
                           ball.peaks[k]);
-  // The caps: every dense direction within the radius of a maximum whose
-  // amplitude is above the floor.
+  // The caps: every dense direction within the radius of a maximum (the
+  // sampling direction it was found at) whose amplitude is above the floor.
   for (std::size_t d = 0; d < capDirections_.size(); ++d) {
     bool near = false;
-    for (const Vec3d& p : ball.peaks) near = near || dot(p, capDirections_[d]) >= capCos_;
+    for (const Vec3d& p : centres) near = near || dot(p, capDirections_[d]) >= capCos_;
     if (!near) continue;
-    const double* y = capBasis_.data() + d * count;
-    double s = 0.0;
-    for (int j = 0; j < count; ++j) s += y[j] * c[j];
+    const double s = capAmplitude(d);
     if (s > options_.floor * amax)
       ball.points.push_back(std::pow(std::min(1.0, s / amax), options_.power) * capDirections_[d]);
   }
@@ -504,7 +537,8 @@ void FodCostSampler::unitBall(std::size_t v, FodUnitBall& ball) const {
   peakValues.clear();
   peakOf.assign(n, -1);
   ball.capTaken.clear();
-  ball.capAmplitudes.clear();
+  double coefficients[91];  // the coefficients as doubles, for the caps
+  bool coefficientsAsDouble = false;
   const double least0 = options_.floor * amax;
   for (std::size_t i = 0; i < n; ++i) {
     const double ai = amplitude(i);
@@ -523,27 +557,42 @@ void FodCostSampler::unitBall(std::size_t v, FodUnitBall& ball) const {
       ball.peaks.push_back(same ? ball.peaks[k] : -1.0 * ball.peaks[k]);
       peakValues.push_back(peakValues[k]);
     } else {
-      double value = 0.0;
-      ball.peaks.push_back(refinePeak(c, directions_[i], &value, false));
-      peakValues.push_back(value);
-      amax = std::max(amax, value);
+      Vec3d start = directions_[i];
+      double step = 0.5 * spacing_;
       if (capRows_ > 0) {
         // The cap's rows around this maximum (and its opposite: |cos|),
-        // each amplitude once.
-        const Vec3d p = ball.peaks.back();
-        if (ball.capSeen.size() != capRows_) ball.capSeen.assign(capRows_, 0);
-        for (std::size_t r = 0; r < capRows_; ++r) {
-          if (ball.capSeen[r]) continue;
-          const Vec3d& d = capDirections_[static_cast<std::size_t>(capRowDirection_[r])];
-          if (!(std::abs(dot(p, d)) >= capCos_)) continue;
-          ball.capSeen[r] = 1;
-          const double* y = capRowBasis_.data() + r * static_cast<std::size_t>(count);
-          double a = 0.0;
-          for (int j = 0; j < count; ++j) a += y[j] * c[j];
-          ball.capTaken.push_back(static_cast<int>(r));
-          ball.capAmplitudes.push_back(a);
+        // each amplitude once; the refinement starts from the best of them
+        // within a spacing.
+        const Vec3d g = directions_[i];
+        if (!coefficientsAsDouble) {
+          for (int j = 0; j < count; ++j) coefficients[j] = c[j];
+          coefficientsAsDouble = true;
         }
+        if (ball.capSeen.size() != capRows_) {
+          ball.capSeen.assign(capRows_, 0);
+          ball.capAmplitudes.assign(capRows_, 0.0);
+        }
+        double best = ai;
+        for (std::size_t r = 0; r < capRows_; ++r) {
+          const Vec3d& d = capDirections_[static_cast<std::size_t>(capRowDirection_[r])];
+          const double cd = dot(g, d), acd = std::abs(cd);
+          if (!(acd >= capCos_)) continue;
+          if (!ball.capSeen[r]) {
+            ball.capSeen[r] = 1;
+            ball.capTaken.push_back(static_cast<int>(r));
+            ball.capAmplitudes[r] = capDot(capRowBasis_.data() + r * static_cast<std::size_t>(count), coefficients, count);
+          }
+          if (acd >= nearCos_ && ball.capAmplitudes[r] > best) {
+            best = ball.capAmplitudes[r];
+            start = cd > 0.0 ? d : -1.0 * d;
+          }
+        }
+        step = 0.5 * capSpacing_;
       }
+      double value = 0.0;
+      ball.peaks.push_back(refinePeak(c, start, step, &value, false));
+      peakValues.push_back(value);
+      amax = std::max(amax, value);
     }
     peakOf[i] = static_cast<int>(ball.peaks.size()) - 1;
   }
@@ -559,8 +608,8 @@ void FodCostSampler::unitBall(std::size_t v, FodUnitBall& ball) const {
   for (std::size_t t = 0; t < ball.capTaken.size(); ++t) {
     const std::size_t r = static_cast<std::size_t>(ball.capTaken[t]);
     ball.capSeen[r] = 0;  // ready for the next voxel
-    if (!(ball.capAmplitudes[t] > least)) continue;  // on the floor's sphere
-    const Vec3d w = radius(ball.capAmplitudes[t]) * capDirections_[static_cast<std::size_t>(capRowDirection_[r])];
+    if (!(ball.capAmplitudes[r] > least)) continue;  // on the floor's sphere
+    const Vec3d w = radius(ball.capAmplitudes[r]) * capDirections_[static_cast<std::size_t>(capRowDirection_[r])];
     ball.points.push_back(w);
     ball.points.push_back(-1.0 * w);
   }

@@ -69,11 +69,13 @@ inline constexpr int kFodSamplingSubdivisions = 3;
 std::vector<Vec3d> defaultFodSamplingDirections(const GridGeometry& geometry, int subdivisions = kFodSamplingSubdivisions);
 
 /// Points of F's unit ball where its hull needs them, per voxel: the
-/// directions of a denser set that lie within `radius` of one of the FOD's
-/// refined maxima (a cap around each lobe, where the hull's surface is
-/// curved: its flanks) and whose normalised amplitude is above the floor
-/// (below it the point is on the floor's sphere, which the coarse set
-/// covers). They are points of F's ball, so F* <= F still holds at each,
+/// directions of a denser set that lie within `radius` of a sampling
+/// direction where one of the FOD's maxima was found (a cap around each
+/// lobe, where the hull's surface is curved: its flanks) and whose
+/// normalised amplitude is above the floor (below it the point is on the
+/// floor's sphere, which the coarse set covers). The maximum's refinement
+/// starts from the best of its cap's directions within a spacing of the
+/// sampling, by steps from half the dense set's spacing. They are points of F's ball, so F* <= F still holds at each,
 /// and the hull only grows towards the converged one: F* never below it.
 /// Empty directions or radius 0: no caps.
 struct FodPeakCaps {
@@ -130,7 +132,7 @@ struct FodUnitBall {
   std::vector<Vec3d> points;
 
   // Scratch space of unitBall, kept to spare allocations.
-  std::vector<double> rowAmplitudes, peakValues, capAmplitudes;
+  std::vector<double> rowAmplitudes, peakValues, capAmplitudes;  // capAmplitudes: per cap row
   std::vector<int> peakOfDirection, capTaken;
   std::vector<unsigned char> capSeen;
 };
@@ -175,7 +177,7 @@ class FodCostSampler {
   // otherwise the same products summed as they are made (bit for bit).
   double amplitudeAt(const float* coefficients, const Vec3d& unitLps, bool simple) const;
   void amplitudesAt4(const float* coefficients, const Vec3d (&unitLps)[4], double (&out)[4]) const;
-  Vec3d refinePeak(const float* coefficients, Vec3d start, double* amplitude, bool simple) const;
+  Vec3d refinePeak(const float* coefficients, Vec3d start, double step, double* amplitude, bool simple) const;
 
   const FodField& field_;
   std::vector<Vec3d> directions_;
@@ -196,6 +198,8 @@ class FodCostSampler {
   // (row-major).
   std::vector<Vec3d> capDirections_;
   double capRadius_ = 0.0, capCos_ = 1.0;
+  double capSpacing_ = 0.0;  // sqrt(4 pi / directionCount()), radians: the refinement's first step from a cap
+  double nearCos_ = 1.0;     // cos(spacing_): a maximum's refinement starts from its cap's best direction this near
   std::vector<double> capBasis_;               // capDirections_ x coefficients
   std::size_t capRows_ = 0;
   std::vector<int> capRowDirection_;           // row -> its direction in capDirections_
