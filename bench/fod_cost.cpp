@@ -86,11 +86,11 @@ void BM_ConvexifiedNormAlong26NeighboursPerVoxel(benchmark::State& state) {
 }
 BENCHMARK(BM_ConvexifiedNormAlong26NeighboursPerVoxel)->Unit(benchmark::kMillisecond);
 
-// The sampling adapted to each voxel (adaptiveFodSampling: 162 + 26
-// directions and caps of the 2562-direction icosphere around the maxima).
+// The sampling adapted to each voxel (defaultFodSampling: 162 + 26
+// directions and caps of the 642-direction icosphere around the maxima).
 void BM_FodUnitBallCapsPerVoxel(benchmark::State& state) {
   const FodField f = crossings(256);
-  const FodCostSampler sampler(f, adaptiveFodSampling(f.geometry));
+  const FodCostSampler sampler(f, defaultFodSampling(f.geometry));
   FodUnitBall ball;
   std::size_t v = 0;
   for (auto _ : state) {
@@ -105,7 +105,7 @@ BENCHMARK(BM_FodUnitBallCapsPerVoxel);
 
 void BM_ConvexifiedNormAlong26NeighboursCapsPerVoxel(benchmark::State& state) {
   const FodField f = crossings(64);
-  const FodCostSampler sampler(f, adaptiveFodSampling(f.geometry));
+  const FodCostSampler sampler(f, defaultFodSampling(f.geometry));
   const std::vector<Vec3d> queries = neighbourDirections26(f.geometry);
   for (auto _ : state) {
     const std::vector<float> table = convexifiedFodTable(sampler, queries);

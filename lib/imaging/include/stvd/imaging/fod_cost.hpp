@@ -93,14 +93,15 @@ struct FodSampling {
 
 /// The defaults of adaptiveFodSampling, the tables' default sampling: the
 /// coarse icosphere of 162 directions, caps of the 642 of
-/// kFodSamplingSubdivisions (the coarse ones among them) within 40 degrees
-/// of the maxima: the same 668 directions as defaultFodSamplingDirections,
+/// kFodSamplingSubdivisions (the coarse ones among them) within 50 degrees
+/// of the maxima (40 cut the flanks of broad lobes, l <= 4, crossing at 45
+/// degrees): the same 668 directions as defaultFodSamplingDirections,
 /// the fine ones evaluated only near the lobes (docs/fod.md, "A sampling
 /// adapted to each voxel": the same F* to the measurements' precision, the
 /// table 1.3 times faster).
 inline constexpr int kFodCoarseSubdivisions = 2;
 inline constexpr int kFodCapSubdivisions = kFodSamplingSubdivisions;
-inline constexpr double kFodCapRadiusDegrees = 40.0;
+inline constexpr double kFodCapRadiusDegrees = 50.0;
 
 /// A sampling adapted to each voxel: defaultFodSamplingDirections(geometry,
 /// coarse) (icosphere turned with the grid, and the 26 neighbour
