@@ -17,7 +17,9 @@
 // always make. The methods compute instead the norm F* whose unit ball is
 // the convex hull of F's: F*(v) = min { sum l_i : v = sum l_i w_i, l_i >= 0 }
 // over the points w_i = rho(x, g_i) g_i of F's ball along the sampling
-// directions g_i and along the FOD's refined maxima. F* is a norm
+// directions g_i and along the FOD's refined maxima (and, with the default
+// sampling, along the directions of a finer set near the maxima:
+// FodPeakCaps). F* is a norm
 // (positive, 1-homogeneous, convex, symmetric as an FOD is); F* <= F along
 // every sampling direction, and a straight step under F* is as long as a
 // zig-zag along the w_i measured under F, which a path can make: F* is what
@@ -75,9 +77,11 @@ std::vector<Vec3d> defaultFodSamplingDirections(const GridGeometry& geometry, in
 /// normalised amplitude is above the floor (below it the point is on the
 /// floor's sphere, which the coarse set covers). The maximum's refinement
 /// starts from the best of its cap's directions within a spacing of the
-/// sampling, by steps from half the dense set's spacing. They are points of F's ball, so F* <= F still holds at each,
-/// and the hull only grows towards the converged one: F* never below it.
-/// Empty directions or radius 0: no caps.
+/// sampling, by steps from half the dense set's spacing. They are points
+/// of F's ball, so F* <= F still holds at each and the hull lies inside the
+/// converged one: F* is never below the converged F* (but by what the
+/// maxima's refinement to 1e-3 rad leaves, 1e-4 near a fibre). Empty
+/// directions or radius 0: no caps.
 struct FodPeakCaps {
   /// The dense directions (LPS, any length; every one with its opposite).
   std::vector<Vec3d> directions;
@@ -97,8 +101,8 @@ struct FodSampling {
 /// of the maxima (40 cut the flanks of broad lobes, l <= 4, crossing at 45
 /// degrees): the same 668 directions as defaultFodSamplingDirections,
 /// the fine ones evaluated only near the lobes (docs/fod.md, "A sampling
-/// adapted to each voxel": the same F* to the measurements' precision, the
-/// table 1.3 times faster).
+/// adapted to each voxel": the same F* to the measurements' precision, for
+/// three quarters of the table's time).
 inline constexpr int kFodCoarseSubdivisions = 2;
 inline constexpr int kFodCapSubdivisions = kFodSamplingSubdivisions;
 inline constexpr double kFodCapRadiusDegrees = 50.0;
