@@ -225,6 +225,191 @@ std::vector<double> run(const VoxelGridDomain& domain, const Metric& metric, Ver
   return d;
 }
 
+/// The samplings compared by `sampling` and `constant-sampling` (docs/fod.md,
+/// "A sampling adapted to each voxel"): today's default and variants of a
+/// coarse set with caps of a dense one around the maxima.
+struct SamplingVariant {
+  std::string name;
+  int coarse, dense;  // icosphere levels; dense < 0: no caps
+  double capDegrees;
+  FodSampling of(const GridGeometry& g) const {
+    if (dense < 0) return {defaultFodSamplingDirections(g, coarse), {}};
+    return adaptiveFodSampling(g, coarse, dense, capDegrees);
+  }
+};
+
+const std::vector<SamplingVariant>& samplingVariants() {
+  static const std::vector<SamplingVariant> v = {
+      {"L3 (642+26), no caps: the default before", 3, -1, 0},  {"L2 (162+26), no caps", 2, -1, 0},
+      {"L2 + caps L3 r40", 2, 3, 40},  {"L2 + caps L3 r50 (the default)", 2, 3, 50}, {"L2 + caps L3 r60", 2, 3, 60},
+      {"L2 + caps L4 r30", 2, 4, 30}, {"L2 + caps L4 r40", 2, 4, 40},
+      {"L2 + caps L4 r50", 2, 4, 50},  {"L1 + caps L4 r40", 1, 4, 40}, {"L2 + caps L5 r40", 2, 5, 40},
+  };
+  return v;
+}
+
+/// One voxel of `fibres` (1 to 3) equal lobes: the first two as
+/// crossingFibres(degrees), the third at `degrees` from the first out of
+/// their plane.
+FodField fibresField(const GridGeometry& g, int fibres, double degrees) {
+  FodField f = testing::constantCrossingField(g, degrees);
+  std::fill(f.coefficients.begin(), f.coefficients.end(), 0.f);
+  Vec3d fibre[2];
+  testing::crossingFibres(degrees, fibre);
+  const Vec3d e1 = fibre[0];
+  Vec3d nrm{e1.y * fibre[1].z - e1.z * fibre[1].y, e1.z * fibre[1].x - e1.x * fibre[1].z,
+            e1.x * fibre[1].y - e1.y * fibre[1].x};
+  nrm = (1.0 / std::sqrt(dot(nrm, nrm))) * nrm;
+  const double t = degrees * M_PI / 180.0;
+  const Vec3d third = std::cos(t) * e1 + std::sin(t) * nrm;
+  float c[45] = {};
+  testing::addFodLobe(f, c, fibre[0]);
+  if (fibres >= 2) testing::addFodLobe(f, c, fibre[1]);
+  if (fibres >= 3) testing::addFodLobe(f, c, third);
+  for (std::size_t v = 0; v < g.voxelCount(); ++v) std::copy(c, c + 45, f.coefficients.data() + 45 * v);
+  return f;
+}
+
+void sampling() {
+  std::printf("# sampling: relative excess of F* over the converged F* (icosphere level 5, 10242 + 26 directions)\n");
+  std::printf("# at 300 random directions and along the 26 and 98 table directions; one voxel per case\n");
+  std::printf("table\tvariant\tfibres\tangle\tpoints\trandom mean\trandom max\t26 mean\t26 max\t98 mean\t98 max\tmin\n");
+  GridGeometry one;
+  const std::vector<Vec3d> dirs = randomDirections(300);
+  const std::vector<Vec3d> q26 = neighbourDirections26(one);
+  const std::vector<Vec3d> q98 = latticeVectors<2>(one);
+  struct Case {
+    int fibres;
+    double angle;
+    int lmax = 8;  // the lobes' degree: 4 gives broad lobes (their l > 4 coefficients zero)
+  };
+  std::vector<Case> cases = {{1, 90}};
+  for (int fibres : {2, 3})
+    for (double angle : kAngles) cases.push_back({fibres, angle});
+  for (int fibres : {1, 2}) cases.push_back({fibres, 90, 4});
+  cases.push_back({2, 60, 4});
+  cases.push_back({2, 45, 4});
+  const auto caseField = [](const GridGeometry& g, const Case& c) {
+    FodField f = fibresField(g, c.fibres, c.angle);
+    const int kept = (c.lmax + 1) * (c.lmax + 2) / 2;
+    for (std::size_t v = 0; v < g.voxelCount(); ++v)
+      std::fill(f.coefficients.begin() + 45 * v + kept, f.coefficients.begin() + 45 * (v + 1), 0.f);
+    return f;
+  };
+  struct Exact {
+    std::vector<double> random, n26, n98;
+  };
+  std::vector<Exact> exact;
+  for (const Case& c : cases) {
+    const FodField f = caseField(one, c);
+    ExactFodNorm ex(f, 5);
+    Exact e;
+    for (const Vec3d& d : dirs) e.random.push_back(ex(d));
+    for (const Vec3d& d : q26) e.n26.push_back(ex(d));
+    for (const Vec3d& d : q98) e.n98.push_back(ex(d));
+    exact.push_back(std::move(e));
+  }
+  for (const SamplingVariant& variant : samplingVariants()) {
+    double worst[3] = {0, 0, 0}, lowest = 0, worstBroad = 0;  // worst: the lmax 8 cases
+    for (std::size_t k = 0; k < cases.size(); ++k) {
+      const FodField f = caseField(one, cases[k]);
+      const FodCostSampler sampler(f, variant.of(one));
+      FodUnitBall ball;
+      sampler.unitBall(0, ball);
+      ConvexHullGauges gauge;
+      gauge.reset(ball.points.data(), ball.points.size());
+      Summary s[3];
+      const std::vector<Vec3d>* qs[3] = {&dirs, &q26, &q98};
+      const std::vector<double>* es[3] = {&exact[k].random, &exact[k].n26, &exact[k].n98};
+      double least = 0;
+      for (int t = 0; t < 3; ++t) {
+        std::vector<double> e;
+        for (std::size_t i = 0; i < qs[t]->size(); ++i) e.push_back(gauge((*qs[t])[i]) / (*es[t])[i] - 1);
+        s[t] = summarise(e);
+        least = std::min(least, s[t].min);
+        if (cases[k].lmax == 8)
+          worst[t] = std::max(worst[t], s[t].max);
+        else
+          worstBroad = std::max(worstBroad, s[t].max);
+      }
+      lowest = std::min(lowest, least);
+      std::printf("sampling\t%s\t%d\t%.0f%s\t%zu\t%.4f\t%.4f\t%.4f\t%.4f\t%.4f\t%.4f\t%.2g\n", variant.name.c_str(),
+                  cases[k].fibres, cases[k].angle, cases[k].lmax == 8 ? "" : " (l<=4)", ball.points.size(), s[0].mean, s[0].max, s[1].mean, s[1].max,
+                  s[2].mean, s[2].max, least);
+    }
+    // The tables' cost per voxel (CPU, unit ball included) on 256 voxels
+    // of one to three fibres at random angles of 30 to 90 degrees.
+    GridGeometry many;
+    many.size = {256, 1, 1};
+    FodField f = fibresField(many, 1, 90);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> angle(30, 90);
+    for (std::size_t v = 0; v < 256; ++v) {
+      GridGeometry g1;
+      const FodField fv = fibresField(g1, 1 + int(v % 3), angle(rng));
+      std::copy(fv.coefficients.begin(), fv.coefficients.end(), f.coefficients.begin() + 45 * v);
+    }
+    const FodCostSampler sampler(f, variant.of(many));
+    double t0 = cpuSeconds();
+    for (int r = 0; r < 4; ++r) (void)convexifiedFodTable(sampler, q26);
+    const double us26 = 1e6 * (cpuSeconds() - t0) / (4 * 256);
+    t0 = cpuSeconds();
+    for (int r = 0; r < 4; ++r) (void)convexifiedFodTable(sampler, q98);
+    const double us98 = 1e6 * (cpuSeconds() - t0) / (4 * 256);
+    FodUnitBall ball;
+    t0 = cpuSeconds();
+    std::size_t points = 0;
+    for (int r = 0; r < 4; ++r)
+      for (std::size_t v = 0; v < 256; ++v) sampler.unitBall(v, ball), points += ball.points.size();
+    const double usBall = 1e6 * (cpuSeconds() - t0) / (4 * 256);
+    std::printf("sampling-summary\t%s\tworst random %.4f\tworst 26 %.4f\tworst 98 %.4f\tmin %.2g\t"
+                "unit ball %.1f us\ttable 26 %.1f us\ttable 98 %.1f us\tpoints %.0f\tworst broad lobes %.4f\n",
+                variant.name.c_str(), worst[0], worst[1], worst[2], lowest, usBall, us26, us98,
+                double(points) / (4 * 256), worstBroad);
+    std::fflush(stdout);
+  }
+}
+
+/// Distances on the constant crossings under each sampling (Dijkstra and
+/// STVD k = 6, 33^3, the default segment table).
+void constantSampling() {
+  std::printf("# constant-sampling: relative error against F*_exact(x - s), 33^3, per sampling\n");
+  std::printf("table\tvariant\tangle\tmethod\tmean\tp99\tmax\tbelow exact\n");
+  for (double angle : kAngles) {
+    const int n = 33;
+    GridGeometry g;
+    g.size = {std::size_t(n), std::size_t(n), std::size_t(n)};
+    const FodField one = testing::constantCrossingField(GridGeometry{}, angle);
+    ExactFodNorm exact(one, 6);
+    const VoxelGridDomain domain(g, Stencil::full26());
+    const int c = n / 2;
+    const VertexId seed = domain.vertexAt(c, c, c);
+    std::vector<double> reference(g.voxelCount());
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) reference[domain.vertexAt(i, j, k)] = exact.ofOffset(i - c, j - c, k - c);
+    for (const SamplingVariant& variant : samplingVariants()) {
+      if (variant.dense < 0 ? variant.coarse != 3 : variant.coarse != 2 || variant.capDegrees != (variant.dense == 3 ? 50 : 40))
+        continue;
+      const FodCostSampler sampler(one, variant.of(g));
+      const FodSegmentMetric segment = FodSegmentMetric::constant(g.voxelCount(), fodSegmentMetric(sampler)[0]);
+      for (const Method& m : {Method{"dijkstra", 0, 0}, Method{"stvd k=6", 1, 6}}) {
+        double seconds = 0;
+        // Dijkstra's steps are neighbour steps, where the segment norm is
+        // the 26-direction table (to 2e-6), as in constant().
+        const std::vector<double> d = run(domain, segment, seed, m, &seconds);
+        std::vector<double> e;
+        for (std::size_t v = 0; v < d.size(); ++v)
+          if (v != seed) e.push_back(d[v] / reference[v] - 1);
+        const Summary s = summarise(e);
+        std::printf("constant-sampling\t%s\t%.0f\t%s\t%.4f\t%.4f\t%.4f\t%zu\n", variant.name.c_str(), angle,
+                    m.name.c_str(), s.mean, s.p99, s.max, s.below);
+        std::fflush(stdout);
+      }
+    }
+  }
+}
+
 void constant() {
   std::printf("# constant: relative error against F*_exact(x - s) over all voxels but the seed; CPU s\n");
   std::printf("table\tangle\tgrid\tmethod\tmean\tp99\tmax\tbelow exact\tvoxels\tcpu s\n");
@@ -318,4 +503,6 @@ int main(int argc, char** argv) {
   if (wanted("norms")) norms();
   if (wanted("constant")) constant();
   if (wanted("curved")) curved();
+  if (argc >= 2 && wanted("sampling")) sampling();
+  if (argc >= 2 && wanted("constant-sampling")) constantSampling();
 }

@@ -57,14 +57,14 @@ FodTable makeFodTable(const FodInput& input, const imaging::FodCostOptions& cost
   const auto start = std::chrono::steady_clock::now();
   const std::clock_t cpuStart = std::clock();  // the process's CPU time, all threads
   const GridGeometry& g = input.fod.geometry;
-  const imaging::FodCostSampler sampler(input.fod, imaging::defaultFodSamplingDirections(g), cost);
+  const imaging::FodCostSampler sampler(input.fod, imaging::defaultFodSampling(g), cost);
   if (segments)
     table.segments = imaging::fodSegmentMetric(sampler, &input.inDomain, threads, progress);
   else
     table.metric = imaging::fodStencilMetric(sampler, &input.inDomain, threads, progress);
   table.cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
   table.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  table.directions = sampler.directions().size();
+  table.directions = sampler.directionCount();
   table.threads =
       threadCountFor(threads, (g.voxelCount() + imaging::kFodMetricBlockVoxels - 1) / imaging::kFodMetricBlockVoxels);
   return table;

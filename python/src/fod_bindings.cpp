@@ -195,8 +195,8 @@ FodCallTable fodCallTable(const FodCallInput& in, const imaging::FodCostOptions&
   FodCallTable table;
   const GridGeometry& g = in.field.geometry;
   const auto start = std::chrono::steady_clock::now();
-  const imaging::FodCostSampler sampler(in.field, imaging::defaultFodSamplingDirections(g), cost);
-  table.directions = sampler.directions().size();
+  const imaging::FodCostSampler sampler(in.field, imaging::defaultFodSampling(g), cost);
+  table.directions = sampler.directionCount();
   if (segments)
     table.segments = imaging::fodSegmentMetric(sampler, &in.inDomain, threads, progress);
   else
