@@ -706,8 +706,7 @@ double convexHullGauge(const Vec3d* w, std::size_t count, const Vec3d& v) {
       if (d[k] > 1e-14) {
         const double r = x[k] / d[k];
         const bool tie = r == ratio && leaving >= 0;
-        const bool preferred = bland ? basis[k] < basis[leaving] : basis[k] >= count;
-        if (r < ratio || (tie && preferred)) {
+        if (r < ratio || (tie && (bland ? basis[k] < basis[leaving] : basis[k] >= count))) {
           ratio = r;
           leaving = k;
         }
