@@ -960,6 +960,26 @@ void constantBand() {
     gauge.reset(ball.points.data(), ball.points.size());
     const MetricField<BandSegmentNorm> band = MetricField<BandSegmentNorm>::constant(
         g.voxelCount(), BandSegmentNorm::make(today[0], ball, [&](const Vec3d& d) { return gauge(d); }));
+    {  // The band's edge: segment vectors of STVD's chains (index offsets up
+       // to 6) whose N moves by more than 1e-4 relative within float
+       // rounding of themselves (N jumps from C to L where v leaves the band).
+      int jumps = 0, vectors = 0;
+      for (int k = -6; k <= 6; ++k)
+        for (int j = -6; j <= 6; ++j)
+          for (int i = -6; i <= 6; ++i) {
+            if (i == 0 && j == 0 && k == 0) continue;
+            ++vectors;
+            const float x = float(i), y = float(j), z = float(k);
+            const float a = BandSegmentNorm::length(band[0], x, y, z);
+            for (int n = 1; n < 8; ++n)
+              if (std::abs(BandSegmentNorm::length(band[0], (1.f + 1e-7f * float(n)) * x, y, z) / a - 1) > 1e-4f) {
+                ++jumps;
+                break;
+              }
+          }
+      std::printf("# %.0f degrees: %d of %d index offsets up to 6 on the band's edge (N jumps within float rounding)\n",
+                  angle, jumps, vectors);
+    }
     const auto report = [&](const char* norm, const Method& m, const std::vector<double>& d, double seconds) {
       std::vector<double> e;
       for (std::size_t v = 0; v < d.size(); ++v)
