@@ -193,8 +193,8 @@ struct PatchModel {
     const Vec3d normal = unit(cross(axes[0], inPlane));
     for (std::size_t a = 0; a < axes.size() && !capRings.empty(); ++a) {
       const Vec3d p = axes[a];
-      Vec3d e1 = normal - dot(normal, p) * p;  // e1 x p ... keep the first ring point in the plane:
-      e1 = cross(e1, p);
+      // e1: in the fibres' plane, normal to p (the rings' first directions).
+      Vec3d e1 = cross(normal - dot(normal, p) * p, p);
       if (dot(e1, e1) < 1e-8) e1 = std::abs(p.x) < 0.9 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0}, e1 = e1 - dot(e1, p) * p;
       e1 = unit(e1);
       const Vec3d e2 = cross(p, e1);
@@ -485,7 +485,7 @@ struct BandSegmentNormEightCorners : BandSegmentNorm {
 /// configuration, the relative excess of min(L, C) over F*_exact, the time
 /// per call, and the patches' F* values' time per voxel (by the voxel's
 /// solver, reset as for a new voxel; the unit ball is today's).
-void capRows(double angle, const FodCostSampler& sampler, const FodUnitBall& ball, const std::vector<Vec3d>& dirs,
+void patchRows(double angle, const FodCostSampler& sampler, const FodUnitBall& ball, const std::vector<Vec3d>& dirs,
              const std::vector<double>& ex) {
   const auto metric = fodLatticeMetric<2>(sampler);
   const auto& g = metric[0];
@@ -683,7 +683,7 @@ void norms() {
     latticeRow<1>("lattice n=1", angle, sampler, dirs, ex);
     latticeRow<2>("lattice n=2", angle, sampler, dirs, ex);
     latticeRow<3>("lattice n=3", angle, sampler, dirs, ex);
-    capRows(angle, sampler, ball, dirs, ex);
+    patchRows(angle, sampler, ball, dirs, ex);
     std::fflush(stdout);
   }
 }
