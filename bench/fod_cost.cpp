@@ -3,7 +3,8 @@
 // icosahedron and the 26 neighbour directions) and the convexified norm F*
 // along the 26 neighbour directions (the simplex gauge of the hull of the
 // cost's sampled unit ball), and the same by the simple computation the
-// tests hold it to (the "Reference" rows). Voxels hold two fibres crossing
+// tests hold it to (the "Reference" rows), and with the sampling adapted to
+// each voxel (the "Caps" rows). Voxels hold two fibres crossing
 // at angles from 30 to 90 degrees in random planes. Counter: cpu_per_voxel
 // (seconds).
 #include <benchmark/benchmark.h>
@@ -84,6 +85,36 @@ void BM_ConvexifiedNormAlong26NeighboursPerVoxel(benchmark::State& state) {
                                                        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_ConvexifiedNormAlong26NeighboursPerVoxel)->Unit(benchmark::kMillisecond);
+
+// The sampling adapted to each voxel (defaultFodSampling: 162 + 26
+// directions and caps of the 642-direction icosphere around the maxima).
+void BM_FodUnitBallCapsPerVoxel(benchmark::State& state) {
+  const FodField f = crossings(256);
+  const FodCostSampler sampler(f, defaultFodSampling(f.geometry));
+  FodUnitBall ball;
+  std::size_t v = 0;
+  for (auto _ : state) {
+    sampler.unitBall(v, ball);
+    benchmark::DoNotOptimize(ball.points.data());
+    v = (v + 1) % 256;
+  }
+  state.counters["cpu_per_voxel"] = benchmark::Counter(static_cast<double>(state.iterations()),
+                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_FodUnitBallCapsPerVoxel);
+
+void BM_ConvexifiedNormAlong26NeighboursCapsPerVoxel(benchmark::State& state) {
+  const FodField f = crossings(64);
+  const FodCostSampler sampler(f, defaultFodSampling(f.geometry));
+  const std::vector<Vec3d> queries = neighbourDirections26(f.geometry);
+  for (auto _ : state) {
+    const std::vector<float> table = convexifiedFodTable(sampler, queries);
+    benchmark::DoNotOptimize(table.data());
+  }
+  state.counters["cpu_per_voxel"] = benchmark::Counter(static_cast<double>(state.iterations()) * 64,
+                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_ConvexifiedNormAlong26NeighboursCapsPerVoxel)->Unit(benchmark::kMillisecond);
 
 // The same voxels by the simple computation the tests hold the fast one to
 // (FodCostSampler::unitBallReference, convexHullGauge per direction): the

@@ -74,11 +74,11 @@ EOF
 fod_run=("$fod/fod_csd_lmax4_slab.nii.gz" --fod-basis mrtrix3 --mask "$out/box_mask_slab.nii.gz" --threads 2)
 tensor_run=("$dti/dti_tensor_dipy5d.nii.gz" --mask "$out/box_mask_dti.nii.gz")
 "$tool" path "${fod_run[@]}" --seed-voxel 67,54,1 --seed-voxel 41,54,1 \
-  --target-voxel 68,53,10 --target-voxel 42,52,10 -o "$out/cst_fod.tck" --report "$out/cst_fod.html" -q
+  --target-voxel 68,53,10 --target-voxel 42,52,10 -o "$out/cst_fod.tck" --report "$out/cst_fod.html" --subject cst_fod -q
 "$tool" path "${tensor_run[@]}" --seed-voxel 67,54,11 --seed-voxel 41,54,11 \
-  --target-voxel 68,53,20 --target-voxel 42,52,20 -o "$out/cst_tensor.tck" --report "$out/cst_tensor.html" -q
+  --target-voxel 68,53,20 --target-voxel 42,52,20 -o "$out/cst_tensor.tck" --report "$out/cst_tensor.html" --subject cst_tensor -q
 "$tool" path "${fod_run[@]}" --seed-voxel 78,54,6 --target-voxel 32,54,6 \
-  -o "$out/cc_fod.tck" --report "$out/cc_fod.html" -q
+  -o "$out/cc_fod.tck" --report "$out/cc_fod.html" --subject cc_fod -q
 "$tool" path "${tensor_run[@]}" --seed-voxel 78,54,16 --target-voxel 32,54,16 \
-  -o "$out/cc_tensor.tck" --report "$out/cc_tensor.html" -q
+  -o "$out/cc_tensor.tck" --report "$out/cc_tensor.html" --subject cc_tensor -q
 "$tool" report --index "$out" -o "$out/index.html" -q

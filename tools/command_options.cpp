@@ -103,6 +103,10 @@ std::vector<OptionDeclaration> toolDeclarations() {
                      "a self-contained QC page: the regions over FA, the matrices as heat maps, the statistics and "
                      "the warnings (Python 3 and matplotlib, checked before any output is written; docs/report.md)."}};
   table.push_back(report);
+  table.push_back(outputOption(
+      "--subject", "NAME", kVolumeCommands,
+      "with --report: the name in the page's title and in a cohort index (default: the input's file name without "
+      "its extension; any text, shown as text)."));
   OptionDeclaration voxel = outputOption(
       "--voxel", "I,J,K", kInfoCommand,
       "also describe this voxel (stvd's 0-based index, as the file stores it): the index MRtrix shows for it and "
@@ -131,7 +135,7 @@ const char* const kHelpOrder[] = {
     "--fod-power", "--metric", "--anisotropy", "--tensors",
     "--tensor-attribute", "--outside-image", "--step", "--smooth", "--no-refine", "--discrete", "--output", "--reference",
     "--tsv", "--matrix", "--matrix-index", "--region-matrix", "--region-maps", "--nearest-region",
-    "--unreachable-value", "--stats", "--report", "--voxel", "--quiet", "--help"};
+    "--unreachable-value", "--stats", "--report", "--subject", "--voxel", "--quiet", "--help"};
 
 std::vector<OptionDeclaration> allDeclarations() {
   std::vector<OptionDeclaration> all;

@@ -87,6 +87,7 @@ struct ConnectivityOptions : PropagationChoice {
   std::string matrixIndex;  // --matrix-index
   std::string statsPath;
   std::string reportPath;
+  std::string reportSubject;  // --subject: the page's name
   TensorInputOptions tensor;
   imaging::FodInputOptions fod;  ///< given(): the input is an FOD image
   unsigned threads = 0;
@@ -105,6 +106,7 @@ ConnectivityOptions parseConnectivityOptions(int argc, char** argv) {
   o.matrixIndex = v.text("--matrix-index").value_or("");
   o.statsPath = v.text("--stats").value_or("");
   o.reportPath = v.text("--report").value_or("");
+  o.reportSubject = v.text("--subject").value_or("");
   o.tensor = imaging::tensorInputOptionsOf(v);
   o.threads = regionThreadsOf(v);
   o.quiet = v.has("--quiet");
@@ -165,7 +167,7 @@ int runConnectivity(int argc, char** argv) {
   files.outputFile("QC report", o.reportPath);
   files.check();
   ReportRequest report;
-  report.start(o.reportPath);
+  report.start(o.reportPath, o.reportSubject);
   // The input and its metric: the tensors' or an FOD image's (docs/fod.md).
   std::optional<TensorInput> tensorInput;
   std::optional<imaging::MetricFromTensors> built;

@@ -127,6 +127,7 @@ struct DistanceOptions : SeedOptions, PropagationChoice {
   float unreachableValue = static_cast<float>(kDefaultUnreachableValue);
   std::string statsPath;
   std::string reportPath;
+  std::string reportSubject;  // --subject: the page's name
   bool quiet = false;
 };
 
@@ -147,6 +148,7 @@ DistanceOptions parseDistanceOptions(int argc, char** argv) {
   o.unreachableValue = static_cast<float>(v.number("--unreachable-value").value_or(o.unreachableValue));
   o.statsPath = v.text("--stats").value_or("");
   o.reportPath = v.text("--report").value_or("");
+  o.reportSubject = v.text("--subject").value_or("");
   o.quiet = v.has("--quiet");
   if (o.input.empty()) usageError("no input file (see stvd distance --help)");
   if (o.output.empty()) usageError("no output file: add -o OUTPUT");
@@ -430,7 +432,7 @@ int runFodDistance(const DistanceOptions& o, int argc, char** argv, Clock::time_
   Timings t;
   checkRunFiles(o, "FOD input");
   ReportRequest report;
-  report.start(o.reportPath);
+  report.start(o.reportPath, o.reportSubject);
 
   Clock::time_point phase = Clock::now();
   const FodInput in = readFodInput(o.input, o.fod, o.tensor.maskPath);
@@ -534,7 +536,7 @@ int runDistance(int argc, char** argv) {
   // Output problems are found before the work, not after it.
   checkRunFiles(o, "tensor input");
   ReportRequest report;
-  report.start(o.reportPath);
+  report.start(o.reportPath, o.reportSubject);
 
   Clock::time_point phase = Clock::now();
   const TensorInput input = [&] {

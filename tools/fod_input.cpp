@@ -6,6 +6,7 @@
 
 #include "stvd/errors.hpp"
 #include "stvd/imaging/fod_cost.hpp"
+#include "stvd/imaging/fod_run_description.hpp"
 #include "stvd/imaging/spherical_harmonics.hpp"
 #include "stvd/imaging/tensor_input_options.hpp"
 #include "stvd/itk/fod_volume_io.hpp"
@@ -56,14 +57,14 @@ FodTable makeFodTable(const FodInput& input, const imaging::FodCostOptions& cost
   const auto start = std::chrono::steady_clock::now();
   const std::clock_t cpuStart = std::clock();  // the process's CPU time, all threads
   const GridGeometry& g = input.fod.geometry;
-  const imaging::FodCostSampler sampler(input.fod, imaging::defaultFodSamplingDirections(g), cost);
+  const imaging::FodCostSampler sampler(input.fod, imaging::defaultFodSampling(g), cost);
   if (segments)
     table.segments = imaging::fodSegmentMetric(sampler, &input.inDomain, threads, progress);
   else
     table.metric = imaging::fodStencilMetric(sampler, &input.inDomain, threads, progress);
   table.cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
   table.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  table.directions = sampler.directions().size();
+  table.directions = sampler.directionCount();
   table.threads =
       threadCountFor(threads, (g.voxelCount() + imaging::kFodMetricBlockVoxels - 1) / imaging::kFodMetricBlockVoxels);
   return table;
@@ -80,10 +81,7 @@ std::vector<std::string> fodMetricParameters(const FodInput& input, const imagin
           "\"fod_floor\": " + jsonNumber(options.cost.floor),
           "\"fod_power\": " + jsonNumber(options.cost.power),
           "\"fod_directions\": " + std::to_string(table.directions),
-          table.segments ? "\"fod_norm\": \"convexified F* along the lattice directions of order " +
-                               std::to_string(imaging::kFodLatticeOrder) + " (" +
-                               std::to_string(imaging::FodSegmentNorm::kCount) + " per voxel), interpolated\""
-                         : "\"fod_norm\": \"convexified F* along the 26 neighbour directions\""};
+          "\"fod_norm\": " + jsonString(imaging::fodNormDescription(table.segments.has_value()))};
 }
 
 std::string fodPrecomputationMember(const FodInput& input, const FodTable& table) {

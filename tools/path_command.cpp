@@ -89,6 +89,7 @@ struct PathOptions : SeedOptions, PropagationChoice {
   std::string tsvPath;
   std::string statsPath;
   std::string reportPath;
+  std::string reportSubject;  // --subject: the page's name
   std::vector<std::array<int, 3>> targetVoxels;
   std::vector<std::array<double, 3>> targetPoints;
   std::string targetLabels;
@@ -118,6 +119,7 @@ PathOptions parsePathOptions(int argc, char** argv) {
   o.tsvPath = v.text("--tsv").value_or("");
   o.statsPath = v.text("--stats").value_or("");
   o.reportPath = v.text("--report").value_or("");
+  o.reportSubject = v.text("--subject").value_or("");
   o.targetVoxels = imaging::voxelsOf(v, "--target-voxel");
   o.targetPoints = imaging::pointsOf(v, "--target-point");
   o.targetLabels = v.text("--targets").value_or("");
@@ -365,7 +367,7 @@ int runPath(int argc, char** argv) {
   files.outputFile("QC report", o.reportPath);
   files.check();
   ReportRequest report;
-  report.start(o.reportPath);
+  report.start(o.reportPath, o.reportSubject);
 
   PathRunMetric m;
   if (o.fod.given()) {

@@ -141,9 +141,13 @@ ReportRequest::~ReportRequest() {
   }
 }
 
-void ReportRequest::start(const std::string& path) {
+void ReportRequest::start(const std::string& path, const std::string& subject) {
   path_ = path;
-  if (path.empty()) return;
+  subject_ = subject;
+  if (path.empty()) {
+    if (!subject.empty()) usageError("--subject names the QC page: add --report FILE.html");
+    return;
+  }
   const std::string extension = std::filesystem::path(path).extension().string();
   if (extension != ".html" && extension != ".htm") usageError(path + ": --report writes an .html page");
   child_ = spawnReport({"--prepare"}, errors_, &arguments_);
@@ -174,6 +178,8 @@ void ReportRequest::requireReady() {
 void ReportRequest::write(std::vector<std::string> arguments, bool quiet) {
   requireReady();
   arguments.insert(arguments.end(), {"-o", path_});
+  // One word, so that a name starting with '-' is not taken for an option.
+  if (!subject_.empty()) arguments.push_back("--subject=" + subject_);
   if (quiet) arguments.push_back("-q");
   std::string text;
   for (const std::string& a : arguments) text += a + '\0';

@@ -33,8 +33,9 @@ class ReportRequest {
   ~ReportRequest();
 
   /// Nothing when `path` is empty. Throws ToolError (usage) when it is not
-  /// .html.
-  void start(const std::string& path);
+  /// .html, or when a `subject` (--subject, the page's name) comes without
+  /// a page.
+  void start(const std::string& path, const std::string& subject = "");
   bool requested() const { return !path_.empty(); }
   const std::string& path() const { return path_; }
   void requireReady();
@@ -44,6 +45,7 @@ class ReportRequest {
 
  private:
   std::string path_;
+  std::string subject_;  // empty: the page is named after the input
   std::unique_ptr<ChildProcess> child_;  // stvd.report --prepare, started by start()
   int errors_ = -1;     // read end of its stderr
   int arguments_ = -1;  // write end of its stdin: the page's arguments

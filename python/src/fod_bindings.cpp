@@ -10,6 +10,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -34,9 +35,11 @@
 #include "stvd/front_end/propagation_choice_options.hpp"
 #include "stvd/imaging/fod_cost.hpp"
 #include "stvd/imaging/fod_field.hpp"
+#include "stvd/imaging/fod_gfa.hpp"
 #include "stvd/imaging/fod_input_options.hpp"
 #include "stvd/imaging/fod_metric.hpp"
 #include "stvd/imaging/fod_paths.hpp"
+#include "stvd/imaging/fod_run_description.hpp"
 #include "stvd/imaging/scalar_image.hpp"
 #include "stvd/imaging/fod_segment_norm.hpp"
 #include "stvd/imaging/seed_options.hpp"
@@ -192,8 +195,8 @@ FodCallTable fodCallTable(const FodCallInput& in, const imaging::FodCostOptions&
   FodCallTable table;
   const GridGeometry& g = in.field.geometry;
   const auto start = std::chrono::steady_clock::now();
-  const imaging::FodCostSampler sampler(in.field, imaging::defaultFodSamplingDirections(g), cost);
-  table.directions = sampler.directions().size();
+  const imaging::FodCostSampler sampler(in.field, imaging::defaultFodSampling(g), cost);
+  table.directions = sampler.directionCount();
   if (segments)
     table.segments = imaging::fodSegmentMetric(sampler, &in.inDomain, threads, progress);
   else
@@ -209,6 +212,27 @@ void checkFodStencil(const PropagationChoice& choice) {
   if (choice.stencil != "6" && choice.stencil != "18" && choice.stencil != "26")
     throw OptionError("stencil='" + choice.stencil +
                       "': the FOD metric is tabulated along the 26 neighbour directions; use 6, 18 or 26");
+}
+
+/// The field's generalised fractional anisotropy on its grid (fod_gfa.hpp),
+/// as a float32 array (X, Y, Z): what the QC page draws under an FOD run.
+py::array_t<float> gfaArray(const imaging::FodField& field) {
+  const std::vector<float> gfa = imaging::fodGeneralisedFa(field);
+  py::array_t<float> out = newFortranFloatArray(field.geometry.size);
+  std::copy(gfa.begin(), gfa.end(), out.mutable_data());
+  return out;
+}
+
+/// stvd.report's GFA of an FOD file (the background of an FOD run's page
+/// made from the tool's files), with the affine of its grid.
+py::tuple fodGfaOfFile(const std::string& path, const std::string& basis) {
+  const imaging::FodInputOptions fod = fodOptionsOf(basis, std::nullopt, std::nullopt, std::nullopt);
+  imaging::FodField field;
+  {
+    py::gil_scoped_release release;
+    field = imaging::readFodVolume(path, fod.read);
+  }
+  return py::make_tuple(gfaArray(field), affineArray(field.geometry));
 }
 
 /// stvd.fod_distance's work: the field (a file when `path` is given, the
@@ -337,6 +361,7 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
   out["distance"] = distance;
   out["distance_map"] = map;
   out["affine"] = affineArray(g);
+  out["shape"] = py::make_tuple(g.size[0], g.size[1], g.size[2]);
   out["seeds"] = seedArray;
   out["label_seeds_left_out"] = labelSeedsLeftOut;
   out["fod_basis"] = imaging::shBasisName(field.basis);
@@ -345,6 +370,8 @@ py::dict fodDistance(const py::object& coefficients, const py::object& affine,
   out["fod_floor"] = fod.cost.floor;
   out["fod_power"] = fod.cost.power;
   out["fod_directions"] = directions;
+  out["fod_norm"] = imaging::fodNormDescription(segments);
+  out["gfa"] = gfaArray(field);
   out["table_seconds"] = tableSeconds;
   out["table_threads"] = tableThreads;
   out["domain_voxels"] = domainVoxels;
@@ -384,6 +411,10 @@ void describeFod(py::dict& out, const FodCallInput& in, const imaging::FodInputO
   out["fod_floor"] = fod.cost.floor;
   out["fod_power"] = fod.cost.power;
   out["fod_directions"] = table.directions;
+  out["fod_norm"] = imaging::fodNormDescription(table.segments.has_value());
+  out["gfa"] = gfaArray(in.field);
+  out["affine"] = affineArray(in.field.geometry);
+  out["shape"] = py::make_tuple(in.field.geometry.size[0], in.field.geometry.size[1], in.field.geometry.size[2]);
   out["table_seconds"] = table.seconds;
   out["table_threads"] = table.threads;
   out["domain_voxels"] = in.domainVoxels;
@@ -432,11 +463,11 @@ py::dict fodPaths(const py::object& coefficients, const py::object& affine,
   PropagationResult result;
   std::vector<imaging::PathTarget> targets;
   std::vector<TracedPath> paths;
+  std::vector<imaging::SeedVoxel> seeds;
+  std::size_t leftOut = 0;
   {
     py::gil_scoped_release release;
-    std::vector<imaging::SeedVoxel> seeds =
-        imaging::seedVoxelsAt(name, seedVoxels, seedPoints, lps, in.grid, imaging::MetricOptions{}, in.inDomain);
-    std::size_t leftOut = 0;
+    seeds = imaging::seedVoxelsAt(name, seedVoxels, seedPoints, lps, in.grid, imaging::MetricOptions{}, in.inDomain);
     if (seedImage) {
       const auto labelled = imaging::labelSeedVoxels(seedLabelsName, *seedImage, name, g, in.inDomain, leftOut);
       seeds.insert(seeds.end(), labelled.begin(), labelled.end());
@@ -474,6 +505,21 @@ py::dict fodPaths(const py::object& coefficients, const py::object& affine,
   out["shape"] = py::make_tuple(g.size[0], g.size[1], g.size[2]);
   out["zooms"] = py::make_tuple(g.spacing[0], g.spacing[1], g.spacing[2]);
   out["axis_codes"] = imaging::rasAxisCodes(g);
+  // What the QC page draws under the paths, as the tool's page of the run
+  // (stvd.report): the distance map, the seeds.
+  py::array_t<double> distance = newFortranArray(g.size);
+  std::copy(result.distance.begin(), result.distance.end(), distance.mutable_data());
+  out["distance"] = distance;
+  py::array_t<int> seedArray({static_cast<py::ssize_t>(seeds.size()), py::ssize_t{3}});
+  for (std::size_t s = 0; s < seeds.size(); ++s) {
+    seedArray.mutable_at(s, 0) = seeds[s].index.i;
+    seedArray.mutable_at(s, 1) = seeds[s].index.j;
+    seedArray.mutable_at(s, 2) = seeds[s].index.k;
+  }
+  out["seeds"] = seedArray;
+  out["label_seeds_left_out"] = leftOut;
+  out["finalized_vertices"] = result.finalizedVertices;
+  out["termination"] = terminationName(result.termination);
   out["method"] = methodName(choice);
   out["stencil"] = choice.stencil;
   describeFod(out, in, fod, *table);
@@ -530,6 +576,8 @@ py::dict fodConnectivity(const py::object& coefficients, const py::object& affin
   if (cancelled)  // the callback returned False: no partial table
     throw Cancelled("region connectivity was cancelled by the progress function: no table");
   py::dict out = connectivityDict(regions, connectivity, leftOut);
+  out["method"] = methodName(choice);
+  out["stencil"] = choice.stencil;
   describeFod(out, in, fod, *table);
   return out;
 }
@@ -569,6 +617,8 @@ void bindFod(py::module_& m) {
         py::arg("memory_check"),
         "Dijkstra, STVD or Lanthier under the convexified FOD norm, as `stvd distance FOD --fod-basis NAME` "
         "(stvd.fod_distance).");
+  m.def("fod_gfa", &fodGfaOfFile, py::arg("path"), py::arg("fod_basis"),
+        "The generalised fractional anisotropy of an FOD file and its grid's affine (the QC page's background).");
 }
 
 }  // namespace stvd::python

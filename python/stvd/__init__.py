@@ -16,7 +16,7 @@ import os
 import numpy as np
 
 from . import _core
-from ._fod import FodPathsSource, fod_connectivity_run, fod_distance_run, fod_paths_run
+from ._fod import FodPathsSource, fod_connectivity_run, fod_distance_run, fod_paths_run, fod_run_record
 from ._inputs import index_list, is_image, is_path, point_list, scalar_image_spec, tensor_field, voxel_list
 from ._outputs import FileConflictError, OutputError, OutputFiles, input_file_of
 from ._paths import Paths, tractogram
@@ -347,7 +347,9 @@ def fod_distance(fod, seeds=None, *, fod_basis=None, affine=None, seed_points=No
 
     Returns the float32 distance map on the FOD's grid as a NiBabel image with
     the input's affine (a NumPy array when NiBabel is not installed), voxels
-    not reached holding ``unreachable_value``.
+    not reached holding ``unreachable_value``; the image keeps the run's
+    record for its QC page in ``extra["stvd_fod_run"]``
+    (``stvd.report.write_report(output, image)``).
     """
     if unreachable_value is None:
         unreachable_value = defaults.unreachable_value
@@ -355,7 +357,13 @@ def fod_distance(fod, seeds=None, *, fod_basis=None, affine=None, seed_points=No
                            fod_power, mask, method, k, steiner, stencil, domain_connectivity, max_distance, unreachable_value,
                            threads, progress, memory_check)
     template = _image_template(fod, _GridOf(run["affine"]), affine)
-    return template(run["distance_map"]) if template else run["distance_map"]
+    if not template:
+        return run["distance_map"]
+    image = template(run["distance_map"])
+    # What its QC page shows (stvd.report.write_report(output, image)).
+    image.extra["stvd_fod_run"] = fod_run_record(run, "distance", fod, affine, fod_basis, fod_frame, mask,
+                                                 seed_labels=seed_labels, unreachable_value=unreachable_value)
+    return image
 
 
 def fod_paths(fod, seeds=None, targets=None, *, fod_basis=None, affine=None, seed_points=None, seed_labels=None,
@@ -378,15 +386,20 @@ def fod_paths(fod, seeds=None, targets=None, *, fod_basis=None, affine=None, see
     method: ``'dijkstra'`` only (the default here).
 
     Returns ``stvd.Paths`` (``metric_length_mm`` the polyline's F*-length,
-    ``mean_fa`` NaN); ``save`` writes the tool's file, byte for byte.
+    ``mean_fa`` NaN); ``save`` writes the tool's file, byte for byte;
+    ``fod_run`` keeps the run's record for its QC page
+    (``stvd.report.write_report(output, paths=paths)``).
     """
     run = fod_paths_run(fod, seeds, targets, seed_points, seed_labels, target_points, target_labels, lps, affine,
                         fod_basis, fod_frame, fod_floor, fod_power, mask, method, stencil, domain_connectivity,
                         threads, progress, memory_check)
     inputs = [("FOD input", input_file_of(fod)), ("mask", input_file_of(mask)),
               ("seed labels", input_file_of(seed_labels)), ("target labels", input_file_of(target_labels))]
-    return Paths(run["paths"], run["affine"], run["shape"], run["zooms"], run["axis_codes"],
-                 FodPathsSource(run["grid"]), inputs)
+    paths = Paths(run["paths"], run["affine"], run["shape"], run["zooms"], run["axis_codes"],
+                  FodPathsSource(run["grid"]), inputs)
+    paths.fod_run = fod_run_record(run, "path", fod, affine, fod_basis, fod_frame, mask, seed_labels=seed_labels,
+                                   target_labels=target_labels)
+    return paths
 
 
 def fod_connectivity(fod, labels, *, fod_basis=None, affine=None, label_names=None, mask=None, fod_frame=None,
@@ -401,11 +414,17 @@ def fod_connectivity(fod, labels, *, fod_basis=None, affine=None, label_names=No
     depend on it). The other keywords as for ``stvd.fod_distance`` and
     ``stvd.connectivity``. Returns ``stvd.Connectivity``, with the metric's
     figures in ``fod_basis``, ``fod_frame``, ``fod_lmax``, ``fod_floor``,
-    ``fod_power``."""
+    ``fod_power``, and the run's record for its QC page in ``fod_run``
+    (``stvd.report.write_report(output, connectivity=result, labels=labels)``)."""
     names = read_label_names(label_names)
     values = fod_connectivity_run(fod, labels, affine, fod_basis, fod_frame, fod_floor, fod_power, mask, method,
                                   stencil, domain_connectivity, threads, progress, memory_check)
-    return Connectivity(values, names)
+    record = fod_run_record(values, "connectivity", fod, affine, fod_basis, fod_frame, mask, labels=labels)
+    for key in ("gfa", "affine", "shape"):  # kept by the record, for the page
+        values.pop(key, None)
+    result = Connectivity(values, names)
+    result.fod_run = record
+    return result
 
 
 def trace_paths(result, targets=None, *, target_points=None, target_labels=None, lps=False, step=None, smooth=None,

@@ -139,3 +139,97 @@ class FodPathsSource:
 
     def __init__(self, grid):
         self._result = grid
+
+
+# ---------------------------------------------------------------------------
+# The record of a run, for its QC page (stvd.report.write_report)
+
+
+class FodRun:
+    """What an FOD run from Python keeps for its QC page
+    (``stvd.report.write_report``), as the tool's page of the same run reads
+    it from the run's files: ``statistics``, the parts of the tool's
+    ``--stats`` record a page shows (the metric's parameters by the same
+    names: basis as resolved and as given, frame, lmax, floor, power,
+    sampling directions, the norm; the method, the seeds, the domain), the
+    grid (``affine``, ``shape``), ``distance`` (float64, NaN where not
+    reached; None for connectivity), ``seeds`` (voxel indices), ``gfa`` (the
+    FOD's generalised fractional anisotropy, the page's background) and
+    ``mask`` (as it was given). Held by the image ``stvd.fod_distance``
+    returns (``image.extra["stvd_fod_run"]``), and as ``fod_run`` by the
+    ``stvd.Paths`` of ``stvd.fod_paths`` and the ``stvd.Connectivity`` of
+    ``stvd.fod_connectivity``."""
+
+    def __init__(self, statistics, affine, shape, distance, seeds, gfa, mask, input_file):
+        self.statistics = statistics
+        self.input_file = input_file  # the FOD's file, None for an array or a DIPY fit
+        self.affine = np.asarray(affine, dtype=np.float64)
+        self.shape = tuple(int(n) for n in shape)
+        self.distance = distance
+        self.seeds = np.asarray(seeds, dtype=np.int64).reshape(-1, 3)
+        self.gfa = gfa
+        self.mask = mask
+
+    def __repr__(self):
+        return f"<stvd FOD run: {self.statistics.get('command')} on {self.statistics.get('input')}>"
+
+
+def _name_of(value):
+    """How the tool's statistics name an input: its path as given ("" for
+    none); for what Python alone takes, the file it was loaded from or what
+    it is."""
+    if value is None:
+        return ""
+    if is_path(value):
+        return os.fspath(value)
+    if is_image(value):
+        return value.get_filename() or "a NiBabel image"
+    return "an array"
+
+
+def fod_run_record(run, command, fod, affine, fod_basis, fod_frame, mask, seed_labels=None, labels=None,
+                   target_labels=None, unreachable_value=None):
+    """The FodRun of an extension's run dict (fod_distance, fod_paths or
+    fod_connectivity) made by the call with these arguments."""
+    _, _, _, name, path, basis = fod_arguments(fod, affine, fod_basis)
+    parameters = {"method": run["method"], "stencil": run["stencil"], "metric": "fod",
+                  "fod_basis": run["fod_basis"], "fod_basis_given": basis, "fod_frame": run["fod_frame"],
+                  "fod_frame_stated": fod_frame is not None, "fod_lmax": int(run["fod_lmax"]),
+                  "fod_floor": float(run["fod_floor"]), "fod_power": float(run["fod_power"]),
+                  "fod_directions": int(run["fod_directions"]), "fod_norm": run["fod_norm"], "mask": _name_of(mask)}
+    for key, value in (("labels", labels), ("target_labels", target_labels)):
+        if value is not None:
+            parameters[key] = _name_of(value)
+    if command != "connectivity":
+        parameters["seed_labels"] = _name_of(seed_labels)
+    if unreachable_value is not None:
+        parameters["unreachable_value"] = float(unreachable_value)
+    from . import __version__
+
+    shape = tuple(int(n) for n in run["shape"]) if "shape" in run else None
+    total = int(np.prod(shape)) if shape else None
+    domain = int(run["domain_voxels"])
+    statistics = {"command": command, "stvd_version": __version__, "input": path or name,
+                  "parameters": parameters, "voxels": {"total": total, "domain": domain}}
+    seeds = np.zeros((0, 3), np.int64)
+    distance = None
+    if "seeds" in run:
+        seeds = np.asarray(run["seeds"], dtype=np.int64).reshape(-1, 3)
+        ras = np.asarray(run["affine"], np.float64) @ np.c_[seeds[:100], np.ones(len(seeds[:100]))].T
+        statistics["seeds"] = [{"voxel": [int(c) for c in seed], "ras_mm": [float(x) for x in point]}
+                               for seed, point in zip(seeds[:100], ras[:3].T)]
+        statistics["seed_count"] = int(len(seeds))
+        statistics["label_seeds_left_out"] = int(run["label_seeds_left_out"])
+    if "distance" in run:
+        distance = np.where(np.isfinite(run["distance"]), run["distance"], np.nan)
+        statistics["propagation"] = {"vertices": total, "domain_vertices": domain,
+                                     "finalized_vertices": int(run["finalized_vertices"]),
+                                     "termination": run["termination"]}
+        finite = distance[np.isfinite(distance)]
+        if finite.size:
+            statistics["distance_mm"] = {"reached": int(finite.size), "min": float(finite.min()),
+                                         "median": float(np.median(finite)), "max": float(finite.max())}
+    statistics["fod_precomputation"] = {"seconds": float(run["table_seconds"]), "threads": int(run["table_threads"]),
+                                        "voxels": domain}
+    return FodRun(statistics, run["affine"], shape, distance, seeds, run["gfa"], mask,
+                  path or (image_name(fod, None) if is_image(fod) else None))

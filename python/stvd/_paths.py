@@ -48,10 +48,12 @@ class Paths(list):
         self.axis_codes = axis_codes
         self._propagation = propagation
         self.input_files = [(role, path) for role, path in input_files if path]
+        self.fod_run = None  # stvd.fod_paths: the run's record, for its QC page (stvd.report)
 
     def _with(self, lines, per_path):
         """Paths on this grid holding `lines` and the per-path values given."""
         out = Paths([], self.affine, self.shape, self.zooms, self.axis_codes, self._propagation, self.input_files)
+        out.fod_run = self.fod_run
         out.extend(lines)
         for name, value in per_path.items():
             setattr(out, name, value)

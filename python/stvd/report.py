@@ -3,7 +3,8 @@
 calls from Python), and a cohort index page over many of them.
 
 A run page shows axial, coronal and sagittal slices through the seed of the
-distance map over FA (computed from the tensors when no FA image is given)
+distance map over FA (computed from the tensors when no FA image is given;
+for FOD runs the FOD's GFA)
 with the seeds marked and the paths projected, the connectivity matrix as a
 heat map, the run's statistics with the stvd version and command line, and
 the warnings a reviewer must see. Slices are shown in a stated convention
@@ -13,7 +14,9 @@ cosines. Images are embedded as data URIs; nothing is fetched.
 Entry points:
 
 - ``write_report(output, result, ...)``: from Python objects
-  (``stvd.Propagation``, ``stvd.Paths``, ``stvd.Connectivity``);
+  (``stvd.Propagation``, ``stvd.Paths``, ``stvd.Connectivity``, and those of
+  FOD runs: the image of ``stvd.fod_distance``, ``stvd.fod_paths``,
+  ``stvd.fod_connectivity``);
 - ``write_run_report(output, statistics, ...)``: from the files of a tool run
   (its ``--stats`` JSON and outputs); ``stvd report`` and ``--report`` call it;
 - ``write_cohort_index(output, subjects)`` and ``cohort_index_from_folder``:
@@ -74,6 +77,7 @@ class _RunContent:
         self.shape = tuple(int(n) for n in shape[:3])
         self.fa = fa                        # on the tensors' grid
         self.fa_source = fa_source
+        self.fa_name = "FA"                 # GFA for FOD runs (docs/fod.md), unless an FA image is given
         self.distance = None                # float, NaN where not reached
         self.seeds = np.zeros((0, 3), np.int64)  # voxel indices
         self.seed_region = None             # bool array of label seeds
@@ -223,17 +227,29 @@ def reviewer_warnings(content):
     return warnings, notes
 
 
+_METHOD_NAMES = {"stvd": "STVD", "dijkstra": "Dijkstra", "lanthier": "Lanthier"}
+
+
 def fod_metric_note(parameters):
     """What an FOD run's metric was (docs/fod.md): basis (as given), frame,
-    lmax, the cost's floor and power, the convexified norm."""
+    lmax, the cost's floor and power, the convexified norm as the run
+    tabulated it, and the method."""
     basis, given = parameters.get("fod_basis", "?"), parameters.get("fod_basis_given")
     stated = parameters.get("fod_frame_stated")
     frame_how = "" if stated is None else (" (stated)" if stated else " (the default for this basis and format)")
+    norm = str(parameters.get("fod_norm") or "convexified F* along the 26 neighbour directions")
+    where = norm[len("convexified F* "):] if norm.startswith("convexified F* ") else norm
+    method = parameters.get("method")
+
+    def number(key):  # 2 and 2.0 alike: a JSON file writes the one, Python the other
+        value = parameters.get(key, "?")
+        return f"{value:g}" if isinstance(value, (int, float)) and not isinstance(value, bool) else str(value)
+
     return (f"FOD image read in the basis {basis}" + (f" (given as {given})" if given and given != basis else "") +
             f", in the {parameters.get('fod_frame', '?')} frame{frame_how}, lmax {parameters.get('fod_lmax', '?')}; "
-            f"metric: the convexified FOD norm F* (floor {parameters.get('fod_floor', '?')}, power "
-            f"{parameters.get('fod_power', '?')}, {parameters.get('fod_directions', '?')} sampling directions) along "
-            "the 26 neighbour directions, Dijkstra (docs/fod.md).")
+            f"metric: the convexified FOD norm F* (floor {number('fod_floor')}, power {number('fod_power')}, "
+            f"{parameters.get('fod_directions', '?')} sampling directions) "
+            f"{where}, {_METHOD_NAMES.get(method, method or 'Dijkstra')} (docs/fod.md).")
 
 
 def _cap_text(cap):
@@ -327,11 +343,11 @@ def _render(content, subject, convention):
         orientation += f", oblique by {oblique:.1f} degrees (each slice is the voxel plane nearest to it)"
     orientation += "."
     source_voxel = _centre_voxel(content)
-    fod = s.get("parameters", {}).get("metric") == "fod"  # no tensors, no FA (docs/fod.md)
-    background = "the background" if fod else "FA"
+    background = content.fa_name  # FA, or an FOD run's GFA (docs/fod.md)
     what = f"distance map over {background}" if content.distance is not None else background
     body.append(f"<h2>Slices through voxel ({', '.join(str(int(c)) for c in source_voxel)}): {what}</h2>")
-    body.append(f"<p>{orientation} {'Background' if fod else 'FA'}: {page.escape(content.fa_source)}.</p>")
+    body.append(f"<p>{orientation} {page.escape(background[0].upper() + background[1:])}: "
+                f"{page.escape(content.fa_source)}.</p>")
     legend = []
     if content.distance is not None:
         import matplotlib
@@ -543,21 +559,33 @@ def _fa_of_tensors(tensors, parameters, mask):
     return field
 
 
-def _fod_grid(distance, labels, mask):
+GFA_SOURCE = "the generalised fractional anisotropy of the FOD, from its coefficients (0 outside the domain)"
+
+
+def _fod_grid(fod, parameters, distance, labels, mask):
     """The grid of an FOD run's page and its background: the distance map's
     grid (distance and path runs) or the labels' (connectivity), and the
-    mask (0.3 inside) or nothing, since an FOD has no FA."""
+    FOD's GFA (docs/fod.md: an FOD has no FA), read from the run's FOD file
+    in the basis the run was given, 0 outside the mask."""
     source, role = (distance, "distance map") if distance is not None else (labels, "label")
     if source is None:
         raise ReportError("the page of an FOD run draws its distance map or its labels: give --distance or --labels")
     image = _load_nifti(source, role)
     shape = tuple(int(n) for n in image.shape[:3])
-    background = np.zeros(shape)
-    text = "none: an FOD run has no tensors (black background)"
+    _require_regular(fod, "FOD input")
+    from . import _core
+
+    try:
+        gfa, fod_affine = _core.fod_gfa(str(fod), parameters.get("fod_basis_given") or parameters.get("fod_basis"))
+    except (ValueError, RuntimeError, OSError) as error:
+        raise ReportError(f"{fod}: cannot read the FOD for its GFA: {error}") from None
+    if tuple(gfa.shape) != shape or not np.allclose(fod_affine, image.affine,
+                                                   atol=1e-3 * float(np.abs(image.affine[:3, :3]).max())):
+        raise ReportError(f"{source}: the {role} image is not on the grid of the FOD {fod}")
+    background = np.array(gfa, dtype=np.float64)
     if mask is not None:
-        background = 0.3 * (_on_grid(_load_nifti(mask, "mask"), mask, "mask", image.affine, shape) != 0)
-        text = "none: an FOD run has no tensors (the mask in grey)"
-    return image.affine, shape, background, text
+        background[_on_grid(_load_nifti(mask, "mask"), mask, "mask", image.affine, shape) == 0] = 0.0
+    return image.affine, shape, background, GFA_SOURCE
 
 
 def _content_from_files(statistics_path, distance, paths, paths_table, table, labels, fa):
@@ -585,7 +613,7 @@ def _content_from_files(statistics_path, distance, paths, paths_table, table, la
     if parameters.get("metric") == "fod":
         # An FOD image has no tensors and no FA: the grid is the run's
         # distance map's (or its labels'), on the FOD's grid by construction.
-        affine, shape, background, fa_source = _fod_grid(distance, labels, mask)
+        affine, shape, background, fa_source = _fod_grid(tensors, parameters, distance, labels, mask)
     else:
         field = _fa_of_tensors(tensors, parameters, mask)
         affine, shape = field.affine, field.shape
@@ -597,6 +625,8 @@ def _content_from_files(statistics_path, distance, paths, paths_table, table, la
     else:
         fa_data = background if background is not None else np.array(field.fractional_anisotropy, dtype=np.float64)
     content = _RunContent(kind, statistics, affine, shape, fa_data, fa_source)
+    if parameters.get("metric") == "fod" and fa is None:
+        content.fa_name = "GFA"
 
     if distance is not None:
         values = _on_grid(_load_nifti(distance, "distance map"), distance, "distance map", affine, shape)
@@ -736,11 +766,27 @@ def write_report(output, result=None, *, paths=None, connectivity=None, labels=N
     subject, convention: as for ``write_run_report``; command_line: what the
         page records as the command (default: this process's ``sys.argv``).
 
+    FOD runs (docs/fod.md): ``result`` the image ``stvd.fod_distance``
+    returned, ``paths`` the ``stvd.Paths`` of ``stvd.fod_paths``,
+    ``connectivity`` the ``stvd.Connectivity`` of ``stvd.fod_connectivity``
+    (with ``labels``); the page is the one the tool's ``--report`` writes
+    for the same run, over the FOD's GFA (0 outside ``mask``, by default
+    the run's own mask); the tensor keywords are refused.
+
     Writes ``output`` atomically and returns the page's summary.
     """
     from . import Propagation
 
     _check_convention(convention)
+    fod_run = _fod_run_of(result, paths, connectivity)
+    if fod_run is not None:
+        if tensors is not None or affine is not None or accept_implausible_tensors or accept_misaligned_tensors or any(
+                v is not None for v in (tensor_order, tensor_frame, tensor_kind, diffusion_metric, max_anisotropy,
+                                        fa_threshold)):
+            raise ValueError("write_report: an FOD run's page takes its grid and metric from the run's objects; "
+                             "tensor keywords do not apply")
+        return _write_fod_report(output, result, paths, connectivity, labels, target_labels, mask, fa, subject,
+                                 convention, command_line)
     if result is None and tensors is None:
         raise TypeError("write_report: give the stvd.Propagation (result=) or, for connectivity alone, tensors=")
     if result is not None and not isinstance(result, Propagation):
@@ -814,6 +860,101 @@ def write_report(output, result=None, *, paths=None, connectivity=None, labels=N
     text, summary = _render(content, subject, convention)
     _write(outputs, output, text)
     return summary
+
+
+def _fod_run_of(result, paths, connectivity):
+    """The record of an FOD run (stvd._fod.FodRun) that one of the objects
+    holds: the image of stvd.fod_distance, the stvd.Paths of stvd.fod_paths,
+    the stvd.Connectivity of stvd.fod_connectivity; None for tensor runs."""
+    extra = getattr(result, "extra", None)
+    if isinstance(extra, dict) and extra.get("stvd_fod_run") is not None:
+        return extra["stvd_fod_run"]
+    for value in (paths, connectivity):
+        if getattr(value, "fod_run", None) is not None:
+            return value.fod_run
+    if result is not None and is_image(result):
+        raise TypeError("result: a NiBabel image that stvd.fod_distance did not return (it holds no FOD run); "
+                        "for a map on disk use write_run_report with the run's --stats")
+    return None
+
+
+def _write_fod_report(output, result, paths, connectivity, labels, target_labels, mask, fa, subject, convention,
+                      command_line):
+    """The page of an FOD run from the objects of stvd.fod_distance
+    (``result``: its image), stvd.fod_paths and stvd.fod_connectivity: what
+    the tool's ``--report`` draws for the same run (docs/fod.md, "The
+    tool")."""
+    extra = getattr(result, "extra", None)
+    distance_run = extra.get("stvd_fod_run") if isinstance(extra, dict) else None
+    paths_run = getattr(paths, "fod_run", None) if paths is not None else None
+    connectivity_run = getattr(connectivity, "fod_run", None) if connectivity is not None else None
+    for value, run, what in ((result, distance_run, "result: the image of stvd.fod_distance"),
+                             (paths, paths_run, "paths: the stvd.Paths of stvd.fod_paths"),
+                             (connectivity, connectivity_run, "connectivity: the stvd.Connectivity of "
+                                                             "stvd.fod_connectivity")):
+        if value is not None and run is None:
+            raise TypeError(f"{what} (a tensor run's does not go on an FOD run's page)")
+    run = paths_run or distance_run or connectivity_run
+    kind = "connectivity" if connectivity is not None and paths is None else ("path" if paths is not None else "distance")
+    if command_line is None:
+        command_line = "python3 " + " ".join(sys.argv)
+    outputs = _report_output(output, {"FOD input": run.input_file, "mask": mask, "label image": labels,
+                                      "FA image": fa, "target labels": target_labels})
+    statistics = json.loads(json.dumps(run.statistics))  # a copy
+    statistics.update({"command": kind, "command_line": command_line})
+    affine, shape = run.affine, run.shape
+    for other in (distance_run, paths_run, connectivity_run):
+        if other is not None and (other.shape != shape or not np.allclose(other.affine, affine, atol=1e-4)):
+            raise ValueError("write_report: the runs given are on different grids")
+    background, background_source, name = _fod_background(run, mask, affine, shape), GFA_SOURCE, "GFA"
+    if fa is not None:
+        background, background_source, name = _array_on_grid(fa, "fa", affine, shape).astype(np.float64), "given", "FA"
+    content = _RunContent(kind, statistics, affine, shape, background, background_source)
+    content.fa_name = name
+    if result is not None:
+        values = np.asanyarray(result.dataobj).astype(np.float64)
+        unreachable = distance_run.statistics["parameters"].get("unreachable_value")
+        values[~np.isfinite(values) | (values < 0)] = np.nan
+        if unreachable is not None and np.isfinite(unreachable):
+            values[values == unreachable] = np.nan
+        content.distance = values
+    elif paths_run is not None and paths_run.distance is not None:
+        content.distance = paths_run.distance
+    seeds = run.seeds
+    if len(seeds) > 100:  # label seeds: the region is drawn instead
+        content.seed_region = np.zeros(shape, bool)
+        content.seed_region[tuple(seeds.T)] = True
+        seeds = np.zeros((0, 3), np.int64)
+    content.seeds = seeds
+    if paths is not None:
+        content.paths = [np.asarray(points, np.float64) for points in paths]
+        content.path_rows = [{"path": str(n + 1), "target": paths.targets[n],
+                              "geodesic_mm": float(paths.geodesic_mm[n]), "euclidean_mm": float(paths.euclidean_mm[n]),
+                              "mean_fa": float(paths.mean_fa[n]), "fallbacks": "none"} for n in range(len(paths))]
+    if target_labels is not None:
+        content.target_region = _array_on_grid(target_labels, "target_labels", affine, shape) != 0
+    if connectivity is not None:
+        content.connectivity = {"labels": [int(v) for v in connectivity.labels],
+                                "geodesic_mm": np.asarray(connectivity.geodesic_mm),
+                                "connectivity": np.asarray(connectivity.connectivity)}
+        statistics["regions"] = {"count": len(connectivity.labels),
+                                 "left_out": int(getattr(connectivity, "labels_left_out", 0))}
+        if labels is not None:
+            content.regions = _array_on_grid(labels, "labels", affine, shape).astype(np.int64)
+    subject = subject or _subject_of(run.input_file)  # named after the FOD's file; a run on an array is "run"
+    text, summary = _render(content, subject, convention)
+    _write(outputs, output, text)
+    return summary
+
+
+def _fod_background(run, mask, affine, shape):
+    """The background of an FOD run's page from Python, as the tool's page
+    of the run draws it (_fod_grid): the FOD's GFA, 0 outside the mask."""
+    background = np.array(run.gfa, dtype=np.float64)
+    mask = mask if mask is not None else run.mask
+    if mask is not None:
+        background[_array_on_grid(mask, "mask", affine, shape) == 0] = 0.0
+    return background
 
 
 def _array_on_grid(value, name, affine, shape):
@@ -973,7 +1114,7 @@ def cohort_index_from_folder(folder, output=None, *, title=None):
 
 def _subject_of(path):
     name = os.path.basename(str(path or "run"))
-    for extension in (".nii.gz", ".nii", ".nrrd", ".nhdr"):
+    for extension in (".nii.gz", ".nii", ".nrrd", ".nhdr", ".mif.gz", ".mif", ".mih"):
         if name.endswith(extension):
             return name[:-len(extension)]
     return name

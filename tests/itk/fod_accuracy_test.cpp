@@ -59,7 +59,7 @@ TEST_P(FodAccuracy, AConstantCrossingFieldIsMeasuredWithinTheBoundsAndNeverBelow
   g.size = {kN, kN, kN};
   const FodField one = constantCrossingField(GridGeometry{}, b.angle);
   ExactFodNorm exact(one, 5);
-  const FodCostSampler sampler(one, defaultFodSamplingDirections(g));
+  const FodCostSampler sampler(one, defaultFodSampling(g));
   const FodSegmentMetric metric = FodSegmentMetric::constant(g.voxelCount(), fodSegmentMetric(sampler)[0]);
   const VoxelGridDomain domain(g, Stencil::full26());
   const VertexId seed = domain.vertexAt(kC, kC, kC);

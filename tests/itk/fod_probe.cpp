@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
     std::printf("# lmax %d basis %s frame %s\n", fod.lmax, shBasisName(fod.basis).c_str(),
                 fodFrameName(fod.frame).c_str());
     if (path) {
-      const FodCostSampler sampler(fod, defaultFodSamplingDirections(fod.geometry));
+      const FodCostSampler sampler(fod, defaultFodSampling(fod.geometry));
       const FodStencilMetric metric = fodStencilMetric(sampler);
       const stvd::VoxelGridDomain domain(fod.geometry, stvd::Stencil::full26());
       const stvd::VertexId seed = domain.vertexAt(std::atoi(argv[5]), std::atoi(argv[6]), std::atoi(argv[7]));

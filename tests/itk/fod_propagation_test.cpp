@@ -77,7 +77,7 @@ class FodDijkstra : public ::testing::TestWithParam<double> {};
 
 TEST_P(FodDijkstra, ASeedReachesTheFarEndOfItsOwnBundleAlongIt) {
   const Bundles b = bundles(GetParam());
-  const FodCostSampler sampler(b.field, defaultFodSamplingDirections(b.field.geometry));
+  const FodCostSampler sampler(b.field, defaultFodSampling(b.field.geometry));
   const FodStencilMetric metric = fodStencilMetric(sampler);
   const VoxelGridDomain domain(b.field.geometry, Stencil::full26());
 
@@ -129,7 +129,7 @@ INSTANTIATE_TEST_SUITE_P(CrossingAngles, FodDijkstra, ::testing::Values(90.0, 45
 // domain mask too, whose voxels outside get the floor's cost).
 TEST(FodStencilMetricThreads, TheDistancesAreBitEqualForAnyThreadCount) {
   const Bundles b = bundles(60.0);
-  const FodCostSampler sampler(b.field, defaultFodSamplingDirections(b.field.geometry));
+  const FodCostSampler sampler(b.field, defaultFodSampling(b.field.geometry));
   std::vector<std::uint8_t> inDomain(b.field.geometry.voxelCount(), 1);
   for (std::size_t v = 0; v < inDomain.size(); v += 7) inDomain[v] = 0;
   inDomain[kC * kN + kN * kN] = 1;  // the seed (0, kC, 1)
@@ -176,8 +176,8 @@ TEST(FodSamplingFrame, ARotatedAffineWithVoxelFrameCoefficientsGivesTheSameDista
   turned.geometry.origin = {-40.0, 12.5, 7.0};
   turned.lpsToShFrame = lpsToFodFrame(FodFrame::Voxel, turned.geometry);
 
-  const FodCostSampler samplerA(b.field, defaultFodSamplingDirections(b.field.geometry));
-  const FodCostSampler samplerB(turned, defaultFodSamplingDirections(turned.geometry));
+  const FodCostSampler samplerA(b.field, defaultFodSampling(b.field.geometry));
+  const FodCostSampler samplerB(turned, defaultFodSampling(turned.geometry));
   const FodStencilMetric metricA = fodStencilMetric(samplerA, nullptr, 2);
   const FodStencilMetric metricB = fodStencilMetric(samplerB, nullptr, 2);
   double worstTable = 0;
@@ -223,7 +223,7 @@ class CountingInterrupter : public Interrupter {
 
 TEST(FodTableProgress, ReportsItsBlocksAndStopsWhenAskedWithTheUsualError) {
   const Bundles b = bundles(90.0);  // 1,875 voxels: 8 blocks of 256
-  const FodCostSampler sampler(b.field, defaultFodSamplingDirections(b.field.geometry));
+  const FodCostSampler sampler(b.field, defaultFodSampling(b.field.geometry));
   const std::size_t blocks = (b.field.geometry.voxelCount() + kFodMetricBlockVoxels - 1) / kFodMetricBlockVoxels;
   ASSERT_GE(blocks, 6u);
   // Never interrupted: "FOD table" from 0 to 100 %, every block reported

@@ -141,7 +141,7 @@ class FodSegmentNormTest : public ::testing::TestWithParam<double> {};
 TEST_P(FodSegmentNormTest, EqualsTheStencilTableAlongNeighboursAndIsNeverBelowFStar) {
   GridGeometry g = tiltedGrid();
   const FodField field = constantCrossingField(g, GetParam());
-  const FodCostSampler sampler(field, defaultFodSamplingDirections(g));
+  const FodCostSampler sampler(field, defaultFodSampling(g));
   const FodSegmentMetric metric = fodSegmentMetric(sampler);
   const FodStencilMetric stencil = fodStencilMetric(sampler);
   const std::vector<Vec3d> neighbours = neighbourDirections26(g);

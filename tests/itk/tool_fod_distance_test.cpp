@@ -132,7 +132,7 @@ TEST_F(ToolFodDistance, StvdAndLanthierGiveTheLibrarysMap) {
   imaging::FodReadOptions read;
   read.basis = "tournier07";
   const imaging::FodField field = imaging::readFodVolume(path("fod.nii"), read);
-  const imaging::FodCostSampler sampler(field, imaging::defaultFodSamplingDirections(field.geometry));
+  const imaging::FodCostSampler sampler(field, imaging::defaultFodSampling(field.geometry));
   const imaging::FodSegmentMetric metric = imaging::fodSegmentMetric(sampler);
   const VoxelGridDomain domain(field.geometry, Stencil::full26());
   const VertexId seed = domain.vertexAt(0, kC, 1);

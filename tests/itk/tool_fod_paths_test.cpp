@@ -79,7 +79,7 @@ class ToolFodPaths : public ScratchFolderTest {
       imaging::FodReadOptions read;
       read.basis = "tournier07";
       fod_ = imaging::readFodVolume(path("fod.nii"), read);
-      const imaging::FodCostSampler sampler(fod_, imaging::defaultFodSamplingDirections(fod_.geometry));
+      const imaging::FodCostSampler sampler(fod_, imaging::defaultFodSampling(fod_.geometry));
       metric_ = std::make_unique<imaging::FodStencilMetric>(imaging::fodStencilMetric(sampler));
     }
     double length = 0.0;

@@ -302,3 +302,49 @@ def test_runs_in_threads_give_the_serial_maps(crossing):
         t.join()
     for a, b in zip(serial, parallel):
         assert a.tobytes() == b.tobytes()
+
+
+DIPY_BASES = {"tournier07": ("tournier07", False), "tournier07_legacy": ("tournier07", True),
+              "descoteaux07": ("descoteaux07", False), "descoteaux07_legacy": ("descoteaux07", True)}
+
+
+@pytest.mark.parametrize("basis", sorted(DIPY_BASES))
+def test_the_gfa_is_dipys_of_the_fod_sampled_on_a_dense_sphere(tmp_path, crossing, basis):
+    """The GFA that FOD pages draw (stvd._core.fod_gfa: sqrt(1 - c00^2 / sum
+    n_j c_j^2), n_j the squared norm of basis function j) is DIPY's `gfa` of
+    the same FOD evaluated by DIPY in the same basis on a dense sphere
+    (11,554 points): for coefficients with large m != 0 terms, where the
+    legacy tournier07 normalisation (n_j = 1/2 for m != 0) matters, and for
+    the crossing's CSD fit carried into each basis."""
+    from dipy.data import get_sphere
+    from dipy.reconst.odf import gfa as dipy_gfa
+    from dipy.reconst.shm import sf_to_sh, sh_to_sf
+
+    basis_type, legacy = DIPY_BASES[basis]
+    sphere = get_sphere("repulsion724").subdivide(2)
+    rng = np.random.default_rng(3)
+    coefficients = rng.normal(0.0, 0.4, (4, 3, 2, 45))
+    coefficients[..., 0] = rng.uniform(0.5, 2.0, (4, 3, 2))
+    coefficients[0, 0, 0] = 0.0  # no FOD here: GFA 0 (DIPY: NaN)
+    fit, _ = crossing
+    signal = sh_to_sf(fit.shm_coeff[8:12, 8:11, 1:3], sphere, sh_order=8, basis_type="descoteaux07", legacy=True)
+    coefficients[:, :, 1, :] = sf_to_sh(signal[:, :, 0], sphere, sh_order=8, basis_type=basis_type, legacy=legacy)
+    path = tmp_path / f"{basis}.nii"
+    nib.save(nib.Nifti1Image(coefficients.astype(np.float32), np.eye(4)), path)
+
+    mine, _ = stvd._core.fod_gfa(str(path), basis)
+    samples = sh_to_sf(coefficients.astype(np.float32).astype(np.float64), sphere, sh_order=8,
+                       basis_type=basis_type, legacy=legacy)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        theirs = dipy_gfa(samples)
+    assert mine[0, 0, 0] == 0.0 and np.isnan(theirs[0, 0, 0])
+    theirs[0, 0, 0] = 0.0
+    error = np.abs(mine - theirs)
+    assert error.max() < 2e-3, (basis, error.max())
+    assert theirs[..., 1].min() > 0.3  # the crossing's voxels: an FOD with lobes, not noise
+    if basis == "tournier07_legacy":
+        # Its m != 0 functions are not normalised: taking them as if they
+        # were would be far off.
+        c = coefficients.astype(np.float64)
+        orthonormal = np.sqrt(1 - c[..., 0] ** 2 / np.maximum((c ** 2).sum(-1), 1e-30))
+        assert np.abs(orthonormal - theirs).max() > 20 * error.max()

@@ -155,8 +155,134 @@ def test_report_pages_of_fod_runs_state_the_metric_and_draw_the_run(tmp_path, cr
             assert link.startswith(("data:", "#")), (name, link[:40])
         assert "http://" not in text and "https://" not in text, name
     distance_page = (tmp_path / "distance.html").read_text()
-    assert "Slices through voxel (0, 10, 1): distance map over the background" in distance_page
-    assert "Background: none: an FOD run has no tensors" in distance_page
+    assert "Slices through voxel (0, 10, 1): distance map over GFA" in distance_page
+    assert "GFA: the generalised fractional anisotropy of the FOD, from its coefficients" in distance_page
     path_page = (tmp_path / "path.html").read_text()
     assert "<table id=\"stvd-paths\">" in path_page and "voxel (20, 10, 1)" in path_page
     assert "geodesic distance heat map" in (tmp_path / "connectivity.html").read_text()
+
+
+def page_parts(text):
+    """The parts of a run page that say what the run was and drew, which a
+    page made from Python objects must share with the tool's page of the
+    same run (the command line, times and pictures differ)."""
+    parts = {"title": re.search(r"<title>(.*?)</title>", text).group(1),
+             "notes": re.search(r"<div class=\"notes\" id=\"stvd-notes\">.*?</div>", text).group(0),
+             "slices": re.search(r"<h2>Slices through.*?</h2>", text).group(0),
+             "background": re.search(r"\bG?FA: [^<]*", text).group(0),
+             "paths": (re.search(r"<table id=\"stvd-paths\">.*?</table>", text) or re.match("", "")).group(0),
+             "heat maps": re.findall(r"alt=\"([^\"]*heat map)\"", text),
+             "warnings": (re.search(r"<div class=\"warnings\".*?</div>", text) or re.match("", "")).group(0)}
+    for key in ("metric", "method", "stencil", "fod_basis", "fod_basis_given", "fod_frame", "fod_frame_stated",
+                "fod_lmax", "fod_floor", "fod_power", "fod_directions", "fod_norm", "mask"):
+        row = re.search(rf"<tr><th>parameters\.{key}</th><td class=\"mono\">([^<]*)</td></tr>", text)
+        parts[f"parameters.{key}"] = row.group(1) if row else None
+    for key in ("seed_count", "voxels.domain", "propagation.finalized_vertices", "distance_mm.max",
+                "regions.count"):
+        row = re.search(rf"<tr><th>{re.escape(key)}</th><td class=\"mono\">([^<]*)</td></tr>", text)
+        parts[key] = row.group(1) if row else None
+    return parts
+
+
+def test_pages_from_python_objects_are_the_tools_pages_of_the_same_runs(tmp_path, crossing):
+    """stvd.report.write_report takes the objects of stvd.fod_distance,
+    stvd.fod_paths and stvd.fod_connectivity and writes the page the tool's
+    --report writes for the same run: the same title, metric's note
+    (basis as resolved and as given, frame, lmax, floor, power, sampling
+    directions, the norm and the method), slices, background, path table,
+    heat maps and parameters; and, like every page, only data: images."""
+    import stvd.report
+
+    _, path, _ = crossing
+    labels = np.zeros((21, 21, 3), np.int16)
+    labels[0, 10, 1], labels[20, 10, 1], labels[10, 0, 1], labels[10, 20, 1] = 1, 2, 3, 4
+    nib.save(nib.Nifti1Image(labels, AFFINE), tmp_path / "ends.nii.gz")
+    # The frame stated, the cost's floor and power not the defaults.
+    given = dict(fod_basis=BASIS, fod_floor=0.2, fod_power=2.0, fod_frame="voxel")
+    flags = ["--fod-basis", BASIS, "--fod-floor", "0.2", "--fod-power", "2", "--fod-frame", "voxel"]
+    seed, target = "0,10,1", "20,10,1"
+    tool("distance", path, *flags, "--seed-voxel", seed, "-o", tmp_path / "d.nii.gz", "--report",
+         tmp_path / "tool_distance.html")
+    tool("path", path, *flags, "--seed-voxel", seed, "--target-voxel", target, "-o", tmp_path / "p.tck",
+         "--report", tmp_path / "tool_path.html")
+    tool("connectivity", path, *flags, "--labels", tmp_path / "ends.nii.gz", "-o", tmp_path / "c.tsv", "--report",
+         tmp_path / "tool_connectivity.html")
+
+    distance = stvd.fod_distance(path, SEED, **given)
+    paths = stvd.fod_paths(path, SEED, [(20, 10, 1)], **given)
+    connectivity = stvd.fod_connectivity(path, tmp_path / "ends.nii.gz", **given)
+    summaries = {"distance": stvd.report.write_report(tmp_path / "python_distance.html", distance),
+                 "path": stvd.report.write_report(tmp_path / "python_path.html", paths=paths),
+                 "connectivity": stvd.report.write_report(tmp_path / "python_connectivity.html",
+                                                          connectivity=connectivity, labels=tmp_path / "ends.nii.gz")}
+    for kind in ("distance", "path", "connectivity"):
+        tool_page = (tmp_path / f"tool_{kind}.html").read_text()
+        python_page = (tmp_path / f"python_{kind}.html").read_text()
+        mine, theirs = page_parts(python_page), page_parts(tool_page)
+        assert mine == theirs, (kind, {k: (mine[k], theirs[k]) for k in mine if mine[k] != theirs[k]})
+        assert summaries[kind]["kind"] == kind and summaries[kind]["subject"] == "crossing_fod"
+        assert "FOD image read in the basis descoteaux07_legacy, in the voxel frame (stated), lmax 8" in mine["notes"]
+        for link in re.findall(r"(?:src|href)=\"([^\"]*)\"", python_page):
+            assert link.startswith(("data:", "#")), (kind, link[:40])
+        assert "http://" not in python_page and "https://" not in python_page, kind
+    notes = page_parts((tmp_path / "python_distance.html").read_text())["notes"]
+    assert ("metric: the convexified FOD norm F* (floor 0.2, power 2, 668 sampling directions) along the lattice "
+            "directions of order 2 (49 per voxel), interpolated, STVD (docs/fod.md)") in notes
+    notes = page_parts((tmp_path / "python_path.html").read_text())["notes"]
+    assert "along the 26 neighbour directions, Dijkstra (docs/fod.md)" in notes
+    assert "<td>voxel (20, 10, 1)</td>" in page_parts((tmp_path / "python_path.html").read_text())["paths"]
+
+
+def test_a_page_from_python_takes_the_basis_as_given_and_refuses_mixed_runs(tmp_path, crossing):
+    """An alias given ("mrtrix3" is tournier07 in the scanner frame) is shown
+    as given beside the basis resolved; a tensor keyword or a tensor run's
+    object with an FOD run's is refused, as is an image that no FOD run
+    made."""
+    import stvd.report
+
+    fit, _, _ = crossing
+    distance = stvd.fod_distance(fit.shm_coeff, SEED, fod_basis="mrtrix3", affine=AFFINE)
+    stvd.report.write_report(tmp_path / "alias.html", distance)
+    text = (tmp_path / "alias.html").read_text()
+    assert ("FOD image read in the basis tournier07 (given as mrtrix3), in the scanner frame (the default for this "
+            "basis and format), lmax 8") in text
+    assert "<title>stvd distance: run</title>" in text  # an array has no file name
+    with pytest.raises(ValueError, match="tensor keywords do not apply"):
+        stvd.report.write_report(tmp_path / "x.html", distance, tensor_order="fsl")
+    tensor_run = stvd.propagate(np.tile(np.eye(3), (21, 21, 3, 1, 1)), (0, 10, 1), affine=AFFINE)
+    with pytest.raises(TypeError, match="a tensor run's does not go on an FOD run's page"):
+        stvd.report.write_report(tmp_path / "x.html", tensor_run, paths=stvd.fod_paths(
+            fit.shm_coeff, SEED, [(20, 10, 1)], fod_basis="mrtrix3", affine=AFFINE))
+    with pytest.raises(TypeError, match="holds no FOD run"):
+        stvd.report.write_report(tmp_path / "x.html", nib.Nifti1Image(np.zeros((21, 21, 3), np.float32), AFFINE))
+    assert not (tmp_path / "x.html").exists()
+
+
+def test_fod_pages_draw_the_fods_gfa_under_the_run(tmp_path, crossing):
+    """An FOD run's page draws the FOD's generalised fractional anisotropy
+    (GFA) where a tensor run's draws FA, labelled as GFA, from the tool and
+    from Python alike: the GFA of the coefficients (stvd._core.fod_gfa, held
+    to DIPY's in test_fod_distance.py), 0 outside the run's mask."""
+    import stvd.report
+
+    _, path, in_bundle = crossing
+    inside = np.zeros((21, 21, 3), bool)
+    for i in range(21):
+        for j in range(21):
+            inside[i, j, :] = in_bundle(0, i, j) or in_bundle(1, i, j)
+    mask = inside.astype(np.uint8)
+    nib.save(nib.Nifti1Image(mask, AFFINE), tmp_path / "mask.nii.gz")
+    tool("distance", path, "--fod-basis", BASIS, "--seed-voxel", "0,10,1", "--mask", tmp_path / "mask.nii.gz", "-o",
+         tmp_path / "d.nii.gz", "--report", tmp_path / "tool.html")
+    distance = stvd.fod_distance(path, SEED, fod_basis=BASIS, mask=tmp_path / "mask.nii.gz")
+    gfa, affine = stvd._core.fod_gfa(str(path), BASIS)
+    assert np.allclose(affine, AFFINE) and gfa.shape == (21, 21, 3)
+    assert np.array_equal(distance.extra["stvd_fod_run"].gfa, gfa)
+    assert 0.3 < gfa[inside].min() and gfa.max() <= 1.0
+    stvd.report.write_report(tmp_path / "python.html", distance)
+    for name in ("tool", "python"):
+        text = (tmp_path / f"{name}.html").read_text()
+        assert "Slices through voxel (0, 10, 1): distance map over GFA</h2>" in text, name
+        assert ("GFA: the generalised fractional anisotropy of the FOD, from its coefficients (0 outside the "
+                "domain).") in text, name
+        assert "not reached: GFA only." in text, name

@@ -273,10 +273,11 @@ def test_the_qc_pages_show_tensor_and_fod_paths_side_by_side(qc):
         assert summary["status"] == "ok" and summary["kind"] == "path", (name, summary)
         assert summary["figures"]["paths"] == (2 if name.startswith("cst") else 1), (name, summary["figures"])
         assert summary["figures"]["domain_voxels"] == 11232, (name, summary["figures"])
+        assert summary["subject"] == name  # --subject
         if name.endswith("fod"):
-            assert summary["subject"] == "fod_csd_lmax4_slab" and "FOD image read in the basis tournier07" in text
+            assert "FOD image read in the basis tournier07" in text and "distance map over GFA" in text
         else:
-            assert summary["subject"] == "dti_tensor_dipy5d" and "FOD image" not in text
+            assert "FOD image" not in text and "distance map over FA" in text
     index = (qc / "index.html").read_text()
     links, sources = require_safe_page(index)
     assert links == [f"./{name}.html" for name in sorted(pages) for _ in range(2)], links  # name and thumbnail

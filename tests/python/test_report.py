@@ -369,3 +369,40 @@ def test_without_matplotlib_nothing_is_written(tmp_path):
     assert process.stderr.startswith("stvd: report: the report needs matplotlib (Debian: python3-matplotlib) for ")
     assert process.stderr.count("\n") == 1
     assert sorted(p.name for p in tmp_path.iterdir()) == ["python"]
+
+
+def test_subject_names_the_page_and_is_shown_as_text(tmp_path):
+    """`--subject NAME` (and write_report's subject=) names the page in its
+    title, heading and run summary instead of the input's file name; any
+    text, shown as text: <, & and quotes never become markup. Without
+    --report it is refused in one line, with nothing written."""
+    import html
+
+    name = "sub-01 <b>\"ses\" & 'run'</b>"
+    page = tmp_path / "named.html"
+    run_tool("distance", DIPY_5D, "--seed-voxel", "55,54,15", "-o", tmp_path / "d.nii.gz", "-q", "--report", page,
+             "--subject", name)
+    text = page.read_text()
+    title = html.escape(f"stvd distance: {name}", quote=True)
+    assert f"<title>{title}</title>" in text and f"<h1>{title} " in text
+    assert "<b>" not in text and "dti_tensor_dipy5d</title>" not in text
+    # The cohort index reads the name back from the page's summary.
+    entry = stvd.report.cohort_entries_from_folder(tmp_path)[0]
+    assert entry["subject"] == name
+    stvd.report.write_cohort_index(tmp_path / "index.html", [dict(entry, report=str(page))])
+    index = (tmp_path / "index.html").read_text()
+    assert html.escape(name, quote=True) in index and "<b>" not in index
+    # A name that looks like an option is a name.
+    run_tool("distance", DIPY_5D, "--seed-voxel", "55,54,15", "-o", tmp_path / "d.nii.gz", "-q", "--report",
+             tmp_path / "dash.html", "--subject=-q")
+    assert "<title>stvd distance: -q</title>" in (tmp_path / "dash.html").read_text()
+    # From Python, the same title.
+    result = stvd.propagate(DIPY_5D, CC_BODY)
+    stvd.report.write_report(tmp_path / "python.html", result, subject=name)
+    assert f"<title>{title}</title>" in (tmp_path / "python.html").read_text()
+    # Without a page to name: refused, nothing written.
+    refused = run_tool("distance", DIPY_5D, "--seed-voxel", "55,54,15", "-o", tmp_path / "none.nii.gz",
+                       "--subject", "x", check=False)
+    assert refused.returncode == 2 and refused.stderr == ("stvd: --subject names the QC page: add --report "
+                                                          "FILE.html\n")
+    assert not (tmp_path / "none.nii.gz").exists()

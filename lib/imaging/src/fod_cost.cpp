@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <map>
 #include <stdexcept>
@@ -26,6 +27,18 @@ namespace {
 Vec3d normalised(const Vec3d& v) {
   const double n = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
   return {v.x / n, v.y / n, v.z / n};
+}
+
+/// sum_j y_j c_j in four interleaved partial sums (j mod 4), added at the
+/// end: four chains of additions instead of one (the caps' amplitudes, one
+/// row at a time); the fast ball and its reference both sum so.
+double capDot(const double* y, const double* c, int count) {
+  double s[4] = {0.0, 0.0, 0.0, 0.0};
+  int j = 0;
+  for (; j + 4 <= count; j += 4)
+    for (int q = 0; q < 4; ++q) s[q] += y[j + q] * c[j + q];
+  for (; j < count; ++j) s[j % 4] += y[j] * c[j];
+  return (s[0] + s[1]) + (s[2] + s[3]);
 }
 
 }  // namespace
@@ -88,7 +101,26 @@ std::vector<Vec3d> defaultFodSamplingDirections(const GridGeometry& geometry, in
   return d;
 }
 
-FodCostSampler::FodCostSampler(const FodField& field, std::vector<Vec3d> directions, FodCostOptions options)
+FodSampling adaptiveFodSampling(const GridGeometry& geometry, int coarse, int dense, double capRadiusDegrees) {
+  if (!(capRadiusDegrees > 0.0 && capRadiusDegrees <= 90.0))
+    throw std::invalid_argument("FOD sampling: the caps' radius must be in (0, 90] degrees, not " +
+                                std::to_string(capRadiusDegrees));
+  FodSampling s;
+  s.directions = defaultFodSamplingDirections(geometry, coarse);
+  // The dense icosphere turned with the grid as the coarse one is (its
+  // first vertices are the coarse icosphere's: the sampler drops those).
+  std::vector<Vec3d> d = icosphereDirections(dense);
+  const Matrix3 axes = voxelAxes(geometry);
+  for (Vec3d& g : d)
+    g = normalised({axes[0] * g.x + axes[1] * g.y + axes[2] * g.z, axes[3] * g.x + axes[4] * g.y + axes[5] * g.z,
+                    axes[6] * g.x + axes[7] * g.y + axes[8] * g.z});
+  s.caps.directions = std::move(d);
+  s.caps.radius = capRadiusDegrees * M_PI / 180.0;
+  return s;
+}
+
+FodCostSampler::FodCostSampler(const FodField& field, std::vector<Vec3d> directions, FodCostOptions options,
+                               FodPeakCaps caps)
     : field_(field), directions_(std::move(directions)), options_(options) {
   options_.validate();
   const Matrix3 axes = voxelAxes(field.geometry);
@@ -142,6 +174,44 @@ FodCostSampler::FodCostSampler(const FodField& field, std::vector<Vec3d> directi
   for (std::size_t r = 0; r < rows_; ++r)
     for (int j = 0; j < count; ++j)
       basisByCoefficient_[static_cast<std::size_t>(j) * rows_ + r] = basis_[rowDirection[r] * count + j];
+  // The caps: the dense directions that are neither a sampling direction
+  // nor the opposite of one (those points are in the ball already).
+  if (!caps.directions.empty() && caps.radius > 0.0) {
+    if (!(caps.radius <= M_PI / 2))
+      throw std::invalid_argument("FOD cost: the caps' radius must be at most 90 degrees");
+    capRadius_ = caps.radius;
+    capCos_ = std::cos(caps.radius);
+    for (const Vec3d& raw : caps.directions) {
+      const Vec3d d = normalised(raw);
+      bool known = false;
+      for (std::size_t i = 0; i < n && !known; ++i) known = std::abs(dot(d, directions_[i])) > 1.0 - 1e-12;
+      if (!known) capDirections_.push_back(d);
+    }
+    capBasis_.resize(capDirections_.size() * static_cast<std::size_t>(count));
+    for (std::size_t i = 0; i < capDirections_.size(); ++i) {
+      const Vec3d s = field.toShFrame(capDirections_[i]);
+      evaluateShBasis(field.basis, field.lmax, s.x, s.y, s.z, capBasis_.data() + i * count);
+    }
+    // One row per direction up to sign (the first of a pair).
+    std::vector<unsigned char> paired(capDirections_.size(), 0);
+    for (std::size_t i = 0; i < capDirections_.size(); ++i) {
+      if (paired[i]) continue;
+      capRowDirection_.push_back(static_cast<int>(i));
+      for (std::size_t j = i + 1; j < capDirections_.size(); ++j)
+        if (!paired[j] && dot(capDirections_[i], capDirections_[j]) < -1.0 + 1e-12) {
+          paired[j] = 1;
+          break;
+        }
+    }
+    capRows_ = capRowDirection_.size();
+    capSpacing_ = std::sqrt(4.0 * M_PI / static_cast<double>(directionCount()));
+    nearCos_ = std::cos(std::min(M_PI / 2, spacing_));
+    capRowBasis_.resize(capRows_ * static_cast<std::size_t>(count));
+    for (std::size_t r = 0; r < capRows_; ++r)
+      std::copy(capBasis_.begin() + static_cast<std::ptrdiff_t>(capRowDirection_[r]) * count,
+                capBasis_.begin() + static_cast<std::ptrdiff_t>(capRowDirection_[r] + 1) * count,
+                capRowBasis_.begin() + static_cast<std::ptrdiff_t>(r * count));
+  }
 }
 
 namespace {
@@ -326,12 +396,12 @@ double FodCostSampler::amplitudeAt(const float* c, const Vec3d& unitLps, bool si
   return shExpansion<ShBasis::Descoteaux07Legacy>(field_.lmax, s.x, s.y, s.z, c);
 }
 
-Vec3d FodCostSampler::refinePeak(const float* c, Vec3d u, double* amplitude, bool simple) const {
+Vec3d FodCostSampler::refinePeak(const float* c, Vec3d u, double step, double* amplitude, bool simple) const {
   // A pattern search on the sphere: steps along two tangent directions,
   // halved when none improves, from half a spacing down to 1e-3 rad (0.06
   // degrees; F* = F = 1 at the point found, however precise).
   double best = amplitudeAt(c, u, simple);
-  for (double step = 0.5 * spacing_; step > 1e-3;) {
+  while (step > 1e-3) {
     // Tangents from the grid's axes (not LPS's), so that the search turns
     // with the image as the sampling directions do.
     const Vec3d helper = std::abs(dot(u, axisI_)) < 0.9 ? axisI_ : axisJ_;
@@ -383,15 +453,36 @@ void FodCostSampler::unitBallReference(std::size_t v, FodUnitBall& ball) const {
     for (std::size_t i = 0; i < n; ++i) ball.points[i] = lowest * directions_[i];
     return;
   }
-  // The local maxima over the sampling directions, refined.
+  // The local maxima over the sampling directions, refined; with caps,
+  // each from the best of its cap's directions within a spacing, by steps
+  // from half the caps' spacing.
   std::vector<double> peakValues;
+  std::vector<Vec3d> centres;
+  double coefficients[91];
+  for (int j = 0; j < count; ++j) coefficients[j] = c[j];
+  auto capAmplitude = [&](std::size_t d) { return capDot(capBasis_.data() + d * count, coefficients, count); };
   for (std::size_t i = 0; i < n; ++i) {
     if (a[i] < options_.floor * amax) continue;
     bool isMax = true;
     for (int j : neighbours_[i]) isMax = isMax && a[i] >= a[j];
     if (!isMax) continue;
     double value = 0.0;
-    ball.peaks.push_back(refinePeak(c, directions_[i], &value, true));
+    Vec3d start = directions_[i];
+    double step = 0.5 * spacing_;
+    if (!capDirections_.empty()) {
+      centres.push_back(directions_[i]);
+      double best = a[i];
+      for (std::size_t d = 0; d < capDirections_.size(); ++d)
+        if (dot(directions_[i], capDirections_[d]) >= nearCos_) {
+          const double s = capAmplitude(d);
+          if (s > best) {
+            best = s;
+            start = capDirections_[d];
+          }
+        }
+      step = 0.5 * capSpacing_;
+    }
+    ball.peaks.push_back(refinePeak(c, start, step, &value, true));
     peakValues.push_back(value);
     amax = std::max(amax, value);
   }
@@ -401,6 +492,16 @@ void FodCostSampler::unitBallReference(std::size_t v, FodUnitBall& ball) const {
   for (std::size_t k = 0; k < ball.peaks.size(); ++k)
     ball.points.push_back(std::pow(std::max(options_.floor, std::min(1.0, peakValues[k] / amax)), options_.power) *
                           ball.peaks[k]);
+  // The caps: every dense direction within the radius of a maximum (the
+  // sampling direction it was found at) whose amplitude is above the floor.
+  for (std::size_t d = 0; d < capDirections_.size(); ++d) {
+    bool near = false;
+    for (const Vec3d& p : centres) near = near || dot(p, capDirections_[d]) >= capCos_;
+    if (!near) continue;
+    const double s = capAmplitude(d);
+    if (s > options_.floor * amax)
+      ball.points.push_back(std::pow(std::min(1.0, s / amax), options_.power) * capDirections_[d]);
+  }
 }
 
 void FodCostSampler::unitBall(std::size_t v, FodUnitBall& ball) const {
@@ -435,10 +536,13 @@ void FodCostSampler::unitBall(std::size_t v, FodUnitBall& ball) const {
   std::vector<int>& peakOf = ball.peakOfDirection;
   peakValues.clear();
   peakOf.assign(n, -1);
-  const double least = options_.floor * amax;
+  ball.capTaken.clear();
+  double coefficients[91];  // the coefficients as doubles, for the caps
+  bool coefficientsAsDouble = false;
+  const double least0 = options_.floor * amax;
   for (std::size_t i = 0; i < n; ++i) {
     const double ai = amplitude(i);
-    if (ai < least) continue;
+    if (ai < least0) continue;
     bool isMax = true;
     for (int r : neighbourRows_[i])
       if (!(ai >= row[static_cast<std::size_t>(r)])) {
@@ -453,8 +557,40 @@ void FodCostSampler::unitBall(std::size_t v, FodUnitBall& ball) const {
       ball.peaks.push_back(same ? ball.peaks[k] : -1.0 * ball.peaks[k]);
       peakValues.push_back(peakValues[k]);
     } else {
+      Vec3d start = directions_[i];
+      double step = 0.5 * spacing_;
+      if (capRows_ > 0) {
+        // The cap's rows around this maximum (and its opposite: |cos|),
+        // each amplitude once; the refinement starts from the best of them
+        // within a spacing.
+        const Vec3d g = directions_[i];
+        if (!coefficientsAsDouble) {
+          for (int j = 0; j < count; ++j) coefficients[j] = c[j];
+          coefficientsAsDouble = true;
+        }
+        if (ball.capSeen.size() != capRows_) {
+          ball.capSeen.assign(capRows_, 0);
+          ball.capAmplitudes.assign(capRows_, 0.0);
+        }
+        double best = ai;
+        for (std::size_t r = 0; r < capRows_; ++r) {
+          const Vec3d& d = capDirections_[static_cast<std::size_t>(capRowDirection_[r])];
+          const double cd = dot(g, d), acd = std::abs(cd);
+          if (!(acd >= capCos_)) continue;
+          if (!ball.capSeen[r]) {
+            ball.capSeen[r] = 1;
+            ball.capTaken.push_back(static_cast<int>(r));
+            ball.capAmplitudes[r] = capDot(capRowBasis_.data() + r * static_cast<std::size_t>(count), coefficients, count);
+          }
+          if (acd >= nearCos_ && ball.capAmplitudes[r] > best) {
+            best = ball.capAmplitudes[r];
+            start = cd > 0.0 ? d : -1.0 * d;
+          }
+        }
+        step = 0.5 * capSpacing_;
+      }
       double value = 0.0;
-      ball.peaks.push_back(refinePeak(c, directions_[i], &value, false));
+      ball.peaks.push_back(refinePeak(c, start, step, &value, false));
       peakValues.push_back(value);
       amax = std::max(amax, value);
     }
@@ -468,6 +604,15 @@ void FodCostSampler::unitBall(std::size_t v, FodUnitBall& ball) const {
   };
   for (std::size_t i = 0; i < n; ++i) ball.points[i] = radius(amplitude(i)) * directions_[i];
   for (std::size_t k = 0; k < ball.peaks.size(); ++k) ball.points.push_back(radius(peakValues[k]) * ball.peaks[k]);
+  const double least = options_.floor * amax;
+  for (std::size_t t = 0; t < ball.capTaken.size(); ++t) {
+    const std::size_t r = static_cast<std::size_t>(ball.capTaken[t]);
+    ball.capSeen[r] = 0;  // ready for the next voxel
+    if (!(ball.capAmplitudes[r] > least)) continue;  // on the floor's sphere
+    const Vec3d w = radius(ball.capAmplitudes[r]) * capDirections_[static_cast<std::size_t>(capRowDirection_[r])];
+    ball.points.push_back(w);
+    ball.points.push_back(-1.0 * w);
+  }
 }
 
 double FodCostSampler::cost(std::size_t v, const Vec3d& d, double amplitudeMax) const {
@@ -561,8 +706,7 @@ double convexHullGauge(const Vec3d* w, std::size_t count, const Vec3d& v) {
       if (d[k] > 1e-14) {
         const double r = x[k] / d[k];
         const bool tie = r == ratio && leaving >= 0;
-        const bool preferred = bland ? basis[k] < basis[leaving] : basis[k] >= count;
-        if (r < ratio || (tie && preferred)) {
+        if (r < ratio || (tie && (bland ? basis[k] < basis[leaving] : basis[k] >= count))) {
           ratio = r;
           leaving = k;
         }

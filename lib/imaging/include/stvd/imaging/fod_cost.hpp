@@ -17,7 +17,9 @@
 // always make. The methods compute instead the norm F* whose unit ball is
 // the convex hull of F's: F*(v) = min { sum l_i : v = sum l_i w_i, l_i >= 0 }
 // over the points w_i = rho(x, g_i) g_i of F's ball along the sampling
-// directions g_i and along the FOD's refined maxima. F* is a norm
+// directions g_i and along the FOD's refined maxima (and, with the default
+// sampling, along the directions of a finer set near the maxima:
+// FodPeakCaps). F* is a norm
 // (positive, 1-homogeneous, convex, symmetric as an FOD is); F* <= F along
 // every sampling direction, and a straight step under F* is as long as a
 // zig-zag along the w_i measured under F, which a path can make: F* is what
@@ -29,6 +31,7 @@
 #pragma once
 
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include "stvd/imaging/fod_field.hpp"
@@ -67,6 +70,55 @@ inline constexpr int kFodSamplingSubdivisions = 3;
 /// under any rotated or flipped affine.
 std::vector<Vec3d> defaultFodSamplingDirections(const GridGeometry& geometry, int subdivisions = kFodSamplingSubdivisions);
 
+/// Points of F's unit ball where its hull needs them, per voxel: the
+/// directions of a denser set that lie within `radius` of a sampling
+/// direction where one of the FOD's maxima was found (a cap around each
+/// lobe, where the hull's surface is curved: its flanks) and whose
+/// normalised amplitude is above the floor (below it the point is on the
+/// floor's sphere, which the coarse set covers). The maximum's refinement
+/// starts from the best of its cap's directions within a spacing of the
+/// sampling, by steps from half the dense set's spacing. They are points
+/// of F's ball, so F* <= F still holds at each and the hull lies inside the
+/// converged one: F* is never below the converged F* (but by what the
+/// maxima's refinement to 1e-3 rad leaves, 1e-4 near a fibre). Empty
+/// directions or radius 0: no caps.
+struct FodPeakCaps {
+  /// The dense directions (LPS, any length; every one with its opposite).
+  std::vector<Vec3d> directions;
+  /// The caps' angular radius (radians).
+  double radius = 0.0;
+};
+
+/// A sampling of F's unit ball: fixed directions and caps around the maxima.
+struct FodSampling {
+  std::vector<Vec3d> directions;
+  FodPeakCaps caps;
+};
+
+/// The defaults of adaptiveFodSampling, the tables' default sampling: the
+/// coarse icosphere of 162 directions, caps of the 642 of
+/// kFodSamplingSubdivisions (the coarse ones among them) within 50 degrees
+/// of the maxima (40 cut the flanks of broad lobes, l <= 4, crossing at 45
+/// degrees): the same 668 directions as defaultFodSamplingDirections,
+/// the fine ones evaluated only near the lobes (docs/fod.md, "A sampling
+/// adapted to each voxel": the same F* to the measurements' precision, for
+/// three quarters of the table's time).
+inline constexpr int kFodCoarseSubdivisions = 2;
+inline constexpr int kFodCapSubdivisions = kFodSamplingSubdivisions;
+inline constexpr double kFodCapRadiusDegrees = 50.0;
+
+/// A sampling adapted to each voxel: defaultFodSamplingDirections(geometry,
+/// coarse) (icosphere turned with the grid, and the 26 neighbour
+/// directions, so that F* <= F along them exactly) and caps of
+/// radius `capRadiusDegrees` of icosphereDirections(dense) turned with the
+/// grid as well, so that the same FOD relative to the voxels gives the same
+/// table whatever the image's rotation.
+FodSampling adaptiveFodSampling(const GridGeometry& geometry, int coarse = kFodCoarseSubdivisions,
+                                int dense = kFodCapSubdivisions, double capRadiusDegrees = kFodCapRadiusDegrees);
+
+/// The sampling of the tables the tool and the Python package compute.
+inline FodSampling defaultFodSampling(const GridGeometry& geometry) { return adaptiveFodSampling(geometry); }
+
 /// Voxel v's unit ball {u : F(x, u) <= 1} as the convexification sees it:
 /// the points rho(x, g_i) g_i along the sampling directions g_i, and
 /// rho(x, p) p = p along each of the FOD's maxima p (refined beyond the
@@ -80,12 +132,14 @@ struct FodUnitBall {
   /// directions whose normalised amplitude is at least the floor, each
   /// refined to its maximum on the sphere (to 1e-3 rad): both antipodes.
   std::vector<Vec3d> peaks;
-  /// rho(x, g_i) g_i for every sampling direction, then p for every peak.
+  /// rho(x, g_i) g_i for every sampling direction, then p for every peak,
+  /// then the caps' points (FodPeakCaps) if the sampler has caps.
   std::vector<Vec3d> points;
 
   // Scratch space of unitBall, kept to spare allocations.
-  std::vector<double> rowAmplitudes, peakValues;
-  std::vector<int> peakOfDirection;
+  std::vector<double> rowAmplitudes, peakValues, capAmplitudes;  // capAmplitudes: per cap row
+  std::vector<int> peakOfDirection, capTaken;
+  std::vector<unsigned char> capSeen;
 };
 
 /// An FOD's cost sampled along fixed unit directions (LPS): the spherical
@@ -94,10 +148,21 @@ class FodCostSampler {
  public:
   /// `directions` must surround the origin (their cone is all of R^3), as
   /// every set above does.
-  FodCostSampler(const FodField& field, std::vector<Vec3d> directions, FodCostOptions options = {});
+  FodCostSampler(const FodField& field, std::vector<Vec3d> directions, FodCostOptions options = {},
+                 FodPeakCaps caps = {});
+  /// The same with a sampling's directions and caps.
+  FodCostSampler(const FodField& field, FodSampling sampling, FodCostOptions options = {})
+      : FodCostSampler(field, std::move(sampling.directions), options, std::move(sampling.caps)) {}
 
   const std::vector<Vec3d>& directions() const { return directions_; }
   const FodCostOptions& options() const { return options_; }
+  /// The caps' dense directions (unit, LPS; none without caps) and radius.
+  const std::vector<Vec3d>& capDirections() const { return capDirections_; }
+  double capRadius() const { return capRadius_; }
+  /// How many directions the ball is drawn from: the fixed ones and the
+  /// caps' (668 for defaultFodSampling, as for the 668 fixed directions of
+  /// defaultFodSamplingDirections).
+  std::size_t directionCount() const { return directions_.size() + capDirections_.size(); }
   const FodField& field() const { return field_; }
   std::size_t voxelCount() const { return field_.geometry.voxelCount(); }
 
@@ -117,7 +182,7 @@ class FodCostSampler {
   // otherwise the same products summed as they are made (bit for bit).
   double amplitudeAt(const float* coefficients, const Vec3d& unitLps, bool simple) const;
   void amplitudesAt4(const float* coefficients, const Vec3d (&unitLps)[4], double (&out)[4]) const;
-  Vec3d refinePeak(const float* coefficients, Vec3d start, double* amplitude, bool simple) const;
+  Vec3d refinePeak(const float* coefficients, Vec3d start, double step, double* amplitude, bool simple) const;
 
   const FodField& field_;
   std::vector<Vec3d> directions_;
@@ -132,6 +197,18 @@ class FodCostSampler {
   std::vector<int> rowOf_;                     // direction -> its row
   std::vector<int> twin_;                      // the first earlier direction equal or opposite, or -1
   std::vector<std::vector<int>> neighbourRows_;  // neighbours_ by row
+  // The caps: dense directions that are no sampling direction (nor the
+  // opposite of one), their basis rows (the reference's, one per
+  // direction), and for unitBall one row per direction up to sign
+  // (row-major).
+  std::vector<Vec3d> capDirections_;
+  double capRadius_ = 0.0, capCos_ = 1.0;
+  double capSpacing_ = 0.0;  // sqrt(4 pi / directionCount()), radians: the refinement's first step from a cap
+  double nearCos_ = 1.0;     // cos(spacing_): a maximum's refinement starts from its cap's best direction this near
+  std::vector<double> capBasis_;               // capDirections_ x coefficients
+  std::size_t capRows_ = 0;
+  std::vector<int> capRowDirection_;           // row -> its direction in capDirections_
+  std::vector<double> capRowBasis_;            // capRows_ x coefficients
 };
 
 /// The gauge of the convex hull of the points w (which must surround the
