@@ -337,6 +337,10 @@ struct BandSegmentNorm {
   };
   using EdgeParams = VertexParams;
   static constexpr bool kEdgeRuleIsMean = true;
+  // Interpolated between its nodes like the lattice table: STVD runs its
+  // chain of edges alone on it, as on LatticeTableNorm (norms.hpp), so that
+  // its figures compare with the table's.
+  static constexpr bool kExactInEveryDirection = false;
 
   static double elevation(int r) {
     static const double deg[kRows] = {-25, -12, -4, 0, 4, 12, 25};
