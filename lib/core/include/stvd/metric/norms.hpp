@@ -104,7 +104,6 @@ template <class Norm>
 struct EdgeRuleIsMean<Norm, std::void_t<decltype(Norm::kEdgeRuleIsMean)>>
     : std::bool_constant<Norm::kEdgeRuleIsMean> {};
 
-
 /// Norm::kExactInEveryDirection where the norm states it, else true.
 template <class Norm, class = void>
 struct ExactInEveryDirection : std::true_type {};
