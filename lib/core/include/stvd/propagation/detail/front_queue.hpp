@@ -79,6 +79,8 @@ class FrontQueue {
     return heap_.empty();
   }
   bool isFinal(VertexId v) const { return slot(v) == kFinal; }
+  /// Where vertex v's slot lies (to prefetch it).
+  const std::uint32_t* slotAddress(VertexId v) const { return &slots_[static_cast<std::size_t>(v) << strideLog2_]; }
   /// The smallest queued key and its vertex; only after empty() returned false.
   double minKey() const { return heap_.front().key; }
   VertexId minVertex() const { return heap_.front().id; }

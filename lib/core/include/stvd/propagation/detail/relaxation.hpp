@@ -62,7 +62,7 @@ class Propagation {
         metric_(metric),
         options_(options),
         state_(makeLargeArray<VertexState>(domain.vertexCount(), VertexState::unseen())),
-        queue_(&state_.data()->queueSlot, kRecordWordsLog2),
+        queue_(makeQueue(state_)),
         edgeMetric_(ChainUnfolding<Domain>::edgeMetric(domain, metric, options)),
         path_(makeCandidatePath(domain, metric, options)) {}
 
@@ -131,7 +131,7 @@ class Propagation {
         }
         result.distance[v] = state_[v].finalDistance();
         if constexpr (SegmentMeasure)
-          result.predecessor[v] = state_[v].done.base;  // where its distance was measured from
+          result.predecessor[v] = state_[v].base;  // where its distance was measured from
         else
           result.predecessor[v] = state_[v].predecessor;
       }
@@ -226,6 +226,7 @@ class Propagation {
       domain_.forEachNeighborRun(u, [&](VertexId first, VertexId last) {
         prefetchRange(&state_[first], &state_[last]);
         prefetchRange(&metric_[first], &metric_[last]);
+        if constexpr (SegmentMeasure) prefetchRange(queue_.slotAddress(first), queue_.slotAddress(last));
       });
       domain_.prefetchNeighborGeometry(u);
     }
@@ -257,18 +258,18 @@ class Propagation {
       // Here the chain is known exactly: c_1's record (one of u's
       // neighbours, asked for with them) holds c_2 onwards.
       const VertexState& su = state_[u];
-      if (anyAngle_ > 0 && su.open.base != kNoVertex) {
+      if (anyAngle_ > 0 && su.base != kNoVertex) {
         // Its any-angle ancestor, most likely the vertex it will be final
         // with (its chain of edges holds it already where it is near).
-        detail::prefetch(&state_[su.open.base]);
-        detail::prefetch(&metric_[su.open.base]);
+        detail::prefetch(&state_[su.base]);
+        detail::prefetch(&metric_[su.base]);
       }
       const VertexId p1 = su.predecessor;
       if (p1 == kNoVertex) return;
       const VertexState& s1 = state_[p1];
       const int k = memoryDepth<Domain>(options_);
       for (int l = 2; l < k && l < 3 + VertexState::kStoredAncestors; ++l) {
-        const VertexId c = l == 2 ? s1.predecessor : s1.done.ancestors[l - 3];
+        const VertexId c = l == 2 ? s1.predecessor : s1.ancestors[l - 3];
         if (c == kNoVertex) break;
         detail::prefetch(&state_[c]);
         detail::prefetch(&metric_[c]);
@@ -358,11 +359,11 @@ class Propagation {
       } else {
         const VertexState& s1 = state_[p1];
         stored[0] = s1.predecessor;
-        for (int a = 1; a <= kStored; ++a) stored[a] = s1.done.ancestors[a - 1];
+        for (int a = 1; a <= kStored; ++a) stored[a] = s1.ancestors[a - 1];
         if (count < k) chain[count++] = p1;
         for (int a = 0; a <= kStored && count < k && stored[a] != kNoVertex; ++a) chain[count++] = stored[a];
       }
-      for (int a = 0; a < kStored; ++a) sv.done.ancestors[a] = stored[a];
+      for (int a = 0; a < kStored; ++a) sv.ancestors[a] = stored[a];
     }
     while (count < k && state_[chain[count - 1]].predecessor != kNoVertex) {
       chain[count] = state_[chain[count - 1]].predecessor;
@@ -380,7 +381,7 @@ class Propagation {
   STVD_ALWAYS_INLINE int appendAnyAngleAncestors(VertexId v, VertexId* chain, int count) {
     if constexpr (SegmentMeasure && kAnyAngle) {
       const int latticeCount = count;
-      VertexId a = state_[v].done.base;
+      VertexId a = state_[v].base;
       // An ancestor in the chain already is passed over, a few times at
       // most: where a lattice vertex on the straight line from the source
       // tied with the source, this still reaches the source.
@@ -390,12 +391,12 @@ class Propagation {
         bool inChain = false;
         for (int j = 1; j < latticeCount; ++j) inChain = inChain || chain[j] == a;
         if (!inChain) {
-          const bool source = sa.done.base == kNoVertex;
+          const bool source = sa.base == kNoVertex;
           const int reach = source && nearSourceMetric(v, a) ? sourceReach_ : segmentReach_;
           if (path_.steps(v, a) > reach) break;
           chain[count++] = a;
         }
-        a = sa.done.base;
+        a = sa.base;
       }
       // Source factoring: the source that v's ancestors lead to next is a
       // candidate too, within the source reach, however many ancestors came
@@ -422,7 +423,7 @@ class Propagation {
       for (const VertexId s : fewSources_) if (s == v) return true;
       return false;
     }
-    return state_[v].done.base == kNoVertex;
+    return state_[v].base == kNoVertex;
   }
   static constexpr std::size_t kFewSources = 16;
 
@@ -616,7 +617,7 @@ class Propagation {
     bestScreenedCandidates(memory, batch, screen, value, lane);
     for (int n = 0; n < batch.size; ++n) {
       const VertexId w = batch.vertex[n];
-      keepMeasured(state_[w], batch.best[n], v);
+      keepMeasured(state_[w], batch.best[n], v, v);
       batch.pendingLane[n] = -1;
       // A candidate not below what w has (its Dijkstra term, or its key)
       // cannot become pending: no need to check its path.
@@ -636,7 +637,7 @@ class Propagation {
           ++measured_;
           shortest = std::min(shortest, memory.baseDistance[l] + static_cast<double>(length));
         }
-        keepMeasured(state_[w], shortest, v);
+        keepMeasured(state_[w], shortest, v, v);
         batch.best[n] = std::min(batch.best[n], shortest);
         continue;
       }
@@ -662,18 +663,20 @@ class Propagation {
     }
   }
 
-  // Keeps `value`, measured from `base`, when it is w's shortest so far.
-  STVD_ALWAYS_INLINE static void keepMeasured(VertexState& s, double value, VertexId base) {
+  // Keeps `value`, measured from `base` by the relaxation of w's neighbour
+  // `link`, when it is w's shortest so far.
+  STVD_ALWAYS_INLINE static void keepMeasured(VertexState& s, double value, VertexId base, VertexId link) {
     if (value < s.measured) {
       s.measured = value;
-      s.open.base = base;
+      s.base = base;
+      s.open.link = link;
     }
   }
 
   // A chain of one vertex (a source) has no candidate beyond the Dijkstra term.
   STVD_ALWAYS_INLINE void keepDijkstraTerms(VertexId v, NeighborBatch<Norm>& batch) {
     for (int n = 0; n < batch.size; ++n) {
-      keepMeasured(state_[batch.vertex[n]], batch.best[n], v);
+      keepMeasured(state_[batch.vertex[n]], batch.best[n], v, v);
       batch.pendingLane[n] = -1;
     }
   }
@@ -723,8 +726,9 @@ class Propagation {
     ++measured_;
     // Measured from `base` along a straight segment; a surface's line runs
     // across faces, so there the result keeps the neighbour v as the
-    // predecessor (its chain of edges is what the unfolding needs).
-    keepMeasured(sw, state_[base].measured + static_cast<double>(l), kAnyAngle ? base : v);
+    // predecessor (its chain of edges is what the unfolding needs). Either
+    // way the chain of edges goes on through v.
+    keepMeasured(sw, state_[base].measured + static_cast<double>(l), kAnyAngle ? base : v, v);
   }
 
   // How far above its screened key a measured distance may lie for the
@@ -763,14 +767,17 @@ class Propagation {
       // (docs/architecture.md).
       if (sw.measured <= queue_.minKey() * (1.0 + kSettleSlack)) {
         sw.open.key = sw.measured;
+        sw.predecessor = sw.open.link;  // the chain goes on through what gave the distance
         return true;
       }
     } else {
+      sw.predecessor = sw.open.link;
       return true;  // measured, and queued with that distance
     }
     // The vertex's key was a screened estimate well below its measured
     // distance: queue it with its measured distance.
     sw.open.key = sw.measured;
+    sw.predecessor = sw.open.link;
     queue_.requeueMin(sw.measured);
     return false;
   }
@@ -779,10 +786,17 @@ class Propagation {
   const MetricField<Norm>& metric_;
   const PropagationOptions& options_;
   // FrontQueue finds the slot of vertex v at word v << kRecordWordsLog2
-  // from the first record's slot.
+  // from the first record's slot; the segment measure's records leave their
+  // slots to the queue's own array (VertexRecord<true>).
   static constexpr unsigned kRecordWordsLog2 = SegmentMeasure ? 3 : 2;
   static_assert(sizeof(VertexState) == sizeof(std::uint32_t) << kRecordWordsLog2,
                 "one record per 16 or 32 bytes");
+  static FrontQueue makeQueue(std::vector<VertexState>& state) {
+    if constexpr (SegmentMeasure)
+      return FrontQueue(state.size());
+    else
+      return FrontQueue(&state.data()->queueSlot, kRecordWordsLog2);
+  }
   // Prefetching needs the domain's runs of neighbour numbers: rows of the
   // stencil's block on a grid, single vertices from the adjacency list of a
   // cell mesh. Surfaces are not prefetched (not tried): measuring their
