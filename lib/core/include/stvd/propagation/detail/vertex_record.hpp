@@ -52,9 +52,9 @@ struct VertexRecord<false> {
 ///
 /// Keeping both and the pending candidate takes 36 bytes with the queue
 /// slot; the slot, read for every neighbour a relaxation looks at, moved to
-/// the queue's own array (4 bytes per vertex, 8 neighbours' slots per
-/// 32-byte line) rather than the record growing to 64 bytes
-/// (docs/performance.md has both costs).
+/// the queue's own array (4 bytes per vertex, prefetched with the
+/// neighbours' records) rather than the record growing to 64 bytes, which
+/// measured no faster (docs/accuracy.md, "The chain linked as on main").
 ///
 /// The key, `link` and the pending candidate matter only until the vertex
 /// is final; from then on the same bytes hold its next ancestors along the
