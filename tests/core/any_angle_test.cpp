@@ -267,6 +267,52 @@ TEST(AnyAngleAncestors, SourceFactoringMakesAConstantMetricExactWithinTheSourceR
   EXPECT_LT(t.max, 1e-4);
 }
 
+TEST(AnyAngleAncestors, NoAncestorIsACandidatePastAChangeOfTheMetric) {
+  // Two constant halves, the right one's tensor 1.5 times the left one's
+  // (parameters 50 % apart, beyond the propagation's tolerance of 10 %): a
+  // vertex in the right half farther than the chain of edges reaches from
+  // the change takes its distance from its chain (at most k steps back),
+  // the Dijkstra term or an ancestor within the right half, never from a
+  // segment that starts across the change, however far the ancestors
+  // reach. (Without the rule, 1,637 of the 10,400 vertices checked were
+  // measured from the left half.) The source lies farther than the segment
+  // reach from every vertex checked: a source within that reach stays a
+  // candidate whatever its metric.
+  const int interface = 30;
+  GridGeometry geometry;
+  geometry.size = {64, 20, 20};
+  const VoxelGridDomain domain(geometry, Stencil::full26());
+  const test::Mat3 g = rotatedTensor(1.0, 4.0, 9.0);
+  const SymTensor3 left = test::toSymTensor(g);
+  const SymTensor3 right{1.5f * left.xx, 1.5f * left.xy, 1.5f * left.xz,
+                         1.5f * left.yy, 1.5f * left.yz, 1.5f * left.zz};
+  std::vector<SymTensor3> tensors(domain.vertexCount());
+  for (VertexId v = 0; v < domain.vertexCount(); ++v) tensors[v] = domain.indexOf(v).i < interface ? left : right;
+  const RiemannianMetric metric(std::move(tensors));
+  PropagationOptions o;
+  o.segmentReach = 20;
+  const int k = memoryDepth<VoxelGridDomain>(o);
+  const VertexId source = domain.vertexAt(4, 10, 10);
+  const PropagationResult r = propagate(domain, metric, {source}, o);
+  expectDistancesAreMeasuredSegments(domain, metric, r, "two halves");
+  std::size_t checked = 0, acrossTheChange = 0, beyondTheChain = 0;
+  for (VertexId v = 0; v < domain.vertexCount(); ++v) {
+    const VoxelIndex c = domain.indexOf(v);
+    if (c.i < interface + k + 2) continue;
+    ASSERT_GT(c.i - 4, *o.segmentReach);
+    ++checked;
+    const VoxelIndex p = domain.indexOf(r.predecessor[v]);
+    acrossTheChange += p.i < interface ? 1 : 0;
+    beyondTheChain += std::max({std::abs(p.i - c.i), std::abs(p.j - c.j), std::abs(p.k - c.k)}) > k ? 1 : 0;
+  }
+  std::printf("[ measured ] two halves: %zu vertices past the chain's reach from the change, %zu measured from "
+              "across it, %zu from farther than the chain\n",
+              checked, acrossTheChange, beyondTheChain);
+  EXPECT_EQ(acrossTheChange, 0u);
+  // The ancestors still work within the right half.
+  EXPECT_GT(beyondTheChain, checked / 10);
+}
+
 TEST(AnyAngleAncestors, OptionsOutsideTheirRangeAreRefused) {
   GridGeometry geometry;
   geometry.size = {8, 8, 8};
