@@ -862,6 +862,40 @@ void sampling() {
   }
 }
 
+/// A constant crossing field at `angle` on an n^3 grid of 1 mm voxels,
+/// seeded at its centre, with the exact distances F*_exact(x - s) of every
+/// voxel (the scene of constant(), constantSampling() and constantBand()).
+struct ConstantScene {
+  ConstantScene(double angle, int n)
+      : geometry(cube(n)), field(testing::constantCrossingField(GridGeometry{}, angle)),
+        domain(geometry, Stencil::full26()), seed(domain.vertexAt(n / 2, n / 2, n / 2)),
+        reference(geometry.voxelCount()) {
+    ExactFodNorm exact(field, 6);
+    const int c = n / 2;
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) reference[domain.vertexAt(i, j, k)] = exact.ofOffset(i - c, j - c, k - c);
+  }
+  static GridGeometry cube(int n) {
+    GridGeometry g;
+    g.size = {std::size_t(n), std::size_t(n), std::size_t(n)};
+    return g;
+  }
+  /// The relative errors of `d` against the exact distances, the seed left out.
+  Summary errorsOf(const std::vector<double>& d) const {
+    std::vector<double> e;
+    for (std::size_t v = 0; v < d.size(); ++v)
+      if (v != seed) e.push_back(d[v] / reference[v] - 1);
+    return summarise(e);
+  }
+
+  GridGeometry geometry;
+  FodField field;
+  VoxelGridDomain domain;
+  VertexId seed;
+  std::vector<double> reference;
+};
+
 /// Distances on the constant crossings under each sampling (Dijkstra and
 /// STVD k = 6, 33^3, the default segment table).
 void constantSampling() {
@@ -869,17 +903,11 @@ void constantSampling() {
   std::printf("table\tvariant\tangle\tmethod\tmean\tp99\tmax\tbelow exact\n");
   for (double angle : kAngles) {
     const int n = 33;
-    GridGeometry g;
-    g.size = {std::size_t(n), std::size_t(n), std::size_t(n)};
-    const FodField one = testing::constantCrossingField(GridGeometry{}, angle);
-    ExactFodNorm exact(one, 6);
-    const VoxelGridDomain domain(g, Stencil::full26());
-    const int c = n / 2;
-    const VertexId seed = domain.vertexAt(c, c, c);
-    std::vector<double> reference(g.voxelCount());
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) reference[domain.vertexAt(i, j, k)] = exact.ofOffset(i - c, j - c, k - c);
+    const ConstantScene scene(angle, n);
+    const GridGeometry& g = scene.geometry;
+    const FodField& one = scene.field;
+    const VoxelGridDomain& domain = scene.domain;
+    const VertexId seed = scene.seed;
     for (const SamplingVariant& variant : samplingVariants()) {
       if (variant.dense < 0 ? variant.coarse != 3 : variant.coarse != 2 || variant.capDegrees != (variant.dense == 3 ? 50 : 40))
         continue;
@@ -890,10 +918,7 @@ void constantSampling() {
         // Dijkstra's steps are neighbour steps, where the segment norm is
         // the 26-direction table (to 2e-6), as in constant().
         const std::vector<double> d = run(domain, segment, seed, m, &seconds);
-        std::vector<double> e;
-        for (std::size_t v = 0; v < d.size(); ++v)
-          if (v != seed) e.push_back(d[v] / reference[v] - 1);
-        const Summary s = summarise(e);
+        const Summary s = scene.errorsOf(d);
         std::printf("constant-sampling\t%s\t%.0f\t%s\t%.4f\t%.4f\t%.4f\t%zu\n", variant.name.c_str(), angle,
                     m.name.c_str(), s.mean, s.p99, s.max, s.below);
         std::fflush(stdout);
@@ -907,29 +932,17 @@ void constant() {
   std::printf("table\tangle\tgrid\tmethod\tmean\tp99\tmax\tbelow exact\tvoxels\tcpu s\n");
   for (double angle : kAngles)
     for (int n : {17, 33}) {
-      GridGeometry g;
-      g.size = {std::size_t(n), std::size_t(n), std::size_t(n)};
-      const FodField one = testing::constantCrossingField(GridGeometry{}, angle);
-      ExactFodNorm exact(one, 6);
-      const FodCostSampler sampler(one, defaultFodSamplingDirections(g));
-      const FodSegmentMetric metric = FodSegmentMetric::constant(g.voxelCount(), fodSegmentMetric(sampler)[0]);
-      const VoxelGridDomain domain(g, Stencil::full26());
-      const int c = n / 2;
-      const VertexId seed = domain.vertexAt(c, c, c);
-      std::vector<double> reference(g.voxelCount());
-      for (int k = 0; k < n; ++k)
-        for (int j = 0; j < n; ++j)
-          for (int i = 0; i < n; ++i) reference[domain.vertexAt(i, j, k)] = exact.ofOffset(i - c, j - c, k - c);
+      const ConstantScene scene(angle, n);
+      const FodCostSampler sampler(scene.field, defaultFodSamplingDirections(scene.geometry));
+      const FodSegmentMetric metric =
+          FodSegmentMetric::constant(scene.geometry.voxelCount(), fodSegmentMetric(sampler)[0]);
       std::vector<Method> methods = {{"dijkstra", 0, 0}, {"stvd k=6", 1, 6}, {"stvd k=12", 1, 12},
                                      {"lanthier M=2", 2, 2}, {"lanthier M=4", 2, 4}};
       if (n <= 17) methods.push_back({"lanthier M=8", 2, 8});
       for (const Method& m : methods) {
         double seconds = 0;
-        const std::vector<double> d = run(domain, metric, seed, m, &seconds);
-        std::vector<double> e;
-        for (std::size_t v = 0; v < d.size(); ++v)
-          if (v != seed) e.push_back(d[v] / reference[v] - 1);
-        const Summary s = summarise(e);
+        const std::vector<double> d = run(scene.domain, metric, scene.seed, m, &seconds);
+        const Summary s = scene.errorsOf(d);
         std::printf("constant\t%.0f\t%d^3\t%s\t%.4f\t%.4f\t%.4f\t%zu\t%zu\t%.2f\n", angle, n, m.name.c_str(), s.mean,
                     s.p99, s.max, s.below, s.count, seconds);
         std::fflush(stdout);
@@ -945,17 +958,11 @@ void constantBand() {
   std::printf("table\tangle\tnorm\tmethod\tmean\tp99\tmax\tbelow exact\tcpu s\n");
   for (double angle : kAngles) {
     const int n = 33;
-    GridGeometry g;
-    g.size = {std::size_t(n), std::size_t(n), std::size_t(n)};
-    const FodField one = testing::constantCrossingField(GridGeometry{}, angle);
-    ExactFodNorm exact(one, 6);
-    const VoxelGridDomain domain(g, Stencil::full26());
-    const int c = n / 2;
-    const VertexId seed = domain.vertexAt(c, c, c);
-    std::vector<double> reference(g.voxelCount());
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) reference[domain.vertexAt(i, j, k)] = exact.ofOffset(i - c, j - c, k - c);
+    const ConstantScene scene(angle, n);
+    const GridGeometry& g = scene.geometry;
+    const FodField& one = scene.field;
+    const VoxelGridDomain& domain = scene.domain;
+    const VertexId seed = scene.seed;
     const FodCostSampler sampler(one, defaultFodSamplingDirections(GridGeometry{}));
     const FodSegmentMetric today = FodSegmentMetric::constant(g.voxelCount(), fodSegmentMetric(sampler)[0]);
     FodUnitBall ball;
@@ -985,10 +992,7 @@ void constantBand() {
                   angle, jumps, vectors);
     }
     const auto report = [&](const char* norm, const Method& m, const std::vector<double>& d, double seconds) {
-      std::vector<double> e;
-      for (std::size_t v = 0; v < d.size(); ++v)
-        if (v != seed) e.push_back(d[v] / reference[v] - 1);
-      const Summary s = summarise(e);
+      const Summary s = scene.errorsOf(d);
       std::printf("constant-band\t%.0f\t%s\t%s\t%.4f\t%.4f\t%.4f\t%zu\t%.2f\n", angle, norm, m.name.c_str(), s.mean,
                   s.p99, s.max, s.below, seconds);
       std::fflush(stdout);

@@ -58,9 +58,16 @@ FodField crossings(std::size_t voxels) {
   return f;
 }
 
-void BM_FodUnitBallPerVoxel(benchmark::State& state) {
+// Each on the fixed 642 + 26 directions (`fixed`) and on the sampling
+// adapted to each voxel (`caps`, defaultFodSampling: 162 + 26 directions
+// and caps of the 642-direction icosphere around the maxima).
+FodSampling samplingOf(const GridGeometry& g, bool caps) {
+  return caps ? defaultFodSampling(g) : FodSampling{defaultFodSamplingDirections(g), {}};
+}
+
+void BM_FodUnitBallPerVoxel(benchmark::State& state, bool caps) {
   const FodField f = crossings(256);
-  const FodCostSampler sampler(f, defaultFodSamplingDirections(f.geometry));
+  const FodCostSampler sampler(f, samplingOf(f.geometry, caps));
   FodUnitBall ball;
   std::size_t v = 0;
   for (auto _ : state) {
@@ -71,11 +78,12 @@ void BM_FodUnitBallPerVoxel(benchmark::State& state) {
   state.counters["cpu_per_voxel"] = benchmark::Counter(static_cast<double>(state.iterations()),
                                                        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_FodUnitBallPerVoxel);
+BENCHMARK_CAPTURE(BM_FodUnitBallPerVoxel, fixed, false);
+BENCHMARK_CAPTURE(BM_FodUnitBallPerVoxel, caps, true);
 
-void BM_ConvexifiedNormAlong26NeighboursPerVoxel(benchmark::State& state) {
+void BM_ConvexifiedNormAlong26NeighboursPerVoxel(benchmark::State& state, bool caps) {
   const FodField f = crossings(64);
-  const FodCostSampler sampler(f, defaultFodSamplingDirections(f.geometry));
+  const FodCostSampler sampler(f, samplingOf(f.geometry, caps));
   const std::vector<Vec3d> queries = neighbourDirections26(f.geometry);
   for (auto _ : state) {
     const std::vector<float> table = convexifiedFodTable(sampler, queries);
@@ -84,37 +92,8 @@ void BM_ConvexifiedNormAlong26NeighboursPerVoxel(benchmark::State& state) {
   state.counters["cpu_per_voxel"] = benchmark::Counter(static_cast<double>(state.iterations()) * 64,
                                                        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_ConvexifiedNormAlong26NeighboursPerVoxel)->Unit(benchmark::kMillisecond);
-
-// The sampling adapted to each voxel (defaultFodSampling: 162 + 26
-// directions and caps of the 642-direction icosphere around the maxima).
-void BM_FodUnitBallCapsPerVoxel(benchmark::State& state) {
-  const FodField f = crossings(256);
-  const FodCostSampler sampler(f, defaultFodSampling(f.geometry));
-  FodUnitBall ball;
-  std::size_t v = 0;
-  for (auto _ : state) {
-    sampler.unitBall(v, ball);
-    benchmark::DoNotOptimize(ball.points.data());
-    v = (v + 1) % 256;
-  }
-  state.counters["cpu_per_voxel"] = benchmark::Counter(static_cast<double>(state.iterations()),
-                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
-}
-BENCHMARK(BM_FodUnitBallCapsPerVoxel);
-
-void BM_ConvexifiedNormAlong26NeighboursCapsPerVoxel(benchmark::State& state) {
-  const FodField f = crossings(64);
-  const FodCostSampler sampler(f, defaultFodSampling(f.geometry));
-  const std::vector<Vec3d> queries = neighbourDirections26(f.geometry);
-  for (auto _ : state) {
-    const std::vector<float> table = convexifiedFodTable(sampler, queries);
-    benchmark::DoNotOptimize(table.data());
-  }
-  state.counters["cpu_per_voxel"] = benchmark::Counter(static_cast<double>(state.iterations()) * 64,
-                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
-}
-BENCHMARK(BM_ConvexifiedNormAlong26NeighboursCapsPerVoxel)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ConvexifiedNormAlong26NeighboursPerVoxel, fixed, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ConvexifiedNormAlong26NeighboursPerVoxel, caps, true)->Unit(benchmark::kMillisecond);
 
 // The same voxels by the simple computation the tests hold the fast one to
 // (FodCostSampler::unitBallReference, convexHullGauge per direction): the

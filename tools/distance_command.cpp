@@ -23,6 +23,7 @@
 #include "run_statistics.hpp"
 #include "stvd/system/files/file_contents.hpp"
 #include "stvd/system/files/output_transaction.hpp"
+#include "stvd/system/files/termination_signals.hpp"
 #include "stvd/itk/scalar_image_io.hpp"
 #include "stvd/imaging/symmetric_eigen.hpp"
 #include "stvd/imaging/tensor_frames.hpp"
@@ -190,13 +191,16 @@ class ProgressBar {
     lastPercent_ = percent;
     const int width = 40;
     const int filled = static_cast<int>(std::clamp(fraction, 0.0, 1.0) * width);
-    std::cerr << "\r" << label_ << " [" << std::string(filled, '#') << std::string(width - filled, ' ') << "] "
-              << percent << "% " << fixed(secondsSince(start_), 1) << " s"
-              << std::flush;
+    // One write, which the interruption line never splits (writeProgressText).
+    std::ostringstream line;
+    line << "\r" << label_ << " [" << std::string(filled, '#') << std::string(width - filled, ' ') << "] " << percent
+         << "% " << fixed(secondsSince(start_), 1) << " s";
+    std::cerr << std::flush;
+    files::writeProgressText(line.str());
     shown_ = true;
   }
   void finish() {
-    if (shown_) std::cerr << "\r" << std::string(72, ' ') << "\r" << std::flush;
+    if (shown_) files::writeProgressText("\r" + std::string(72, ' ') + "\r");
     shown_ = false;
   }
 

@@ -744,6 +744,29 @@ def _input_name(tensors):
     return "an array"
 
 
+def _add_paths_and_regions(content, statistics, affine, shape, paths, fallbacks, target_labels, connectivity,
+                           labels):
+    """What a page draws of a run's paths, target region and connectivity
+    (tensor and FOD runs alike); `fallbacks`: one text per path, or None
+    (an FOD run's paths have none: "none")."""
+    if paths is not None:
+        content.paths = [np.asarray(points, np.float64) for points in paths]
+        content.path_rows = [{"path": str(n + 1), "target": paths.targets[n],
+                              "geodesic_mm": float(paths.geodesic_mm[n]), "euclidean_mm": float(paths.euclidean_mm[n]),
+                              "mean_fa": float(paths.mean_fa[n]), "fallbacks": fallbacks[n] if fallbacks else "none"}
+                             for n in range(len(paths))]
+    if target_labels is not None:
+        content.target_region = _array_on_grid(target_labels, "target_labels", affine, shape) != 0
+    if connectivity is not None:
+        content.connectivity = {"labels": [int(v) for v in connectivity.labels],
+                                "geodesic_mm": np.asarray(connectivity.geodesic_mm),
+                                "connectivity": np.asarray(connectivity.connectivity)}
+        statistics["regions"] = {"count": len(connectivity.labels),
+                                 "left_out": int(getattr(connectivity, "labels_left_out", 0))}
+        if labels is not None:
+            content.regions = _array_on_grid(labels, "labels", affine, shape).astype(np.int64)
+
+
 def write_report(output, result=None, *, paths=None, connectivity=None, labels=None, tensors=None, affine=None,
                  mask=None, tensor_order=None, tensor_frame=None, tensor_kind=None, diffusion_metric=None,
                  max_anisotropy=None, fa_threshold=None, accept_implausible_tensors=False,
@@ -838,22 +861,9 @@ def write_report(output, result=None, *, paths=None, connectivity=None, labels=N
             content.seed_region = np.zeros(shape, bool)
             content.seed_region[tuple(content.seeds.T)] = True
             content.seeds = np.zeros((0, 3), np.int64)
-    if paths is not None:
-        content.paths = [np.asarray(points, np.float64) for points in paths]
-        fallbacks = [",".join(f"{k}={v}" for k, v in f.items() if v) or "none" for f in paths.fallbacks]
-        content.path_rows = [{"path": str(n + 1), "target": paths.targets[n], "geodesic_mm": float(paths.geodesic_mm[n]),
-                              "euclidean_mm": float(paths.euclidean_mm[n]), "mean_fa": float(paths.mean_fa[n]),
-                              "fallbacks": fallbacks[n]} for n in range(len(paths))]
-    if target_labels is not None:
-        content.target_region = _array_on_grid(target_labels, "target_labels", affine, shape) != 0
-    if connectivity is not None:
-        content.connectivity = {"labels": [int(v) for v in connectivity.labels],
-                                "geodesic_mm": np.asarray(connectivity.geodesic_mm),
-                                "connectivity": np.asarray(connectivity.connectivity)}
-        statistics["regions"] = {"count": len(connectivity.labels),
-                                 "left_out": int(getattr(connectivity, "labels_left_out", 0))}
-        if labels is not None:
-            content.regions = _array_on_grid(labels, "labels", affine, shape).astype(np.int64)
+    fallbacks = [",".join(f"{k}={v}" for k, v in f.items() if v) or "none"
+                 for f in paths.fallbacks] if paths is not None else None
+    _add_paths_and_regions(content, statistics, affine, shape, paths, fallbacks, target_labels, connectivity, labels)
     # Named after the tensors' file; a run on an array is just "run".
     subject = subject or _subject_of(field.name if field.tensor_info["input_kind"] == "file" or
                                      field.name != "tensors" else None)
@@ -926,21 +936,7 @@ def _write_fod_report(output, result, paths, connectivity, labels, target_labels
         content.seed_region[tuple(seeds.T)] = True
         seeds = np.zeros((0, 3), np.int64)
     content.seeds = seeds
-    if paths is not None:
-        content.paths = [np.asarray(points, np.float64) for points in paths]
-        content.path_rows = [{"path": str(n + 1), "target": paths.targets[n],
-                              "geodesic_mm": float(paths.geodesic_mm[n]), "euclidean_mm": float(paths.euclidean_mm[n]),
-                              "mean_fa": float(paths.mean_fa[n]), "fallbacks": "none"} for n in range(len(paths))]
-    if target_labels is not None:
-        content.target_region = _array_on_grid(target_labels, "target_labels", affine, shape) != 0
-    if connectivity is not None:
-        content.connectivity = {"labels": [int(v) for v in connectivity.labels],
-                                "geodesic_mm": np.asarray(connectivity.geodesic_mm),
-                                "connectivity": np.asarray(connectivity.connectivity)}
-        statistics["regions"] = {"count": len(connectivity.labels),
-                                 "left_out": int(getattr(connectivity, "labels_left_out", 0))}
-        if labels is not None:
-            content.regions = _array_on_grid(labels, "labels", affine, shape).astype(np.int64)
+    _add_paths_and_regions(content, statistics, affine, shape, paths, None, target_labels, connectivity, labels)
     subject = subject or _subject_of(run.input_file)  # named after the FOD's file; a run on an array is "run"
     text, summary = _render(content, subject, convention)
     _write(outputs, output, text)

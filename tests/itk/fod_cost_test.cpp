@@ -362,6 +362,17 @@ FodField randomCrossings(std::size_t voxels, ShBasis basis, std::uint32_t seed) 
   return f;
 }
 
+// The table along the 26 neighbours (convexifiedFodTable) is the
+// reference computation's (convexifiedFodNormsReference) to 1e-6.
+void expectTableEqualsReference(const FodCostSampler& sampler, const GridGeometry& geometry) {
+  const std::vector<Vec3d> queries = neighbourDirections26(geometry);
+  const std::vector<float> table = convexifiedFodTable(sampler, queries);
+  const std::vector<float> expected = convexifiedFodNormsReference(sampler, queries);
+  ASSERT_EQ(table.size(), expected.size());
+  for (std::size_t i = 0; i < table.size(); ++i)
+    EXPECT_NEAR(table[i], expected[i], 1e-6 * expected[i]) << "voxel " << i / 26 << ", direction " << i % 26;
+}
+
 TEST(FodCostFastPath, TheUnitBallAndTheTableEqualTheReferenceOnRandomCrossings) {
   const ShBasis bases[] = {ShBasis::Tournier07, ShBasis::Tournier07Legacy, ShBasis::Descoteaux07,
                            ShBasis::Descoteaux07Legacy};
@@ -388,12 +399,7 @@ TEST(FodCostFastPath, TheUnitBallAndTheTableEqualTheReferenceOnRandomCrossings) 
         for (std::size_t k = 0; k < fast.peaks.size(); ++k)
           EXPECT_LT(norm(fast.peaks[k] - reference.peaks[k]), 1e-3) << "voxel " << v << ", peak " << k;
       }
-      const std::vector<Vec3d> queries = neighbourDirections26(f.geometry);
-      const std::vector<float> table = convexifiedFodTable(sampler, queries);
-      const std::vector<float> expected = convexifiedFodNormsReference(sampler, queries);
-      ASSERT_EQ(table.size(), expected.size());
-      for (std::size_t i = 0; i < table.size(); ++i)
-        EXPECT_NEAR(table[i], expected[i], 1e-6 * expected[i]) << "voxel " << i / 26 << ", direction " << i % 26;
+      expectTableEqualsReference(sampler, f.geometry);
     }
 }
 
@@ -420,36 +426,31 @@ TEST(FodPeakCaps, TheFastUnitBallAndTableEqualTheReferenceOnRandomCrossings) {
     for (const FodCostOptions& options : {FodCostOptions{}, sharper}) {
       const FodField f = randomCrossings(30, basis, seed++);
       for (const FodSampling& sampling : {defaultFodSampling(f.geometry), adaptiveFodSampling(f.geometry, 2, 4, 30)}) {
-      const FodCostSampler sampler(f, sampling, options);
-      ASSERT_EQ(sampler.directions().size(), 162u + 26u);
-      ASSERT_EQ(sampler.directionCount(), sampling.caps.directions.size() + 26u);
-      FodUnitBall fast, reference;
-      std::size_t capPoints = 0;
-      for (std::size_t v = 0; v < f.geometry.voxelCount(); ++v) {
-        sampler.unitBall(v, fast);
-        sampler.unitBallReference(v, reference);
-        EXPECT_NEAR(fast.amplitudeMax, reference.amplitudeMax, 1e-12 * std::abs(reference.amplitudeMax));
-        ASSERT_EQ(fast.peaks.size(), reference.peaks.size()) << "voxel " << v;
-        ASSERT_EQ(fast.points.size(), reference.points.size()) << "voxel " << v;
-        const std::size_t fixed = sampler.directions().size() + fast.peaks.size();
-        for (std::size_t i = 0; i < fixed; ++i)  // the maxima to the refinement's 1e-3 rad
-          EXPECT_LT(norm(fast.points[i] - reference.points[i]), i < sampler.directions().size() ? 1e-9 : 1e-3)
-              << "voxel " << v << ", point " << i;
-        for (std::size_t i = fixed; i < fast.points.size(); ++i) {
-          double nearest = 1;
-          for (std::size_t j = fixed; j < reference.points.size(); ++j)
-            nearest = std::min(nearest, norm(fast.points[i] - reference.points[j]));
-          EXPECT_LT(nearest, 1e-9) << "voxel " << v << ", cap point " << i;
+        const FodCostSampler sampler(f, sampling, options);
+        ASSERT_EQ(sampler.directions().size(), 162u + 26u);
+        ASSERT_EQ(sampler.directionCount(), sampling.caps.directions.size() + 26u);
+        FodUnitBall fast, reference;
+        std::size_t capPoints = 0;
+        for (std::size_t v = 0; v < f.geometry.voxelCount(); ++v) {
+          sampler.unitBall(v, fast);
+          sampler.unitBallReference(v, reference);
+          EXPECT_NEAR(fast.amplitudeMax, reference.amplitudeMax, 1e-12 * std::abs(reference.amplitudeMax));
+          ASSERT_EQ(fast.peaks.size(), reference.peaks.size()) << "voxel " << v;
+          ASSERT_EQ(fast.points.size(), reference.points.size()) << "voxel " << v;
+          const std::size_t fixed = sampler.directions().size() + fast.peaks.size();
+          for (std::size_t i = 0; i < fixed; ++i)  // the maxima to the refinement's 1e-3 rad
+            EXPECT_LT(norm(fast.points[i] - reference.points[i]), i < sampler.directions().size() ? 1e-9 : 1e-3)
+                << "voxel " << v << ", point " << i;
+          for (std::size_t i = fixed; i < fast.points.size(); ++i) {
+            double nearest = 1;
+            for (std::size_t j = fixed; j < reference.points.size(); ++j)
+              nearest = std::min(nearest, norm(fast.points[i] - reference.points[j]));
+            EXPECT_LT(nearest, 1e-9) << "voxel " << v << ", cap point " << i;
+          }
+          capPoints += fast.points.size() - fixed;
         }
-        capPoints += fast.points.size() - fixed;
-      }
-      EXPECT_GT(capPoints, 30u * 50u);  // the caps are there: tens of points per lobe
-      const std::vector<Vec3d> queries = neighbourDirections26(f.geometry);
-      const std::vector<float> table = convexifiedFodTable(sampler, queries);
-      const std::vector<float> expected = convexifiedFodNormsReference(sampler, queries);
-      ASSERT_EQ(table.size(), expected.size());
-      for (std::size_t i = 0; i < table.size(); ++i)
-        EXPECT_NEAR(table[i], expected[i], 1e-6 * expected[i]) << "voxel " << i / 26 << ", direction " << i % 26;
+        EXPECT_GT(capPoints, 30u * 50u);  // the caps are there: tens of points per lobe
+        expectTableEqualsReference(sampler, f.geometry);
       }
     }
 }

@@ -35,6 +35,13 @@ int& messageDescriptor() {
   return fd;
 }
 
+/// Held by a thread writing progress text on stderr, and from the
+/// interruption line to the end by the thread that ends the process.
+std::mutex& progressTextMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
 /// The signals the waiting thread handles (blocked in every thread).
 sigset_t& handledSignals() {
   static sigset_t handled = [] {
@@ -120,6 +127,10 @@ void cleanUp(detail::ProcessRegistry& registry, int signal) {
 }
 
 [[noreturn]] void endWithLockHeld(int signal, bool report) {
+  // Held to the end: a progress bar drawn by another thread is either
+  // written whole before the line or not at all (a bar written in pieces
+  // around the line left "] 11% 1.0 s" after it).
+  progressTextMutex().lock();
   const std::string& program = programNameForMessages();
   if (report && !program.empty()) {
     const char* name = signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : signal == SIGHUP ? "SIGHUP" : "signal";
@@ -183,6 +194,19 @@ int detail::terminationSignalArrived() {
 void detail::endBySignalWithRegistryLocked(int signal) {
   cleanUp(processRegistry(), signal);
   endWithLockHeld(signal, /*report=*/true);
+}
+
+void writeProgressText(const std::string& text) {
+  const std::lock_guard<std::mutex> lock(progressTextMutex());
+  const char* data = text.data();
+  std::size_t left = text.size();
+  while (left > 0) {
+    const ssize_t written = ::write(STDERR_FILENO, data, left);
+    if (written < 0 && errno == EINTR) continue;
+    if (written <= 0) return;  // a bar is not worth an error
+    data += written;
+    left -= static_cast<std::size_t>(written);
+  }
 }
 
 void reportInterruptionsAs(const std::string& programName) {

@@ -60,6 +60,12 @@ class ChildProcessGuard {
   pid_t child_;
 };
 
+/// Writes `text` (a progress bar's line) on stderr in one write, unless the
+/// program is ending by a termination signal: the interruption line is then
+/// the last thing it writes there, never followed by a bar that another
+/// thread was drawing when the signal came.
+void writeProgressText(const std::string& text);
+
 /// Removes every staged output, stops the guarded children, prints the
 /// interruption line and ends the process by `signal`, as
 /// removeStagedOutputsOnTerminationSignals() does. For a program whose
