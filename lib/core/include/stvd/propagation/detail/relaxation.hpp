@@ -457,19 +457,18 @@ class Propagation {
   // metric is exact within the source reach with any of them.
   static constexpr float kSourceMetricTolerance = 0.05f;
   // The same for an any-angle ancestor a of v: the walk stops at the first
-  // ancestor whose metric differs from v's by more. A source within the
-  // segment reach stays a candidate whatever its metric (the rule applied
-  // to it too: curved 32^3 largest 62.4 -> 73.4 %, brain p5..p95
-  // -1.43..+2.43 %).
-  // Where the metric changes from voxel to voxel (real DTI) a long segment
-  // measured from a distant ancestor ran through other tensors than the
-  // chain of edges follows, and widened the brain's band against Lanthier
-  // M = 8 beyond the chain alone's (p5..p95 -1.52..+2.56 % against
-  // -1.43..+2.42 %); with 0.1 it is -1.40..+2.41 %. On constant metrics
-  // nothing changes; on the curved scene (gamma 20) mean / p99 / largest
-  // 64^3 1.31 / 20.2 / 35.8 -> 1.25 / 18.6 / 35.4 %, 128^3 0.932 / 11.7 /
-  // 27.7 -> 0.941 / 11.6 / 27.7 % (docs/accuracy.md, "Ancestors only where
-  // the metric is near v's").
+  // ancestor whose metric differs from v's by more. Where the metric
+  // changes from voxel to voxel (real DTI) a long segment measured from a
+  // distant ancestor ran through other tensors than the chain of edges
+  // follows, and widened the brain's band against Lanthier M = 8 beyond the
+  // chain alone's (p5..p95 -1.52..+2.56 % against -1.43..+2.42 %); with 0.1
+  // it is -1.40..+2.41 %. On constant metrics nothing changes; on the
+  // curved scene (gamma 20) mean / p99 / largest 64^3 1.31 / 20.2 / 35.8 ->
+  // 1.25 / 18.6 / 35.4 %, 128^3 0.932 / 11.7 / 27.7 -> 0.941 / 11.6 / 27.7 %.
+  // A source within the segment reach stays a candidate whatever its metric
+  // (the rule applied to it too: curved 32^3 largest 62.4 -> 73.4 %, brain
+  // -1.43..+2.43 %). docs/accuracy.md, "Ancestors only where the metric is
+  // near the relaxed vertex's".
   static constexpr float kAncestorMetricTolerance = 0.1f;
   std::vector<VertexId> fewSources_;
 
