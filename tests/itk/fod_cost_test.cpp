@@ -25,9 +25,6 @@ namespace {
 
 using namespace imaging;
 
-Vec3d cross(const Vec3d& a, const Vec3d& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
 Vec3d unit(const Vec3d& v) { return (1.0 / norm(v)) * v; }
 
 Vec3d randomDirection(std::mt19937& rng) {

@@ -127,8 +127,6 @@ Mesh withCopy(const Mesh& a, const std::function<Vec3d(Vec3d)>& move, const std:
   return m;
 }
 
-Vec3d cross(Vec3d a, Vec3d b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-
 Vec3d pointReflection(Vec3d p, Vec3d centre) { return 2.0 * centre - p; }
 
 Vec3d rotated(Vec3d p, Vec3d origin, Vec3d axis, double angle) {

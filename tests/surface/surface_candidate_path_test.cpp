@@ -7,6 +7,7 @@
 // anisotropic metric.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -195,6 +196,103 @@ TEST(SurfaceCandidatePath, OnAFlatGridTheLineAlongAStraightChainHasTheChainsLeng
     ASSERT_TRUE(path.accepts(i, at(5))) << "candidate " << i;
     EXPECT_NEAR(path.length(i, at(5), Vec3f{}), double(i), 1e-5) << "candidate " << i;
   }
+}
+
+/// Where the funnel ends (a line that leaves the strip of faces around the
+/// chain) a line across a flat part of the surface is walked instead: on a
+/// plane every candidate line exists, and each is measured in its faces,
+/// so none is refused and no distance is below ||x - s||_G. A grid without
+/// jitter sends many lines through vertices, which the walk passes; a
+/// jittered one few. (Without the walk: 2,562 and 3,819 candidates
+/// refused, mean error 0.46 and 0.51 % against 0.39 and 0.24 % with it.)
+TEST(SurfaceCandidatePath, OnAFlatPlaneNoLineIsRefusedAndNoneIsShorterThanTheTensorNorm) {
+  const auto axes = tiltedPlaneAxes();
+  const auto g = tensor2(4.0, 30.0 * kPi / 180.0);
+  for (const double jitter : {0.0, 0.3}) {
+    const GeneratedSurface s = planeMesh(30, 30, 10.0, 10.0, 1.0, jitter, false, 5, {3, -2, 1}, axes[0], axes[1]);
+    const SurfaceDomain surface(s.points, s.faces);
+    const RiemannianMetric metric = surfaceMetricFromWorldTensors(
+        surface, std::vector<SymTensor3>(surface.vertexCount(), tiltedPlaneWorldTensor(g)));
+    const VertexId source = nearestFlatVertex(s, 5.0, 5.0);
+    const PropagationResult r = propagate(surface, metric, {source}, PropagationOptions{});
+    RelativeErrors e;
+    for (VertexId v = 0; v < surface.vertexCount(); ++v)
+      if (v != source) e.add(r.distance[v], norm2(g, s.flat[v][0] - s.flat[source][0], s.flat[v][1] - s.flat[source][1]));
+    reportMeasurement("tilted plane, jitter " + std::to_string(jitter) + ", segment, k = 8", e);
+    EXPECT_EQ(r.refusedCandidates, 0u) << "jitter " << jitter;
+    EXPECT_GT(e.minSigned(), -1e-6) << "jitter " << jitter;
+  }
+}
+
+/// The walk ends at the surface's boundary: on a plane with a rectangular
+/// hole no line crosses the hole, and no distance is below the exact one,
+/// the shortest path around the hole (through its corners where the
+/// straight segment would cross it).
+TEST(SurfaceCandidatePath, NoWalkedLineCrossesAHoleInAFlatPlane) {
+  const int n = 24;
+  const double h = 0.5, x0 = 5.0, x1 = 7.0, y0 = 3.0, y1 = 9.0;  // the hole
+  std::vector<Vec3d> points;
+  PolygonList faces;
+  auto id = [n](int i, int j) { return static_cast<VertexId>(j * (n + 1) + i); };
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) points.push_back({i * h, j * h, 0.0});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double cx = (i + 0.5) * h, cy = (j + 0.5) * h;
+      if (cx > x0 && cx < x1 && cy > y0 && cy < y1) continue;
+      faces.add({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      faces.add({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  const SurfaceDomain surface(points, faces);
+  const VertexId source = id(4, 12);  // (2, 6), in front of the hole
+  const PropagationResult r = propagate(surface, isotropicSurfaceMetric(surface), {source}, PropagationOptions{});
+
+  // Whether the segment a b passes through the hole's open interior.
+  auto crossesHole = [&](Vec3d a, Vec3d b) {
+    double t0 = 0.0, t1 = 1.0;
+    const double e = 1e-9;
+    const double lo[2] = {x0 + e, y0 + e}, hi[2] = {x1 - e, y1 - e};
+    const double p[2] = {a.x, a.y}, d[2] = {b.x - a.x, b.y - a.y};
+    for (int axis = 0; axis < 2; ++axis) {
+      if (d[axis] == 0.0) {
+        if (p[axis] <= lo[axis] || p[axis] >= hi[axis]) return false;
+        continue;
+      }
+      double ta = (lo[axis] - p[axis]) / d[axis], tb = (hi[axis] - p[axis]) / d[axis];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    return t1 - t0 > 1e-12;
+  };
+  // The exact distance: shortest path over the visibility graph of the
+  // source, the vertex and the hole's four corners.
+  const Vec3d corners[4] = {{x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}};
+  auto exact = [&](Vec3d target) {
+    Vec3d node[6] = {points[source], target, corners[0], corners[1], corners[2], corners[3]};
+    double best[6] = {0.0, kUnreachable, kUnreachable, kUnreachable, kUnreachable, kUnreachable};
+    bool done[6] = {};
+    for (int round = 0; round < 6; ++round) {
+      int u = -1;
+      for (int k = 0; k < 6; ++k)
+        if (!done[k] && (u < 0 || best[k] < best[u])) u = k;
+      done[u] = true;
+      for (int k = 0; k < 6; ++k)
+        if (!done[k] && !crossesHole(node[u], node[k])) best[k] = std::min(best[k], best[u] + norm(node[k] - node[u]));
+    }
+    return best[1];
+  };
+  RelativeErrors e;
+  std::size_t behind = 0;
+  for (VertexId v = 0; v < surface.vertexCount(); ++v) {
+    if (v == source || !std::isfinite(r.distance[v])) continue;  // the hole's inner vertices are in no face
+    const double d = exact(points[v]);
+    behind += crossesHole(points[source], points[v]) ? 1 : 0;
+    ASSERT_GE(r.distance[v], d * (1.0 - 1e-6)) << "vertex " << v << " is closer than every path around the hole";
+    e.add(r.distance[v], d);
+  }
+  reportMeasurement("plane with a hole, isotropic, segment, k = 8", e);
+  EXPECT_GT(behind, 50u);
 }
 
 }  // namespace

@@ -21,8 +21,6 @@ namespace {
 
 using tetmesh::TetMeshError;
 
-Vec3d cross(Vec3d a, Vec3d b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-
 std::string lowerExtension(const std::string& path) {
   const std::size_t dot = path.find_last_of('.');
   if (dot == std::string::npos) return "";

@@ -10,8 +10,6 @@
 namespace stvd::tetmesh {
 namespace {
 
-Vec3d cross(Vec3d a, Vec3d b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-
 double longestEdgeSquared(const std::array<Vec3d, 4>& p) {
   double longest = 0.0;
   for (int i = 0; i < 4; ++i)

@@ -11,8 +11,6 @@
 namespace stvd {
 namespace {
 
-Vec3d cross(Vec3d a, Vec3d b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-
 bool hasCorner(const TetrahedralRegion::Tetrahedron& t, VertexId v) {
   return t[0] == v || t[1] == v || t[2] == v || t[3] == v;
 }

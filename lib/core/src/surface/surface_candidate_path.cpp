@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 namespace stvd {
 namespace {
@@ -161,6 +163,20 @@ SurfaceCandidatePath::SurfaceCandidatePath(const SurfaceDomain& surface, const R
     : surface_(surface), checksLines_(options.chainMeasure == ChainMeasure::Segment) {
   if (!checksLines_ || options.method == Method::Dijkstra) return;
   faceTensor_ = surface.faceTensors(metric);
+  // Each face's unit normal from its orientation (the sum of its fan's
+  // triangle normals: for a planar polygon, its plane's normal), which is
+  // the side the rings run counter-clockwise around.
+  const PolygonList& faces = surface.faces();
+  const std::vector<Vec3d>& x = surface.points();
+  faceNormal_.assign(faces.faceCount(), Vec3d{});
+  for (std::size_t f = 0; f < faces.faceCount(); ++f) {
+    const VertexId* corner = &faces.faceVertex[faces.faceStart[f]];
+    const std::uint32_t m = faces.faceStart[f + 1] - faces.faceStart[f];
+    Vec3d n{};
+    for (std::uint32_t j = 1; j + 1 < m; ++j) n = n + cross(x[corner[j]] - x[corner[0]], x[corner[j + 1]] - x[corner[0]]);
+    const double length = norm(n);
+    if (length > 0.0) faceNormal_[f] = (1.0 / length) * n;
+  }
   // A constant isotropic metric measures every line by its unfolded length.
   bool isotropic = metric.size() > 0;
   const SymTensor3 g0 = metric.size() > 0 ? metric[0] : SymTensor3{};
@@ -180,8 +196,149 @@ const SurfaceCandidatePath::Lines& SurfaceCandidatePath::lines(VertexId w) {
   l.w = w;
   l.count = count_;
   l.valid = 0;
+  l.walked = 0;
   trace(w, l);
+  // Where the funnel refused a line, the surface may still be flat along it.
+  for (int i = 2; i <= count_; ++i) {
+    if ((l.valid >> i) & 1u) continue;
+    const float walked = flatWalk(w, chain_[i - 1]);
+    if (walked == kRefusedCandidate) continue;
+    l.valid |= 1u << i;
+    l.walked |= 1u << i;
+    l.length[i] = walked;
+  }
   return l;
+}
+
+float SurfaceCandidatePath::flatWalk(VertexId w, VertexId t) const {
+  const std::vector<Vec3d>& x = surface_.points();
+  const PolygonList& faces = surface_.faces();
+  const Vec3d origin = x[w];
+  const Vec3d toTarget = x[t] - origin;
+  const double length = norm(toTarget);
+  if (!(length > 0.0)) return kRefusedCandidate;
+  // The line is the X axis of a frame in the plane: e1 towards t,
+  // e2 = n x e1 with n the plane's normal, taken from the first face the
+  // line enters. Y within `onLine` of 0 counts as on the line.
+  const Vec3d e1 = (1.0 / length) * toTarget;
+  const double onLine = 1e-9 * length;
+  Vec3d normal{}, e2{};
+  bool planeSet = false;
+  auto inPlane = [&](std::uint32_t face) {
+    if (face == SurfaceDomain::kNoFace) return false;
+    const Vec3d& n = faceNormal_[face];
+    if (!planeSet) {
+      if (!(std::abs(dot(n, e1)) <= kFlatTolerance)) return false;  // the line leaves this face's plane
+      normal = n;
+      e2 = cross(n, e1);
+      planeSet = true;
+      return true;
+    }
+    return norm(n - normal) <= kFlatTolerance;
+  };
+  auto factor = [&](std::uint32_t face) {
+    const SymTensor3& g = faceTensor_[face];
+    return std::sqrt(std::max(0.0, double(g.xx) * e1.x * e1.x + double(g.yy) * e1.y * e1.y +
+                                       double(g.zz) * e1.z * e1.z + 2.0 * double(g.xy) * e1.x * e1.y +
+                                       2.0 * double(g.xz) * e1.x * e1.z + 2.0 * double(g.yz) * e1.y * e1.z));
+  };
+  auto X = [&](VertexId v) { return dot(x[v] - origin, e1); };
+  auto Y = [&](VertexId v) { return dot(x[v] - origin, e2); };
+
+  // The walk alternates between vertices on the line (w, vertices it passes
+  // through, t) and the faces it crosses between them.
+  VertexId vertex = w;
+  std::uint32_t f = SurfaceDomain::kNoFace;
+  double at = 0.0, total = 0.0;  // where the line is, and its length up to there
+  for (int steps = 0; steps < kMaxWalkedFaces; ++steps) {
+    if (vertex != kNoVertex) {
+      if (vertex == t) return static_cast<float>(total);
+      // Leave the vertex into the corner that holds the direction strictly,
+      // or along an edge that lies on the line.
+      const std::uint32_t begin = surface_.ringBegin(vertex), end = surface_.ringEnd(vertex);
+      VertexId along = kNoVertex;
+      double alongFactor = 0.0;
+      f = SurfaceDomain::kNoFace;
+      for (std::uint32_t r = begin; r < end && f == SurfaceDomain::kNoFace && along == kNoVertex; ++r) {
+        const std::uint32_t face = surface_.ringFace(r);
+        if (!inPlane(face)) continue;
+        const VertexId a = surface_.ringNeighbor(r), b = surface_.ringNeighbor(r + 1 == end ? begin : r + 1);
+        const double ya = Y(a), yb = Y(b);
+        if (std::abs(ya) <= onLine && X(a) > at + onLine) {
+          along = a;  // in the closure of this face (and of the one before): measured with the dearer
+          alongFactor = factor(face);
+          const std::uint32_t before = r > begin ? surface_.ringFace(r - 1)
+                                       : surface_.isBoundary(vertex) ? SurfaceDomain::kNoFace
+                                                                     : surface_.ringFace(end - 1);
+          if (before != SurfaceDomain::kNoFace) alongFactor = std::max(alongFactor, factor(before));
+        } else if (std::abs(yb) <= onLine && X(b) > at + onLine) {
+          along = b;
+          alongFactor = factor(face);
+          const std::uint32_t next = r + 1 == end ? (surface_.isBoundary(vertex) ? SurfaceDomain::kNoFace
+                                                                                 : surface_.ringFace(begin))
+                                                  : surface_.ringFace(r + 1);
+          if (next != SurfaceDomain::kNoFace) alongFactor = std::max(alongFactor, factor(next));
+        } else if (ya < -onLine && yb > onLine) {
+          f = face;
+        }
+      }
+      if (along != kNoVertex) {
+        const double xa = X(along);
+        total += (xa - at) * alongFactor;
+        at = xa;
+        vertex = along;
+        continue;
+      }
+      if (f == SurfaceDomain::kNoFace) return kRefusedCandidate;
+      vertex = kNoVertex;
+    }
+    // In face f since `at`: it reaches a vertex on the line, or leaves
+    // through the edge it crosses farthest.
+    if (!inPlane(f)) return kRefusedCandidate;
+    const VertexId* corner = &faces.faceVertex[faces.faceStart[f]];
+    const std::uint32_t m = faces.faceStart[f + 1] - faces.faceStart[f];
+    double reach = kUnreachable;
+    for (std::uint32_t j = 0; j < m; ++j) {
+      const double xj = X(corner[j]);
+      if (std::abs(Y(corner[j])) <= onLine && xj > at + onLine && xj < reach) {
+        reach = xj;
+        vertex = corner[j];
+      }
+    }
+    if (vertex != kNoVertex) {
+      total += (reach - at) * factor(f);
+      at = reach;
+      continue;
+    }
+    double exit = at;
+    VertexId p = kNoVertex, q = kNoVertex;
+    for (std::uint32_t j = 0; j < m; ++j) {
+      const VertexId a = corner[j], b = corner[j + 1 == m ? 0 : j + 1];
+      const double ya = Y(a), yb = Y(b);
+      if (!((ya < -onLine && yb > onLine) || (ya > onLine && yb < -onLine))) continue;
+      const double xa = X(a), xb = X(b);
+      const double crossing = xa + (xb - xa) * ya / (ya - yb);
+      if (crossing > exit) {
+        exit = crossing;
+        p = a;
+        q = b;
+      }
+    }
+    if (p == kNoVertex || !(exit > at + onLine) || !(exit < length)) return kRefusedCandidate;
+    total += (exit - at) * factor(f);
+    at = exit;
+    // The face on the other side of the edge p q, none at the boundary.
+    const std::uint32_t e = surface_.ringIndex(p, q);
+    const std::uint32_t after = surface_.ringFace(e);
+    std::uint32_t before = SurfaceDomain::kNoFace;
+    if (e > surface_.ringBegin(p))
+      before = surface_.ringFace(e - 1);
+    else if (!surface_.isBoundary(p))
+      before = surface_.ringFace(surface_.ringEnd(p) - 1);
+    f = after == f ? before : after;
+    if (f == SurfaceDomain::kNoFace) return kRefusedCandidate;
+  }
+  return kRefusedCandidate;
 }
 
 bool SurfaceCandidatePath::accepts(int i, VertexId w) {
@@ -258,6 +415,7 @@ void SurfaceCandidatePath::trace(VertexId w, Lines& lines) const {
 float SurfaceCandidatePath::length(int i, VertexId w, Vec3f) {
   const Lines& l = lines(w);
   if (!((l.valid >> i) & 1u)) return kRefusedCandidate;
+  if ((l.walked >> i) & 1u) return static_cast<float>(l.length[i]);  // measured as it was walked
   if (isotropicScale_ > 0.f) return static_cast<float>(isotropicScale_ * l.length[i]);
   const Walk walk{surface_};
   const VertexId* c = chain_;

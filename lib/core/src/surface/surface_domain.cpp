@@ -17,10 +17,6 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr std::size_t kParallelCorners = std::size_t{1} << 16;
 constexpr std::size_t kBlock = 4096;
 
-Vec3d cross(Vec3d a, Vec3d b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-
 Vec3d unitOr(Vec3d v, Vec3d fallback) {
   const double n = norm(v);
   return n > 0.0 && std::isfinite(n) ? (1.0 / n) * v : fallback;

@@ -7,10 +7,6 @@
 namespace stvd {
 namespace {
 
-Vec3d cross(Vec3d a, Vec3d b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-
 /// s1 a a^T + s2 b b^T + s3 n n^T for orthonormal a, b, n.
 SymTensor3 fromFrame(Vec3d a, double s1, Vec3d b, double s2, Vec3d n, double s3) {
   auto entry = [&](double ai, double aj, double bi, double bj, double ni, double nj) {

@@ -45,6 +45,16 @@ namespace stvd {
 /// A polygon enters a fan as the triangle of its corner at the fan's
 /// centre (a convex polygon holds it), so lines are refused that a
 /// polygon would hold further from the chain.
+///
+/// A line the funnel refuses may still exist where the surface is flat:
+/// it leaves the strip of faces around the chain but stays in the plane.
+/// Such a line is walked instead, from w straight towards c_{i-1} across
+/// whatever faces it meets (flatWalk): it exists when every face it crosses
+/// lies in the plane of the first (their unit normals within
+/// kFlatTolerance) and it arrives at c_{i-1}, and it is then measured face
+/// by face as the funnel's lines are. It is refused when it meets a face
+/// out of that plane, the surface's boundary or a vertex on its way: on a
+/// curved surface nothing changes.
 class SurfaceCandidatePath {
  public:
   /// Lines are checked and measured for ChainMeasure::Segment only: the
@@ -77,6 +87,12 @@ class SurfaceCandidatePath {
   /// Most sides followed at once; a walk that would need more keeps the
   /// first ones (refusing a line is always safe, it only costs accuracy).
   static constexpr int kMaxSides = 16;
+  /// Largest difference of two faces' unit normals for a walked line to
+  /// treat them as one plane (flatWalk): far below any curvature a mesh
+  /// means, far above the rounding of a plane's vertices in space.
+  static constexpr double kFlatTolerance = 1e-9;
+  /// Most faces a walked line may cross.
+  static constexpr int kMaxWalkedFaces = 256;
 
  private:
   struct Walk;
@@ -90,16 +106,22 @@ class SurfaceCandidatePath {
     VertexId v = kNoVertex, w = kNoVertex;
     int count = 0;
     std::uint32_t valid = 0;
+    std::uint32_t walked = 0;  // bit i: candidate i's line found by flatWalk, length[i] measured
     double length[kMaxMemoryDepth + 1];
     std::uint32_t sides[kMaxMemoryDepth + 1];
     double targetX[kMaxMemoryDepth + 1], targetY[kMaxMemoryDepth + 1];
   };
   const Lines& lines(VertexId w);
   void trace(VertexId w, Lines& lines) const;
+  /// The straight line from w to t across a flat part of the surface,
+  /// measured face by face; kRefusedCandidate where there is none (see
+  /// the class comment).
+  float flatWalk(VertexId w, VertexId t) const;
   Lines lines_;
   const SurfaceDomain& surface_;
   bool checksLines_;
   std::vector<SymTensor3> faceTensor_;
+  std::vector<Vec3d> faceNormal_;  // unit, from each face's orientation (Newell's rule)
   float isotropicScale_ = 0.f;  // sqrt(s) when every tensor is s I, else 0
   const VertexId* chain_ = nullptr;
   int count_ = 0;
