@@ -52,9 +52,11 @@ namespace stvd {
 /// whatever faces it meets (flatWalk): it exists when every face it crosses
 /// lies in the plane of the first (their unit normals within
 /// kFlatTolerance) and it arrives at c_{i-1}, and it is then measured face
-/// by face as the funnel's lines are. It is refused when it meets a face
-/// out of that plane, the surface's boundary or a vertex on its way: on a
-/// curved surface nothing changes.
+/// by face as the funnel's lines are (through a vertex on its way into the
+/// corner beyond it; along an edge with the dearer of the edge's faces). It
+/// is refused when it meets a face out of that plane or the surface's
+/// boundary (a hole is never crossed): on a curved surface nothing
+/// changes.
 class SurfaceCandidatePath {
  public:
   /// Lines are checked and measured for ChainMeasure::Segment only: the
