@@ -25,6 +25,13 @@ double magnitude(Point a) { return std::sqrt(a.x * a.x + a.y * a.y); }
 /// a turned counter-clockwise by the angle whose cosine and sine are c, s.
 Point turn(Point a, double c, double s) { return {a.x * c - a.y * s, a.x * s + a.y * c}; }
 
+/// sqrt(v^T g v) in double: the length of v in a face with tensor g.
+double faceLength(const SymTensor3& g, const Vec3d& v) {
+  return std::sqrt(std::max(0.0, double(g.xx) * v.x * v.x + double(g.yy) * v.y * v.y + double(g.zz) * v.z * v.z +
+                                     2.0 * double(g.xy) * v.x * v.y + 2.0 * double(g.xz) * v.x * v.z +
+                                     2.0 * double(g.yz) * v.y * v.z));
+}
+
 /// Relative slack of the orientation tests, so that a line through a vertex
 /// (a straight chain on a flat mesh) is not refused by rounding. A line
 /// accepted within it passes at most 1e-9 of its length on the wrong side
@@ -236,11 +243,13 @@ float SurfaceCandidatePath::flatWalk(VertexId w, VertexId t) const {
     }
     return norm(n - normal) <= kFlatTolerance;
   };
-  auto factor = [&](std::uint32_t face) {
-    const SymTensor3& g = faceTensor_[face];
-    return std::sqrt(std::max(0.0, double(g.xx) * e1.x * e1.x + double(g.yy) * e1.y * e1.y +
-                                       double(g.zz) * e1.z * e1.z + 2.0 * double(g.xy) * e1.x * e1.y +
-                                       2.0 * double(g.xz) * e1.x * e1.z + 2.0 * double(g.yz) * e1.y * e1.z));
+  auto factor = [&](std::uint32_t face) { return faceLength(faceTensor_[face], e1); };
+  // An edge on the line lies in the closure of both its faces: measured
+  // with the dearer (the edge to ring entry `entry` of `centre`).
+  auto edgeFactor = [&](VertexId centre, std::uint32_t entry) {
+    const std::uint32_t after = surface_.ringFace(entry), before = surface_.ringFaceBefore(centre, entry);
+    return std::max(after == SurfaceDomain::kNoFace ? 0.0 : factor(after),
+                    before == SurfaceDomain::kNoFace ? 0.0 : factor(before));
   };
   auto X = [&](VertexId v) { return dot(x[v] - origin, e1); };
   auto Y = [&](VertexId v) { return dot(x[v] - origin, e2); };
@@ -262,22 +271,15 @@ float SurfaceCandidatePath::flatWalk(VertexId w, VertexId t) const {
       for (std::uint32_t r = begin; r < end && f == SurfaceDomain::kNoFace && along == kNoVertex; ++r) {
         const std::uint32_t face = surface_.ringFace(r);
         if (!inPlane(face)) continue;
-        const VertexId a = surface_.ringNeighbor(r), b = surface_.ringNeighbor(r + 1 == end ? begin : r + 1);
+        const std::uint32_t next = r + 1 == end ? begin : r + 1;
+        const VertexId a = surface_.ringNeighbor(r), b = surface_.ringNeighbor(next);
         const double ya = Y(a), yb = Y(b);
         if (std::abs(ya) <= onLine && X(a) > at + onLine) {
-          along = a;  // in the closure of this face (and of the one before): measured with the dearer
-          alongFactor = factor(face);
-          const std::uint32_t before = r > begin ? surface_.ringFace(r - 1)
-                                       : surface_.isBoundary(vertex) ? SurfaceDomain::kNoFace
-                                                                     : surface_.ringFace(end - 1);
-          if (before != SurfaceDomain::kNoFace) alongFactor = std::max(alongFactor, factor(before));
+          along = a;
+          alongFactor = edgeFactor(vertex, r);
         } else if (std::abs(yb) <= onLine && X(b) > at + onLine) {
           along = b;
-          alongFactor = factor(face);
-          const std::uint32_t next = r + 1 == end ? (surface_.isBoundary(vertex) ? SurfaceDomain::kNoFace
-                                                                                 : surface_.ringFace(begin))
-                                                  : surface_.ringFace(r + 1);
-          if (next != SurfaceDomain::kNoFace) alongFactor = std::max(alongFactor, factor(next));
+          alongFactor = edgeFactor(vertex, next);
         } else if (ya < -onLine && yb > onLine) {
           f = face;
         }
@@ -330,12 +332,7 @@ float SurfaceCandidatePath::flatWalk(VertexId w, VertexId t) const {
     // The face on the other side of the edge p q, none at the boundary.
     const std::uint32_t e = surface_.ringIndex(p, q);
     const std::uint32_t after = surface_.ringFace(e);
-    std::uint32_t before = SurfaceDomain::kNoFace;
-    if (e > surface_.ringBegin(p))
-      before = surface_.ringFace(e - 1);
-    else if (!surface_.isBoundary(p))
-      before = surface_.ringFace(surface_.ringEnd(p) - 1);
-    f = after == f ? before : after;
+    f = after == f ? surface_.ringFaceBefore(p, e) : after;
     if (f == SurfaceDomain::kNoFace) return kRefusedCandidate;
   }
   return kRefusedCandidate;
@@ -440,10 +437,7 @@ float SurfaceCandidatePath::length(int i, VertexId w, Vec3f) {
     }
     const double a = cross(d, e2) / det, b = cross(e1, d) / det;
     const Vec3d v = a * (x[n1] - x[centre]) + b * (x[n2] - x[centre]);
-    const SymTensor3& g = faceTensor_[f];
-    faceFactor = std::sqrt(std::max(0.0, double(g.xx) * v.x * v.x + double(g.yy) * v.y * v.y +
-                                             double(g.zz) * v.z * v.z + 2.0 * double(g.xy) * v.x * v.y +
-                                             2.0 * double(g.xz) * v.x * v.z + 2.0 * double(g.yz) * v.y * v.z));
+    faceFactor = faceLength(faceTensor_[f], v);
     inFace = true;
   };
   const double dd = d.x * d.x + d.y * d.y;

@@ -463,8 +463,7 @@ std::vector<float> SurfaceDomain::edgeTensors(const RiemannianMetric& metric, Ed
         // The faces on either side: the one after entry i and the one
         // before it (around a full ring, the last entry's; at the start of
         // a boundary fan that entry has none).
-        const std::uint32_t before = i > begin ? i - 1 : end - 1;
-        const std::uint32_t after = ringCorner_[i].face, other = ringCorner_[before].face;
+        const std::uint32_t after = ringCorner_[i].face, other = ringFaceBefore(v, i);
         const std::uint32_t first = after != kNoFace ? after : other;
         g = face[first];
         if (after != kNoFace && other != kNoFace && face[other].quadraticForm(d) < g.quadraticForm(d))

@@ -106,6 +106,12 @@ class SurfaceDomain {
   };
   const RingCorner& ringCorner(std::uint32_t i) const { return ringCorner_[i]; }
   std::uint32_t ringFace(std::uint32_t i) const { return ringCorner_[i].face; }
+  /// The face before ring entry i (between the previous entry and i, around
+  /// the ring): with ringFace(i), the two faces of the edge to entry i;
+  /// kNoFace at the start of a boundary fan.
+  std::uint32_t ringFaceBefore(VertexId v, std::uint32_t i) const {
+    return ringCorner_[i > ringStart_[v] ? i - 1 : ringStart_[v + 1] - 1].face;
+  }
   static constexpr std::uint32_t kNoFace = 0xffffffffu;
 
   /// Index of w in v's ring; throws std::logic_error when w is no neighbour.
