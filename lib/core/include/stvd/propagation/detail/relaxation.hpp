@@ -233,8 +233,10 @@ class Propagation {
   }
 
   // The next vertex will most likely be settled next: when it has a pending
-  // candidate, the data its measurement reads (long out of cache: the
-  // candidate was found when the front was one edge behind) is asked for
+  // candidate, its base's record (long out of cache: the candidate was found
+  // when the front was one edge behind) and what the path asks for ahead of
+  // the measurement (a tetrahedral mesh the start of its walk; a grid
+  // nothing, see VoxelGridCandidatePath::prefetchSegment) are asked for
   // while the current vertex is relaxed.
   STVD_ALWAYS_INLINE void prefetchPending(VertexId u) {
     if constexpr (!CandidatePath<Domain, Norm>::usesPlacedChain()) {
