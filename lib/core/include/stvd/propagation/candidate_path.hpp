@@ -129,6 +129,25 @@ STVD_ALWAYS_INLINE bool measuresWhileChecking(const Path& path) {
   else
     return false;
 }
+
+/// CandidatePath::measuresLongSteps() and longStepLength(v, w), where a path
+/// offers them (a voxel grid): a stencil step that spans more than one voxel
+/// step (the 98- and 290-neighbourhoods) is measured along itself, as a
+/// candidate's segment is, instead of with the edge rule of its two end
+/// points, which ignores the voxels it passes. Every method's step from v to
+/// a neighbour w then costs longStepLength(v, w) where that is not negative.
+template <class Path, class = void>
+struct OffersLongSteps : std::false_type {};
+template <class Path>
+struct OffersLongSteps<Path, std::void_t<decltype(std::declval<const Path&>().measuresLongSteps())>>
+    : std::true_type {};
+template <class Path>
+STVD_ALWAYS_INLINE bool measuresLongSteps(const Path& path) {
+  if constexpr (OffersLongSteps<Path>::value)
+    return path.measuresLongSteps();
+  else
+    return false;
+}
 }  // namespace detail
 
 /// Whether CandidatePath<Domain, Norm> measures along paths on `domain`:

@@ -339,8 +339,26 @@ class Propagation {
     NeighborBatch<Norm> batch;
     forEachNeighborBatch(v, batch, [&](NeighborBatch<Norm>& b) STVD_ALWAYS_INLINE_LAMBDA {
       b.setDijkstraCandidates(dv);
+      measureLongSteps(v, b, dv);
       applyCandidates(v, b);
     });
+  }
+
+  // The Dijkstra terms of stencil steps longer than one voxel step, measured
+  // along them where the path offers it (VoxelGridCandidatePath::
+  // measuresLongSteps).
+  STVD_ALWAYS_INLINE void measureLongSteps(VertexId v, NeighborBatch<Norm>& batch, double dv) const {
+    if constexpr (OffersLongSteps<CandidatePath<Domain, Norm>>::value) {
+      if (!longSteps_) return;
+      for (int n = 0; n < batch.size; ++n) {
+        const float length = path_.longStepLength(v, batch.vertex[n]);
+        if (length >= 0.f) batch.best[n] = dv + static_cast<double>(length);
+      }
+    } else {
+      (void)v;
+      (void)batch;
+      (void)dv;
+    }
   }
 
   // The predecessor chain c_0 = v, c_1 = pred(v), ... of the vertex v just
@@ -539,6 +557,7 @@ class Propagation {
     forEachNeighborBatch(v, batch, [&](NeighborBatch<Norm>& b) STVD_ALWAYS_INLINE_LAMBDA {
       // i = 1 is the Dijkstra term, measured exactly as Dijkstra measures it.
       b.setDijkstraCandidates(dv);
+      measureLongSteps(v, b, dv);
       if constexpr (SegmentMeasure) {
         if (count == 1) keepDijkstraTerms(v, b);
       }
@@ -835,6 +854,7 @@ class Propagation {
   // still with every distance's predecessor where it was measured from.
   const int anyAngle_ =
       SegmentMeasure && kAnyAngle && ExactInEveryDirection<Norm>::value ? options_.anyAngleAncestors : 0;
+  const bool longSteps_ = measuresLongSteps(path_);
   const int segmentReach_ = reachOption(options_.segmentReach, false);
   const int sourceReach_ = reachOption(options_.sourceReach, true);
   Termination termination_ = Termination::Completed;
