@@ -349,7 +349,17 @@ class Propagation {
   // measuresLongSteps).
   STVD_ALWAYS_INLINE void measureLongSteps(VertexId v, NeighborBatch<Norm>& batch, double dv) const {
     if constexpr (OffersLongSteps<CandidatePath<Domain, Norm>>::value) {
-      if (!longSteps_) return;
+      if (longSteps_) measureLongStepsOf(v, batch, dv);
+    } else {
+      (void)v;
+      (void)batch;
+      (void)dv;
+    }
+  }
+  // Out of line, so that the default's relaxation (26-neighbourhood, where
+  // it never runs) does not carry the measurement's code.
+  __attribute__((noinline)) void measureLongStepsOf(VertexId v, NeighborBatch<Norm>& batch, double dv) const {
+    if constexpr (OffersLongSteps<CandidatePath<Domain, Norm>>::value) {
       for (int n = 0; n < batch.size; ++n) {
         const float length = path_.longStepLength(v, batch.vertex[n]);
         if (length >= 0.f) batch.best[n] = dv + static_cast<double>(length);
