@@ -170,20 +170,6 @@ SurfaceCandidatePath::SurfaceCandidatePath(const SurfaceDomain& surface, const R
     : surface_(surface), checksLines_(options.chainMeasure == ChainMeasure::Segment) {
   if (!checksLines_ || options.method == Method::Dijkstra) return;
   faceTensor_ = surface.faceTensors(metric);
-  // Each face's unit normal from its orientation (the sum of its fan's
-  // triangle normals: for a planar polygon, its plane's normal), which is
-  // the side the rings run counter-clockwise around.
-  const PolygonList& faces = surface.faces();
-  const std::vector<Vec3d>& x = surface.points();
-  faceNormal_.assign(faces.faceCount(), Vec3d{});
-  for (std::size_t f = 0; f < faces.faceCount(); ++f) {
-    const VertexId* corner = &faces.faceVertex[faces.faceStart[f]];
-    const std::uint32_t m = faces.faceStart[f + 1] - faces.faceStart[f];
-    Vec3d n{};
-    for (std::uint32_t j = 1; j + 1 < m; ++j) n = n + cross(x[corner[j]] - x[corner[0]], x[corner[j + 1]] - x[corner[0]]);
-    const double length = norm(n);
-    if (length > 0.0) faceNormal_[f] = (1.0 / length) * n;
-  }
   // A constant isotropic metric measures every line by its unfolded length.
   bool isotropic = metric.size() > 0;
   const SymTensor3 g0 = metric.size() > 0 ? metric[0] : SymTensor3{};
@@ -233,7 +219,7 @@ float SurfaceCandidatePath::flatWalk(VertexId w, VertexId t) const {
   bool planeSet = false;
   auto inPlane = [&](std::uint32_t face) {
     if (face == SurfaceDomain::kNoFace) return false;
-    const Vec3d& n = faceNormal_[face];
+    const Vec3d& n = surface_.faceNormal(face);
     if (!planeSet) {
       if (!(std::abs(dot(n, e1)) <= kFlatTolerance)) return false;  // the line leaves this face's plane
       normal = n;

@@ -343,7 +343,7 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
   // surface (waiting in ringDirectionY_ until the rings are scaled) with
   // its cosine and sine, the face, and the length of the edge to the
   // corner's next vertex.
-  std::vector<Vec3d> faceNormal(faceCount);
+  faceNormals_.assign(faceCount, Vec3d{});
   forEachTaskInParallel(faceBlocks, threads, [&](std::size_t block) {
     for (std::size_t f = block * kBlock; f < blockEnd(block, faceCount); ++f) {
       const std::uint32_t b = faces_.faceStart[f], e = faces_.faceStart[f + 1];
@@ -352,7 +352,7 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
         const Vec3d p = points_[faces_.faceVertex[c]], q = points_[faces_.faceVertex[c + 1 < e ? c + 1 : b]];
         s = s + Vec3d{(p.y - q.y) * (p.z + q.z), (p.z - q.z) * (p.x + q.x), (p.x - q.x) * (p.y + q.y)};
       }
-      faceNormal[f] = unitOr(s, {0, 0, 0});
+      faceNormals_[f] = unitOr(s, {0, 0, 0});
       for (std::uint32_t c = b; c < e; ++c) {
         const Vec3d p = points_[faces_.faceVertex[c]];
         const VertexId w = faces_.faceVertex[c + 1 < e ? c + 1 : b], u = faces_.faceVertex[c > b ? c - 1 : e - 1];
@@ -381,7 +381,7 @@ SurfaceDomain::SurfaceDomain(std::vector<Vec3d> points, const PolygonList& faces
         if (face == kNoFace) continue;  // the edge that ends a boundary fan
         const double alpha = ringDirectionY_[i];
         angle += alpha;
-        normal = normal + alpha * faceNormal[face];
+        normal = normal + alpha * faceNormals_[face];
       }
       angleSum_[v] = angle;
       const double scale = !open && angle > 0.0 ? 2.0 * kPi / angle : 1.0;

@@ -141,13 +141,6 @@ struct OffersLongSteps : std::false_type {};
 template <class Path>
 struct OffersLongSteps<Path, std::void_t<decltype(std::declval<const Path&>().measuresLongSteps())>>
     : std::true_type {};
-template <class Path>
-STVD_ALWAYS_INLINE bool measuresLongSteps(const Path& path) {
-  if constexpr (OffersLongSteps<Path>::value)
-    return path.measuresLongSteps();
-  else
-    return false;
-}
 }  // namespace detail
 
 /// Whether CandidatePath<Domain, Norm> measures along paths on `domain`:

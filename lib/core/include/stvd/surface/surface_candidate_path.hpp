@@ -123,7 +123,6 @@ class SurfaceCandidatePath {
   const SurfaceDomain& surface_;
   bool checksLines_;
   std::vector<SymTensor3> faceTensor_;
-  std::vector<Vec3d> faceNormal_;  // unit, from each face's orientation (Newell's rule)
   float isotropicScale_ = 0.f;  // sqrt(s) when every tensor is s I, else 0
   const VertexId* chain_ = nullptr;
   int count_ = 0;

@@ -68,6 +68,9 @@ class SurfaceDomain {
   Vec3d physicalPoint(VertexId v) const { return points_[v]; }
   /// Unit normal at v: the corner-angle weighted mean of its face normals.
   Vec3d normal(VertexId v) const { return normals_[v]; }
+  /// Unit normal of face f (Newell's method), on the side around which its
+  /// vertices run counter-clockwise; zero for a face without area.
+  const Vec3d& faceNormal(std::size_t f) const { return faceNormals_[f]; }
   /// Unit tangent t1 of v's frame (the direction of its first neighbour,
   /// projected into the tangent plane); t2 = normal x t1. For an isolated
   /// vertex any unit vector orthogonal to the normal.
@@ -156,6 +159,7 @@ class SurfaceDomain {
   std::vector<Vec3d> points_;
   PolygonList faces_;
   std::vector<Vec3d> normals_, tangents_;
+  std::vector<Vec3d> faceNormals_;
   std::vector<double> angleSum_;
   std::vector<std::uint8_t> boundary_;
   std::vector<std::uint32_t> component_;

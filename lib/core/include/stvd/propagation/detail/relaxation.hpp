@@ -349,7 +349,7 @@ class Propagation {
   // measuresLongSteps).
   STVD_ALWAYS_INLINE void measureLongSteps(VertexId v, NeighborBatch<Norm>& batch, double dv) const {
     if constexpr (OffersLongSteps<CandidatePath<Domain, Norm>>::value) {
-      if (longSteps_) measureLongStepsOf(v, batch, dv);
+      if (path_.measuresLongSteps()) measureLongStepsOf(v, batch, dv);
     } else {
       (void)v;
       (void)batch;
@@ -358,16 +358,11 @@ class Propagation {
   }
   // Out of line, so that the default's relaxation (26-neighbourhood, where
   // it never runs) does not carry the measurement's code.
+  // (Instantiated only for paths that offer long steps.)
   __attribute__((noinline)) void measureLongStepsOf(VertexId v, NeighborBatch<Norm>& batch, double dv) const {
-    if constexpr (OffersLongSteps<CandidatePath<Domain, Norm>>::value) {
-      for (int n = 0; n < batch.size; ++n) {
-        const float length = path_.longStepLength(v, batch.vertex[n]);
-        if (length >= 0.f) batch.best[n] = dv + static_cast<double>(length);
-      }
-    } else {
-      (void)v;
-      (void)batch;
-      (void)dv;
+    for (int n = 0; n < batch.size; ++n) {
+      const float length = path_.longStepLength(v, batch.vertex[n]);
+      if (length >= 0.f) batch.best[n] = dv + static_cast<double>(length);
     }
   }
 
@@ -864,7 +859,6 @@ class Propagation {
   // still with every distance's predecessor where it was measured from.
   const int anyAngle_ =
       SegmentMeasure && kAnyAngle && ExactInEveryDirection<Norm>::value ? options_.anyAngleAncestors : 0;
-  const bool longSteps_ = measuresLongSteps(path_);
   const int segmentReach_ = reachOption(options_.segmentReach, false);
   const int sourceReach_ = reachOption(options_.sourceReach, true);
   Termination termination_ = Termination::Completed;
