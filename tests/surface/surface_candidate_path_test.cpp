@@ -157,7 +157,10 @@ TEST(SurfaceCandidatePath, AroundAConvexApexTheErrorFallsWithKAndStaysAboveExact
 /// A constant anisotropic metric on the tilted, badly shaped plane: every
 /// line is measured in its faces with the same tensor, so no distance is
 /// below ||x - s||_G, and the edges (Dijkstra) are measured in their
-/// cheaper face, which here is exact.
+/// cheaper face, which here is exact. Beyond k = 1 (Dijkstra's edges) the
+/// line from the source is walked across the plane, so every distance is
+/// ||x - s||_G up to float rounding. (Before the source's lines the mean
+/// fell with k: 1.4, 0.75, 0.21 % at k = 4, 8, 16, largest 32, 16, 6.7 %.)
 TEST(SurfaceCandidatePath, UnderAConstantAnisotropicMetricNoDistanceIsBelowTheTensorNorm) {
   const GeneratedSurface s = badlyShapedTiltedPlane();
   const SurfaceDomain surface(s.points, s.faces);
@@ -165,7 +168,6 @@ TEST(SurfaceCandidatePath, UnderAConstantAnisotropicMetricNoDistanceIsBelowTheTe
   const RiemannianMetric metric = surfaceMetricFromWorldTensors(
       surface, std::vector<SymTensor3>(surface.vertexCount(), tiltedPlaneWorldTensor(g)));
   const VertexId source = nearestFlatVertex(s, 5.0, 5.0);
-  double previous = 1e9;
   for (const int k : {1, 4, 8, 16}) {
     PropagationOptions o;
     o.k = k;
@@ -175,8 +177,9 @@ TEST(SurfaceCandidatePath, UnderAConstantAnisotropicMetricNoDistanceIsBelowTheTe
       if (v != source) e.add(r.distance[v], norm2(g, s.flat[v][0] - s.flat[source][0], s.flat[v][1] - s.flat[source][1]));
     reportMeasurement("bad plane, gamma 6, segment, k=" + std::to_string(k), e);
     EXPECT_GT(e.minSigned(), -1e-6) << "k = " << k;
-    EXPECT_LT(e.mean(), previous) << "k = " << k;
-    previous = e.mean();
+    if (k > 1) {
+      EXPECT_LT(e.max(), 1e-5) << "k = " << k;
+    }
   }
 }
 
@@ -221,6 +224,37 @@ TEST(SurfaceCandidatePath, OnAFlatPlaneNoLineIsRefusedAndNoneIsShorterThanTheTen
     reportMeasurement("tilted plane, jitter " + std::to_string(jitter) + ", segment, k = 8", e);
     EXPECT_EQ(r.refusedCandidates, 0u) << "jitter " << jitter;
     EXPECT_GT(e.minSigned(), -1e-6) << "jitter " << jitter;
+  }
+}
+
+/// Source factoring on a surface: when a vertex is first reached, the line
+/// from it straight to the source is walked where the surface is flat. On
+/// a plane under a constant metric that line is the geodesic, so every
+/// distance is ||x - s||_G up to float rounding, on a grid whose lines run
+/// through vertices and on a jittered one, at every k. (Without the source's
+/// lines the chain's candidates gave, on the grid and the jittered grid,
+/// mean / largest errors of 9.5 / 177 % and 8.5 / 198 % at k = 2 and
+/// 0.79 / 16.1 % and 0.68 / 16.4 % at k = 8.)
+TEST(SurfaceCandidatePath, OnAFlatPlaneUnderAConstantMetricEveryDistanceIsTheLineFromTheSource) {
+  const auto axes = tiltedPlaneAxes();
+  const auto g = tensor2(16.0, 30.0 * kPi / 180.0);
+  for (const double jitter : {0.0, 0.3}) {
+    const GeneratedSurface s = planeMesh(30, 30, 10.0, 10.0, 1.0, jitter, false, 5, {3, -2, 1}, axes[0], axes[1]);
+    const SurfaceDomain surface(s.points, s.faces);
+    const RiemannianMetric metric = surfaceMetricFromWorldTensors(
+        surface, std::vector<SymTensor3>(surface.vertexCount(), tiltedPlaneWorldTensor(g)));
+    const VertexId source = nearestFlatVertex(s, 3.0, 4.0);
+    for (const int k : {2, 8}) {
+      PropagationOptions o;
+      o.k = k;
+      const PropagationResult r = propagate(surface, metric, {source}, o);
+      RelativeErrors e;
+      for (VertexId v = 0; v < surface.vertexCount(); ++v)
+        if (v != source)
+          e.add(r.distance[v], norm2(g, s.flat[v][0] - s.flat[source][0], s.flat[v][1] - s.flat[source][1]));
+      reportMeasurement("tilted plane, gamma 16, jitter " + std::to_string(jitter) + ", k = " + std::to_string(k), e);
+      EXPECT_LT(e.max(), 1e-5) << "jitter " << jitter << ", k = " << k;
+    }
   }
 }
 

@@ -194,7 +194,7 @@ const SurfaceCandidatePath::Lines& SurfaceCandidatePath::lines(VertexId w) {
   // Where the funnel refused a line, the surface may still be flat along it.
   for (int i = 2; i <= count_; ++i) {
     if ((l.valid >> i) & 1u) continue;
-    const float walked = flatWalk(w, chain_[i - 1]);
+    const float walked = flatWalk(w, chain_[i - 1], kMaxWalkedFaces);
     if (walked == kRefusedCandidate) continue;
     l.valid |= 1u << i;
     l.walked |= 1u << i;
@@ -203,7 +203,7 @@ const SurfaceCandidatePath::Lines& SurfaceCandidatePath::lines(VertexId w) {
   return l;
 }
 
-float SurfaceCandidatePath::flatWalk(VertexId w, VertexId t) const {
+float SurfaceCandidatePath::flatWalk(VertexId w, VertexId t, int maxFaces) const {
   const std::vector<Vec3d>& x = surface_.points();
   const PolygonList& faces = surface_.faces();
   const Vec3d origin = x[w];
@@ -245,7 +245,7 @@ float SurfaceCandidatePath::flatWalk(VertexId w, VertexId t) const {
   VertexId vertex = w;
   std::uint32_t f = SurfaceDomain::kNoFace;
   double at = 0.0, total = 0.0;  // where the line is, and its length up to there
-  for (int steps = 0; steps < kMaxWalkedFaces; ++steps) {
+  for (int steps = 0; steps < maxFaces; ++steps) {
     if (vertex != kNoVertex) {
       if (vertex == t) return static_cast<float>(total);
       // Leave the vertex into the corner that holds the direction strictly,

@@ -141,6 +141,19 @@ struct OffersLongSteps : std::false_type {};
 template <class Path>
 struct OffersLongSteps<Path, std::void_t<decltype(std::declval<const Path&>().measuresLongSteps())>>
     : std::true_type {};
+
+/// CandidatePath::offersSourceLines() and sourceLineLength(w, s), where a
+/// path offers them (a surface): source factoring for a path whose
+/// candidates are not segments from stored ancestors. The line from a
+/// vertex w straight to a source s, where the domain holds one, measured
+/// along itself; kRefusedCandidate where it has none. It does not depend on
+/// the chain, so it is offered once per vertex, when the vertex is first
+/// reached.
+template <class Path, class = void>
+struct OffersSourceLines : std::false_type {};
+template <class Path>
+struct OffersSourceLines<Path, std::void_t<decltype(std::declval<const Path&>().offersSourceLines())>>
+    : std::true_type {};
 }  // namespace detail
 
 /// Whether CandidatePath<Domain, Norm> measures along paths on `domain`:

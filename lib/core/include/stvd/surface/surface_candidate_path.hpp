@@ -85,6 +85,12 @@ class SurfaceCandidatePath {
   bool accepts(int i, VertexId w);
   float length(int i, VertexId w, Vec3f e);
   bool measuresWhileChecking() const { return checksLines_; }
+  /// Source factoring (detail::OffersSourceLines): the line from w straight
+  /// to the source s where the surface is flat between them, walked and
+  /// measured as a refused candidate's line is (flatWalk); the segment
+  /// measure only, as for every line.
+  bool offersSourceLines() const { return checksLines_; }
+  float sourceLineLength(VertexId w, VertexId s) const { return flatWalk(w, s, kMaxSourceLineFaces); }
 
   /// Most sides followed at once; a walk that would need more keeps the
   /// first ones (refusing a line is always safe, it only costs accuracy).
@@ -95,6 +101,15 @@ class SurfaceCandidatePath {
   static constexpr double kFlatTolerance = 1e-9;
   /// Most faces a walked line may cross.
   static constexpr int kMaxWalkedFaces = 256;
+  /// Most faces a source's line may cross. Every vertex within reach walks
+  /// one, so on a large flat mesh the cost grows with the reach cubed:
+  /// measured (k = 8) on the isotropic jittered 200 x 200 plane of
+  /// bench/surface_speed.cpp, seeded in a corner, 64 faces cost nothing,
+  /// 128 +15 % and 256 +200 % of its 80 ms; on issue 33's planes (100 x 100,
+  /// seeded in the middle) mean / largest error 64: 0.058 / 2.2 % (regular),
+  /// 0.083 / 4.9 % (Delaunay); 128: 0.0004 / 0.03 %, 0.006 / 1.4 %; 256:
+  /// exact up to float rounding (docs/surfaces.md).
+  static constexpr int kMaxSourceLineFaces = 128;
 
  private:
   struct Walk;
@@ -116,9 +131,9 @@ class SurfaceCandidatePath {
   const Lines& lines(VertexId w);
   void trace(VertexId w, Lines& lines) const;
   /// The straight line from w to t across a flat part of the surface,
-  /// measured face by face; kRefusedCandidate where there is none (see
-  /// the class comment).
-  float flatWalk(VertexId w, VertexId t) const;
+  /// measured face by face; kRefusedCandidate where there is none or it
+  /// crosses more than maxFaces faces (see the class comment).
+  float flatWalk(VertexId w, VertexId t, int maxFaces) const;
   Lines lines_;
   const SurfaceDomain& surface_;
   bool checksLines_;
