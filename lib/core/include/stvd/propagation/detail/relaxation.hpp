@@ -299,7 +299,7 @@ class Propagation {
   }
 
   std::uint64_t stateBytes() const {
-    return state_.capacity() * sizeof(VertexState) + queue_.capacityBytes();
+    return state_.capacity() * sizeof(VertexState) + queue_.capacityBytes() + withoutSourceLine_.capacity();
   }
 
   void update(VertexId w, VertexId v, double candidate) {
