@@ -105,7 +105,7 @@ class SurfaceCandidatePath {
   /// one, so on a large flat mesh the cost grows with the reach cubed:
   /// measured (k = 8) on the isotropic jittered 200 x 200 plane of
   /// bench/surface_speed.cpp, seeded in a corner, 64 faces cost nothing,
-  /// 128 +15 % and 256 +200 % of its 80 ms; on issue 33's planes (100 x 100,
+  /// 128 +15 % and 256 +180 to +210 % of its 80 ms; on issue 33's planes (100 x 100,
   /// seeded in the middle) mean / largest error 64: 0.058 / 2.2 % (regular),
   /// 0.083 / 4.9 % (Delaunay); 128: 0.0004 / 0.03 %, 0.006 / 1.4 %; 256:
   /// exact up to float rounding (docs/surfaces.md).

@@ -299,7 +299,9 @@ class Propagation {
   }
 
   std::uint64_t stateBytes() const {
-    return state_.capacity() * sizeof(VertexState) + queue_.capacityBytes() + withoutSourceLine_.capacity();
+    std::uint64_t bytes = state_.capacity() * sizeof(VertexState) + queue_.capacityBytes();
+    if constexpr (OffersSourceLines<CandidatePath<Domain, Norm>>::value) bytes += withoutSourceLine_.capacity();
+    return bytes;
   }
 
   void update(VertexId w, VertexId v, double candidate) {
@@ -763,12 +765,6 @@ class Propagation {
     }
     return any;
   }
-  struct SourceLine {
-    VertexId vertex;
-    double start;
-  };
-  std::vector<SourceLine> sourceLines_;
-  std::vector<std::uint8_t> withoutSourceLine_;  // 1: the vertex was first reached with no source's line
 
   // A chain of one vertex (a source) has no candidate beyond the Dijkstra term.
   STVD_ALWAYS_INLINE void keepDijkstraTerms(VertexId v, NeighborBatch<Norm>& batch) {
@@ -921,6 +917,15 @@ class Propagation {
   std::uint64_t measured_ = 0;
   std::uint64_t refused_ = 0;
   std::uint64_t peakBytes_ = 0;
+  // The source lines' sources and per-vertex flags (offerSourceLines);
+  // empty on the domains without them. Last, so that the other members
+  // keep their places.
+  struct SourceLine {
+    VertexId vertex;
+    double start;
+  };
+  std::vector<SourceLine> sourceLines_;
+  std::vector<std::uint8_t> withoutSourceLine_;  // 1: the vertex was first reached with no source's line
 };
 
 }  // namespace detail
