@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -95,6 +96,33 @@ PropagationResult run(const SurfaceDomain& surface, VertexId source, int k, Chai
   return propagate(surface, isotropicSurfaceMetric(surface), {source}, o);
 }
 
+/// The 30 x 30 cell plane of 10 x 10 in the tilted plane of
+/// tiltedPlaneAxes(), its vertices jittered by `jitter` of a cell.
+GeneratedSurface tiltedGridPlane(double jitter, unsigned seed) {
+  const auto axes = tiltedPlaneAxes();
+  return planeMesh(30, 30, 10.0, 10.0, 1.0, jitter, false, seed, {3, -2, 1}, axes[0], axes[1]);
+}
+
+/// The constant metric g of the tilted plane (its own coordinates) at every vertex.
+RiemannianMetric constantPlaneMetric(const SurfaceDomain& surface, const std::array<double, 3>& g) {
+  return surfaceMetricFromWorldTensors(surface,
+                                       std::vector<SymTensor3>(surface.vertexCount(), tiltedPlaneWorldTensor(g)));
+}
+
+/// ||x_v - x_source||_G in the plane's own coordinates.
+double planeDistance(const GeneratedSurface& s, const std::array<double, 3>& g, VertexId v, VertexId source) {
+  return norm2(g, s.flat[v][0] - s.flat[source][0], s.flat[v][1] - s.flat[source][1]);
+}
+
+/// The errors of r against ||x - s||_G at every vertex but the source.
+RelativeErrors errorsOnThePlane(const GeneratedSurface& s, const std::array<double, 3>& g, const PropagationResult& r,
+                                VertexId source) {
+  RelativeErrors e;
+  for (VertexId v = 0; v < static_cast<VertexId>(s.flat.size()); ++v)
+    if (v != source) e.add(r.distance[v], planeDistance(s, g, v, source));
+  return e;
+}
+
 TEST(SurfaceCandidatePath, AroundASaddleVertexNoCandidateIsShorterThanTheExactDistance) {
   const Cone cone = makeCone(24, 12, 0.9, 0.0);
   ASSERT_GT(cone.angleSum, 3.3 * kPi);
@@ -165,16 +193,12 @@ TEST(SurfaceCandidatePath, UnderAConstantAnisotropicMetricNoDistanceIsBelowTheTe
   const GeneratedSurface s = badlyShapedTiltedPlane();
   const SurfaceDomain surface(s.points, s.faces);
   const auto g = tensor2(6.0, 0.5);
-  const RiemannianMetric metric = surfaceMetricFromWorldTensors(
-      surface, std::vector<SymTensor3>(surface.vertexCount(), tiltedPlaneWorldTensor(g)));
+  const RiemannianMetric metric = constantPlaneMetric(surface, g);
   const VertexId source = nearestFlatVertex(s, 5.0, 5.0);
   for (const int k : {1, 4, 8, 16}) {
     PropagationOptions o;
     o.k = k;
-    const PropagationResult r = propagate(surface, metric, {source}, o);
-    RelativeErrors e;
-    for (VertexId v = 0; v < surface.vertexCount(); ++v)
-      if (v != source) e.add(r.distance[v], norm2(g, s.flat[v][0] - s.flat[source][0], s.flat[v][1] - s.flat[source][1]));
+    const RelativeErrors e = errorsOnThePlane(s, g, propagate(surface, metric, {source}, o), source);
     reportMeasurement("bad plane, gamma 6, segment, k=" + std::to_string(k), e);
     EXPECT_GT(e.minSigned(), -1e-6) << "k = " << k;
     if (k > 1) {
@@ -207,20 +231,16 @@ TEST(SurfaceCandidatePath, OnAFlatGridTheLineAlongAStraightChainHasTheChainsLeng
 /// so none is refused and no distance is below ||x - s||_G. A grid without
 /// jitter sends many lines through vertices, which the walk passes; a
 /// jittered one few. (Without the walk: 2,562 and 3,819 candidates
-/// refused, mean error 0.46 and 0.51 % against 0.39 and 0.24 % with it.)
+/// refused, mean error 0.46 and 0.51 % against 0.39 and 0.24 % with it,
+/// before the line from the source made every distance exact.)
 TEST(SurfaceCandidatePath, OnAFlatPlaneNoLineIsRefusedAndNoneIsShorterThanTheTensorNorm) {
-  const auto axes = tiltedPlaneAxes();
   const auto g = tensor2(4.0, 30.0 * kPi / 180.0);
   for (const double jitter : {0.0, 0.3}) {
-    const GeneratedSurface s = planeMesh(30, 30, 10.0, 10.0, 1.0, jitter, false, 5, {3, -2, 1}, axes[0], axes[1]);
+    const GeneratedSurface s = tiltedGridPlane(jitter, 5);
     const SurfaceDomain surface(s.points, s.faces);
-    const RiemannianMetric metric = surfaceMetricFromWorldTensors(
-        surface, std::vector<SymTensor3>(surface.vertexCount(), tiltedPlaneWorldTensor(g)));
     const VertexId source = nearestFlatVertex(s, 5.0, 5.0);
-    const PropagationResult r = propagate(surface, metric, {source}, PropagationOptions{});
-    RelativeErrors e;
-    for (VertexId v = 0; v < surface.vertexCount(); ++v)
-      if (v != source) e.add(r.distance[v], norm2(g, s.flat[v][0] - s.flat[source][0], s.flat[v][1] - s.flat[source][1]));
+    const PropagationResult r = propagate(surface, constantPlaneMetric(surface, g), {source}, PropagationOptions{});
+    const RelativeErrors e = errorsOnThePlane(s, g, r, source);
     reportMeasurement("tilted plane, jitter " + std::to_string(jitter) + ", segment, k = 8", e);
     EXPECT_EQ(r.refusedCandidates, 0u) << "jitter " << jitter;
     EXPECT_GT(e.minSigned(), -1e-6) << "jitter " << jitter;
@@ -236,22 +256,16 @@ TEST(SurfaceCandidatePath, OnAFlatPlaneNoLineIsRefusedAndNoneIsShorterThanTheTen
 /// mean / largest errors of 9.5 / 177 % and 8.5 / 198 % at k = 2 and
 /// 0.79 / 16.1 % and 0.68 / 16.4 % at k = 8.)
 TEST(SurfaceCandidatePath, OnAFlatPlaneUnderAConstantMetricEveryDistanceIsTheLineFromTheSource) {
-  const auto axes = tiltedPlaneAxes();
   const auto g = tensor2(16.0, 30.0 * kPi / 180.0);
   for (const double jitter : {0.0, 0.3}) {
-    const GeneratedSurface s = planeMesh(30, 30, 10.0, 10.0, 1.0, jitter, false, 5, {3, -2, 1}, axes[0], axes[1]);
+    const GeneratedSurface s = tiltedGridPlane(jitter, 5);
     const SurfaceDomain surface(s.points, s.faces);
-    const RiemannianMetric metric = surfaceMetricFromWorldTensors(
-        surface, std::vector<SymTensor3>(surface.vertexCount(), tiltedPlaneWorldTensor(g)));
+    const RiemannianMetric metric = constantPlaneMetric(surface, g);
     const VertexId source = nearestFlatVertex(s, 3.0, 4.0);
     for (const int k : {2, 8}) {
       PropagationOptions o;
       o.k = k;
-      const PropagationResult r = propagate(surface, metric, {source}, o);
-      RelativeErrors e;
-      for (VertexId v = 0; v < surface.vertexCount(); ++v)
-        if (v != source)
-          e.add(r.distance[v], norm2(g, s.flat[v][0] - s.flat[source][0], s.flat[v][1] - s.flat[source][1]));
+      const RelativeErrors e = errorsOnThePlane(s, g, propagate(surface, metric, {source}, o), source);
       reportMeasurement("tilted plane, gamma 16, jitter " + std::to_string(jitter) + ", k = " + std::to_string(k), e);
       EXPECT_LT(e.max(), 1e-5) << "jitter " << jitter << ", k = " << k;
     }
@@ -263,22 +277,18 @@ TEST(SurfaceCandidatePath, OnAFlatPlaneUnderAConstantMetricEveryDistanceIsTheLin
 /// 1, every distance is min(||x - s1||_G, ||x - s2||_G + 1) up to float
 /// rounding, whichever source's front reached the vertex first.
 TEST(SurfaceCandidatePath, WithTwoSourcesEveryDistanceIsTheShorterOfTheirLines) {
-  const auto axes = tiltedPlaneAxes();
   const auto g = tensor2(4.0, 30.0 * kPi / 180.0);
-  const GeneratedSurface s = planeMesh(30, 30, 10.0, 10.0, 1.0, 0.3, false, 7, {3, -2, 1}, axes[0], axes[1]);
+  const GeneratedSurface s = tiltedGridPlane(0.3, 7);
   const SurfaceDomain surface(s.points, s.faces);
-  const RiemannianMetric metric = surfaceMetricFromWorldTensors(
-      surface, std::vector<SymTensor3>(surface.vertexCount(), tiltedPlaneWorldTensor(g)));
   const VertexId s1 = nearestFlatVertex(s, 2.0, 2.0), s2 = nearestFlatVertex(s, 8.0, 7.0);
   PropagationOptions o;
   o.sourceDistances = {0.0, 1.0};
-  const PropagationResult r = propagate(surface, metric, {s1, s2}, o);
+  const PropagationResult r = propagate(surface, constantPlaneMetric(surface, g), {s1, s2}, o);
   RelativeErrors e;
   std::size_t nearerTheSecond = 0;
   for (VertexId v = 0; v < surface.vertexCount(); ++v) {
     if (v == s1 || v == s2) continue;
-    const double d1 = norm2(g, s.flat[v][0] - s.flat[s1][0], s.flat[v][1] - s.flat[s1][1]);
-    const double d2 = 1.0 + norm2(g, s.flat[v][0] - s.flat[s2][0], s.flat[v][1] - s.flat[s2][1]);
+    const double d1 = planeDistance(s, g, v, s1), d2 = 1.0 + planeDistance(s, g, v, s2);
     nearerTheSecond += d2 < d1 ? 1 : 0;
     e.add(r.distance[v], std::min(d1, d2));
   }
