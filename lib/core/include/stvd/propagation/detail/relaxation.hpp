@@ -756,7 +756,6 @@ class Propagation {
   __attribute__((noinline)) bool offerSourceLinesOf(VertexId w, double& best) {
     bool any = false;
     for (const SourceLine& source : sourceLines_) {
-      if (source.vertex == w) continue;
       const float length = path_.sourceLineLength(w, source.vertex);
       if (length == kRefusedCandidate) continue;
       ++measured_;
