@@ -22,6 +22,11 @@
 //               of the any-angle ancestors and k: the default, k = 8, 12,
 //               16, two and four ancestors, segment reaches of 12 and 24
 //               steps, all at once; and Dijkstra.
+//   bend        the curved scene at --size N for each gamma of --gammas
+//               and the shear slopes 0.1, 0.25 (the other experiments')
+//               and 0.49: how the default's errors grow with the
+//               anisotropy and with the bend of the metric's cheap sheets;
+//               scene "curved-slope-S", gamma the map's.
 //   plane       a flat plane under a constant anisotropic metric
 //               (eigenvalues 1 and 16, axes at 30 degrees), regular and
 //               Delaunay triangulations: the surface default (segment
@@ -332,6 +337,19 @@ void options(int n, int repeats) {
   }
 }
 
+void bend(int n, const std::vector<double>& gammas, int repeats) {
+  for (const double gamma : gammas) {
+    for (const double slope : {0.1, kCurvedSlope, 0.49}) {
+      const bench::Scene s = bench::pullbackScene(n, gamma, Stencil::full26(), 1, slope);
+      char scene[32];
+      std::snprintf(scene, sizeof scene, "curved-slope-%.2f", slope);
+      const Measured m = measure(s.domain, s.metric, s.source, PropagationOptions{}, repeats);
+      const test::RelativeErrors e = s.errorsOf(m.result);
+      row("bend", scene, gamma, s.domain, "STVD-default", kDefaultMemoryDepth, &e, m, farErrorsOf(s, m.result));
+    }
+  }
+}
+
 /// The flat plane of issue 33: n x n cells over [0, 10]^2, a constant
 /// metric with eigenvalues 1 and 16, the expensive axis at 30 degrees;
 /// "regular": a grid with one diagonal per cell; "delaunay": the points
@@ -542,7 +560,7 @@ std::vector<double> parseList(const char* text) {
 
 int usage() {
   std::fprintf(stderr,
-               "usage: stvd_evaluation sweep|refinement|convergence|options|plane|scale|mask|parallel|phantom [--size N] "
+               "usage: stvd_evaluation sweep|refinement|convergence|options|bend|plane|scale|mask|parallel|phantom [--size N] "
                "[--gammas G1,G2,...] [--repeats R] [--steiner-max M] [--no-header] [--scene S --out PREFIX]\n");
   return 2;
 }
@@ -585,6 +603,7 @@ int main(int argc, char** argv) {
   else if (experiment == "refinement") refinement(repeats);
   else if (experiment == "convergence") convergence(repeats, n);
   else if (experiment == "options") options(n, repeats);
+  else if (experiment == "bend") bend(n, gammas, repeats);
   else if (experiment == "scale") scale(n);
   else if (experiment == "mask") mask(n, repeats);
   else if (experiment == "parallel") return parallel(n, repeats) ? 0 : 3;
