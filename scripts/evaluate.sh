@@ -50,11 +50,11 @@ bench="$build_dir/bench"
 if [[ $quick == 1 ]]; then
   sweep_size=24 accuracy_size=32 speed_size=64 scale_sizes="32 48 64" repeats=1
   steiner_size=12 steiner_max=4 parallel_size=32 surface_size=32 surface_steiner_max=4
-  convergence_size=64 plane_size=40
+  convergence_size=64 plane_size=40 bend_size=32
 else
   sweep_size=64 accuracy_size=128 speed_size=128 scale_sizes="64 96 128 192 256" repeats=3
   steiner_size=32 steiner_max=8 parallel_size=96 surface_size=96 surface_steiner_max=16
-  convergence_size=128 plane_size=100
+  convergence_size=128 plane_size=100 bend_size=64
 fi
 
 echo "evaluate.sh: error versus time (${sweep_size}^3)"
@@ -66,6 +66,8 @@ echo "evaluate.sh: refinement"
 "$bench/stvd_evaluation" refinement --repeats "$repeats" >"$run_dir/refinement.tsv"
 echo "evaluate.sh: convergence under refinement at the defaults (32^3 to ${convergence_size}^3)"
 "$bench/stvd_evaluation" convergence --size "$convergence_size" --repeats "$repeats" >"$run_dir/convergence.tsv"
+echo "evaluate.sh: the curved scene over the anisotropy and the shear slope (${bend_size}^3)"
+"$bench/stvd_evaluation" bend --size "$bend_size" --gammas 2,5,10,20 --repeats 1 >"$run_dir/bend.tsv"
 echo "evaluate.sh: a flat plane under a constant anisotropic metric (${plane_size}^2 cells)"
 "$bench/stvd_evaluation" plane --size "$plane_size" --repeats "$repeats" >"$run_dir/plane.tsv"
 echo "evaluate.sh: scale ($scale_sizes)"
