@@ -2,7 +2,7 @@
 // grid (issue 35: the FOD table and its propagation within 3 times the tensor
 // propagation at lmax 8).
 //
-//   stvd_fod_vs_tensor TENSORS --seed-voxel I,J,K [--threads N] [--reference-stride S]
+//   stvd_fod_vs_tensor TENSORS --seed-voxel I,J,K [--threads N] [--reference-stride S] [--repeats R]
 //
 // The tensor metric and its domain are built as `stvd distance` builds them
 // from the tensors (G = (D/MD)^-1, eigenvalue ratio capped at 100). The FOD
@@ -30,7 +30,9 @@
 //
 // CPU seconds are the process's (all threads), wall seconds the clock's;
 // ratios are to the tensor STVD propagation's CPU time, measured in the
-// same run.
+// same run. Each propagation row is the run of median CPU time of R (default
+// 1): a propagation takes a tenth of a second, where one run is at the mercy
+// of the machine's other work; a table takes seconds and runs once.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -71,6 +73,15 @@ Times timed(Run&& run) {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count()};
 }
 
+/// The run of median CPU time among `repeats` runs.
+template <class Run>
+Times timedMedian(int repeats, Run&& run) {
+  std::vector<Times> t;
+  for (int r = 0; r < repeats; ++r) t.push_back(timed(run));
+  std::sort(t.begin(), t.end(), [](const Times& a, const Times& b) { return a.cpu < b.cpu; });
+  return t[t.size() / 2];
+}
+
 /// Adds a lobe along the LPS direction d (h_l Y_lm(d), largest at d).
 void addLobe(const FodField& f, float* c, const Vec3d& d, double weight) {
   const Vec3d s = f.toShFrame(d);
@@ -83,7 +94,7 @@ void addLobe(const FodField& f, float* c, const Vec3d& d, double weight) {
 }
 
 int usage() {
-  std::fprintf(stderr, "usage: stvd_fod_vs_tensor TENSORS --seed-voxel I,J,K [--threads N] [--reference-stride S]\n");
+  std::fprintf(stderr, "usage: stvd_fod_vs_tensor TENSORS --seed-voxel I,J,K [--threads N] [--reference-stride S] [--repeats R]\n");
   return 2;
 }
 
@@ -95,11 +106,14 @@ int main(int argc, char** argv) {
   std::array<int, 3> seed{-1, -1, -1};
   unsigned threads = 2;
   std::size_t stride = 64;
+  int repeats = 1;
   for (int a = 2; a < argc; ++a) {
     if (!std::strcmp(argv[a], "--seed-voxel") && a + 1 < argc) {
       if (std::sscanf(argv[++a], "%d,%d,%d", &seed[0], &seed[1], &seed[2]) != 3) return usage();
     } else if (!std::strcmp(argv[a], "--threads") && a + 1 < argc) {
       threads = static_cast<unsigned>(std::atoi(argv[++a]));
+    } else if (!std::strcmp(argv[a], "--repeats") && a + 1 < argc) {
+      repeats = std::max(1, std::atoi(argv[++a]));
     } else if (!std::strcmp(argv[a], "--reference-stride") && a + 1 < argc) {
       stride = static_cast<std::size_t>(std::max(1, std::atoi(argv[++a])));
     } else {
@@ -142,17 +156,17 @@ int main(int argc, char** argv) {
   dijkstra.method = Method::Dijkstra;
   PropagationOptions stvd;  // the tool's default: STVD, k = 6
   stvd.method = Method::ShortTermVectorDijkstra;
-  const Times tensorDijkstra = timed([&] { propagate(domain, tensorMetric, {source}, dijkstra); });
-  const Times tensorStvd = timed([&] { propagate(domain, tensorMetric, {source}, stvd); });
+  const Times tensorDijkstra = timedMedian(repeats, [&] { propagate(domain, tensorMetric, {source}, dijkstra); });
+  const Times tensorStvd = timedMedian(repeats, [&] { propagate(domain, tensorMetric, {source}, stvd); });
 
   const FodCostSampler sampler(fod, defaultFodSamplingDirections(g));
   FodStencilMetric fodMetric = fodStencilMetric(sampler, &built.inDomain, 1);  // warm-up (pages, caches)
   const Times tableOne = timed([&] { fodMetric = fodStencilMetric(sampler, &built.inDomain, 1); });
   const Times tableMany = timed([&] { fodMetric = fodStencilMetric(sampler, &built.inDomain, threads); });
-  const Times fodDijkstra = timed([&] { propagate(domain, fodMetric, {source}, dijkstra); });
+  const Times fodDijkstra = timedMedian(repeats, [&] { propagate(domain, fodMetric, {source}, dijkstra); });
   FodSegmentMetric segmentMetric = fodSegmentMetric(sampler, &built.inDomain, 1);
   const Times segmentTable = timed([&] { segmentMetric = fodSegmentMetric(sampler, &built.inDomain, 1); });
-  const Times fodStvd = timed([&] { propagate(domain, segmentMetric, {source}, stvd); });
+  const Times fodStvd = timedMedian(repeats, [&] { propagate(domain, segmentMetric, {source}, stvd); });
   // A coarser sampling (162 + 26 directions): fewer points of the ball, so
   // a larger gauge (never a smaller one) for less work; not what the tool
   // computes, measured for the record.
@@ -164,10 +178,10 @@ int main(int argc, char** argv) {
   const FodCostSampler caps(fod, defaultFodSampling(g));
   FodStencilMetric capsMetric = fodStencilMetric(caps, &built.inDomain, 1);
   const Times capsTable = timed([&] { capsMetric = fodStencilMetric(caps, &built.inDomain, 1); });
-  const Times capsDijkstra = timed([&] { propagate(domain, capsMetric, {source}, dijkstra); });
+  const Times capsDijkstra = timedMedian(repeats, [&] { propagate(domain, capsMetric, {source}, dijkstra); });
   FodSegmentMetric capsSegment = fodSegmentMetric(caps, &built.inDomain, 1);
   const Times capsSegmentTable = timed([&] { capsSegment = fodSegmentMetric(caps, &built.inDomain, 1); });
-  const Times capsStvd = timed([&] { propagate(domain, capsSegment, {source}, stvd); });
+  const Times capsStvd = timedMedian(repeats, [&] { propagate(domain, capsSegment, {source}, stvd); });
   double capsAbove = 0, capsBelow = 0;
   std::size_t capsDiffer = 0;
   for (std::size_t v = 0; v < g.voxelCount(); ++v)

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <random>
 #include <vector>
@@ -16,6 +17,8 @@
 #include "stvd/imaging/fod_metric.hpp"
 #include "stvd/imaging/fod_segment_norm.hpp"
 #include "stvd/metric/lattice_table_norm.hpp"
+#include "stvd/propagation/propagation.hpp"
+#include "stvd/voxel_grid/voxel_grid_propagation.hpp"
 
 namespace stvd::testing {
 namespace {
@@ -131,6 +134,99 @@ TEST(LatticeTableNorm, RefusesTablesThatAreNoNorm) {
   EXPECT_NE(LatticeTableNorm<2>::invalidReason(p), "");
   p.cost[7] = std::nanf("");
   EXPECT_NE(LatticeTableNorm<2>::invalidReason(p), "");
+}
+
+// The lookup (TableLookup): a vector looked up once and measured from the
+// four entries it reads is measured as length() measures it, and so is a
+// batch of vectors under the means the propagation forms (Dijkstra's edge
+// rule, STVD's chain means), from the end points' tables alone.
+TEST(LatticeTableNorm, ALookedUpVectorIsMeasuredAsLengthMeasuresIt) {
+  using Norm = LatticeTableNorm<2>;
+  const GridGeometry g = tiltedGrid();
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> cost(0.5f, 4.f);
+  // Three unrelated tables on the grid: v's, a neighbour's, a chain's.
+  std::vector<Norm::VertexParams> table(3, tabulate<2>(g, tensor));
+  for (auto& t : table)
+    for (float& c : t.cost) c = cost(rng);
+  const float* base = reinterpret_cast<const float*>(table.data());
+  constexpr int kFloats = sizeof(Norm::VertexParams) / sizeof(float);
+  constexpr int kCount = 64;
+  float x[kCount], y[kCount], z[kCount], edge[kCount], mean[kCount];
+  std::int64_t neighbour[kCount];
+  for (int n = 0; n < kCount; ++n) {
+    const Vec3d v = n == 0 ? Vec3d{0, 0, 0} : (n < 27 ? g.indexToPhysicalOffset(n % 3 - 1, n / 3 % 3 - 1, n / 9 - 1)
+                                                      : randomVector(rng));
+    x[n] = float(v.x), y[n] = float(v.y), z[n] = float(v.z);
+    neighbour[n] = kFloats;  // table[1]
+  }
+  // Edges: 0.5 (table[0] + table[1]); chain means: (table[0] + table[2] + table[1]) / 3.
+  Norm::lookupLengths(table[0], kCount, x, y, z, 0.5f, base, base, neighbour, edge);
+  float sum[kFloats];
+  for (int f = 0; f < kFloats; ++f) sum[f] = base[f] + base[2 * kFloats + f];
+  Norm::lookupLengths(table[0], kCount, x, y, z, 1.f / 3.f, sum, base, neighbour, mean);
+  Norm::VertexParams meanTable = table[0];
+  for (int c = 0; c < Norm::kCount; ++c) meanTable.cost[c] = (sum[9 + c] + table[1].cost[c]) / 3.f;
+  for (int n = 0; n < kCount; ++n) {
+    const Norm::Lookup q = Norm::lookup(table[2], x[n], y[n], z[n]);
+    float value[Norm::kLookupSlots];
+    for (int s = 0; s < Norm::kLookupSlots; ++s) value[s] = base[2 * kFloats + q.slot[s]];
+    const float direct = Norm::length(table[2], x[n], y[n], z[n]);
+    EXPECT_NEAR(Norm::lookupLength(q, value), direct, 1e-6f * direct) << n;
+    const float edgeDirect = Norm::length(Norm::edgeParams(table[0], table[1]), x[n], y[n], z[n]);
+    EXPECT_NEAR(edge[n], edgeDirect, 1e-6f * edgeDirect) << n;
+    const float meanDirect = Norm::length(meanTable, x[n], y[n], z[n]);
+    EXPECT_NEAR(mean[n], meanDirect, 1e-6f * meanDirect) << n;
+  }
+  EXPECT_EQ(edge[0], 0.f);
+  EXPECT_EQ(mean[0], 0.f);
+}
+
+// The propagation measures by lookup only where every voxel's table holds
+// the same index transform (sharedLookup); a field where one voxel's differs
+// is measured from whole interpolated tables. Both give the same distances,
+// Dijkstra's and STVD's (to float rounding: the two orders of summation).
+TEST(LatticeTableNorm, PropagationsByLookupEqualThoseByWholeTables) {
+  using Norm = LatticeTableNorm<2>;
+  GridGeometry g = tiltedGrid();
+  g.size = {17, 15, 9};
+  std::vector<Norm::VertexParams> table(g.voxelCount(), tabulate<2>(g, tensor));
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> scale(0.7f, 1.6f);
+  for (auto& t : table) {
+    const float s = scale(rng);
+    for (float& c : t.cost) c *= s;
+  }
+  // The last voxel lies outside the domain; in the second field its index
+  // transform differs, which no propagation reads but which stops the
+  // sharing.
+  std::vector<std::uint8_t> inDomain(g.voxelCount(), 1);
+  inDomain.back() = 0;
+  const MetricField<Norm> shared(table, &inDomain);
+  table.back().toIndex[0] *= 1.5f;
+  const MetricField<Norm> whole(table, &inDomain);
+  ASSERT_NE(sharedLookup(shared), nullptr);
+  ASSERT_EQ(sharedLookup(whole), nullptr);
+  const VoxelGridDomain domain(g, Stencil::full26(), inDomain);
+  const std::vector<VertexId> seeds{domain.vertexAt(8, 7, 4)};
+  for (Method method : {Method::Dijkstra, Method::ShortTermVectorDijkstra}) {
+    PropagationOptions options;
+    options.method = method;
+    const PropagationResult a = propagate(domain, shared, seeds, options);
+    const PropagationResult b = propagate(domain, whole, seeds, options);
+    double worst = 0;
+    std::size_t reached = 0;
+    for (std::size_t v = 0; v < a.distance.size(); ++v) {
+      if (!inDomain[v]) continue;
+      ASSERT_LT(a.distance[v], kUnreachable);
+      worst = std::max(worst, std::abs(a.distance[v] - b.distance[v]) / std::max(b.distance[v], 1e-9));
+      ++reached;
+    }
+    const char* name = method == Method::Dijkstra ? "Dijkstra" : "STVD";
+    std::printf("%s: by lookup and by whole tables at most %.3g apart (relative)\n", name, worst);
+    EXPECT_EQ(reached, g.voxelCount() - 1);
+    EXPECT_LT(worst, 1e-5) << name;
+  }
 }
 
 // On FOD metrics: the segment norm is the tabulated F* along the 26

@@ -48,6 +48,24 @@ class MetricField {
   std::vector<VertexParams> params_;
 };
 
+/// For a norm with a table lookup (TableLookup, norms.hpp) whose field
+/// holds the lookup's parameters alike at every vertex (a lattice table's
+/// index transform, the grid's): a vertex's parameters, from which any
+/// vector is looked up for every vertex. Null otherwise, and for every
+/// other norm.
+template <class Norm>
+const typename Norm::VertexParams* sharedLookup(const MetricField<Norm>& metric) {
+  if constexpr (TableLookup<Norm>::value) {
+    if (metric.size() == 0) return nullptr;
+    for (std::size_t v = 1; v < metric.size(); ++v)
+      if (!Norm::sameLookup(metric[0], metric[v])) return nullptr;
+    return &metric[0];
+  } else {
+    (void)metric;
+    return nullptr;
+  }
+}
+
 using RiemannianMetric = MetricField<RiemannianNorm>;
 using RandersMetric = MetricField<RandersNorm>;
 

@@ -26,6 +26,16 @@
 //     // measured as exactly as a chain of short ones (ExactInEveryDirection
 //     // below; docs/accuracy.md, "FOD metrics").
 //     static constexpr bool kExactInEveryDirection = true;
+//     // Optional (TableLookup below): a norm whose length reads a few of its
+//     // parameters, chosen by the vector and by parameters that every vertex
+//     // of a field holds alike, says which, so that callers who measure one
+//     // vector under many interpolated parameter sets interpolate only those:
+//     //   static constexpr int kLookupSlots = ...;
+//     //   struct Lookup { int slot[kLookupSlots]; ... };  // float offsets in VertexParams
+//     //   static Lookup lookup(const VertexParams& any, float x, float y, float z);
+//     //   static float lookupLength(const Lookup&, const float (&value)[kLookupSlots]);
+//     //   static bool sameLookup(const VertexParams& a, const VertexParams& b);
+//     // with length(g, v) == lookupLength(lookup(g, v), g's floats at the slots).
 //   };
 //
 // RiemannianNorm and RandersNorm below are the two built in. The
@@ -110,5 +120,11 @@ struct ExactInEveryDirection : std::true_type {};
 template <class Norm>
 struct ExactInEveryDirection<Norm, std::void_t<decltype(Norm::kExactInEveryDirection)>>
     : std::bool_constant<Norm::kExactInEveryDirection> {};
+
+/// Whether Norm offers the lookup of its length's parameters (above).
+template <class Norm, class = void>
+struct TableLookup : std::false_type {};
+template <class Norm>
+struct TableLookup<Norm, std::void_t<decltype(Norm::kLookupSlots), typename Norm::Lookup>> : std::true_type {};
 
 }  // namespace stvd

@@ -46,7 +46,8 @@ class VoxelGridCandidatePath {
 
   VoxelGridCandidatePath(const VoxelGridDomain& domain, const MetricField<Norm>& metric)
       : domain_(domain), metric_(metric),
-        longSteps_(domain.stencil().radius() > 1 && ExactInEveryDirection<Norm>::value) {}
+        longSteps_(domain.stencil().radius() > 1 && ExactInEveryDirection<Norm>::value),
+        lookup_(EdgeRuleIsMean<Norm>::value ? sharedLookup(metric) : nullptr) {}
 
   /// Whether the stencil has steps that span more than one voxel step (the
   /// 98- and 290-neighbourhoods), which every method then measures along
@@ -134,6 +135,15 @@ class VoxelGridCandidatePath {
     }
     const std::int64_t strideJ = static_cast<std::int64_t>(domain_.geometry().size[0]);
     const std::int64_t strideK = strideJ * static_cast<std::int64_t>(domain_.geometry().size[1]);
+    // Where the norm's length reads a few of its parameters, chosen by the
+    // vector (TableLookup), and the field holds the lookup's own parameters
+    // alike in every voxel, the piece is looked up once and each sample
+    // interpolates only those few: a lattice table's four entries of the
+    // piece's square instead of the whole table. The same length as the
+    // interpolated table's, which reads the same entries.
+    [[maybe_unused]] typename LookupOf<Norm>::type look{};
+    if constexpr (TableLookup<Norm>::value)
+      if (lookup_) look = Norm::lookup(*lookup_, piece.x, piece.y, piece.z);
     float total = 0.f;
     for (int m = 0; m < i; ++m) {
       const float f[3] = {remainder[0] * inverse, remainder[1] * inverse, remainder[2] * inverse};
@@ -153,14 +163,7 @@ class VoxelGridCandidatePath {
             origin + ((n & 1) ? step[0] : 0) + ((n & 2) ? step[1] : 0) + ((n & 4) ? step[2] : 0);
         corner[n] = reinterpret_cast<const float*>(&metric_[static_cast<std::size_t>(index)]);
       }
-      Params g;
-      interpolate(weight, corner, g);
-      // Where the edge rule is the mean of the end points', the norm of a
-      // point is its own parameters: edgeParams(g, g) == g.
-      if constexpr (EdgeRuleIsMean<Norm>::value)
-        total += Norm::length(g, piece.x, piece.y, piece.z);
-      else
-        total += Norm::length(Norm::edgeParams(g, g), piece.x, piece.y, piece.z);
+      total += sampleLength(weight, corner, piece, look);
       for (int axis = 0; axis < 3; ++axis) {
         remainder[axis] += 2 * d[axis];
         normalise(low[axis], remainder[axis], denominator);
@@ -181,6 +184,44 @@ class VoxelGridCandidatePath {
 
  private:
   static constexpr int kFloats = static_cast<int>(sizeof(Params) / sizeof(float));
+
+  template <class N, bool = TableLookup<N>::value>
+  struct LookupOf {
+    struct type {};
+  };
+  template <class N>
+  struct LookupOf<N, true> {
+    using type = typename N::Lookup;
+  };
+
+  // The norm at a sample (the trilinear weights of its 8 corners) along
+  // the segment's piece: from the looked-up entries alone where the lookup
+  // is shared, else from the interpolated parameters.
+  STVD_ALWAYS_INLINE float sampleLength(const float (&weight)[8], const float* const (&corner)[8], Vec3f piece,
+                                        const typename LookupOf<Norm>::type& look) const {
+    if constexpr (TableLookup<Norm>::value) {
+      if (lookup_) {
+        float value[Norm::kLookupSlots];
+#pragma GCC unroll 4
+        for (int q = 0; q < Norm::kLookupSlots; ++q) {
+          float sum = 0.f;
+#pragma GCC unroll 8
+          for (int n = 0; n < 8; ++n) sum += weight[n] * corner[n][look.slot[q]];
+          value[q] = sum;
+        }
+        return Norm::lookupLength(look, value);
+      }
+    }
+    (void)look;
+    Params g;
+    interpolate(weight, corner, g);
+    // Where the edge rule is the mean of the end points', the norm of a
+    // point is its own parameters: edgeParams(g, g) == g.
+    if constexpr (EdgeRuleIsMean<Norm>::value)
+      return Norm::length(g, piece.x, piece.y, piece.z);
+    else
+      return Norm::length(Norm::edgeParams(g, g), piece.x, piece.y, piece.z);
+  }
 
   // g = sum_n weight[n] corner[n], component by component. (Loading each
   // corner into a vector register through memory was tried: 24 bytes
@@ -226,6 +267,9 @@ class VoxelGridCandidatePath {
   const VertexId* chain_ = nullptr;
   bool mayRefuse_ = false;
   const bool longSteps_;
+  // sharedLookup(metric) where a point's norm is its own parameters (the
+  // mean edge rule): one lookup per segment serves all its samples.
+  const Params* const lookup_;
 };
 
 }  // namespace stvd

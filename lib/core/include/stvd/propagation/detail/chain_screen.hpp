@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <type_traits>
@@ -81,6 +82,18 @@ struct NeighborBatch {
   static constexpr int kLaneGroup = 8;
   static_assert(kCapacity % kLaneGroup == 0, "capacity must be whole lane groups");
 
+  // By lookup (TableLookup, norms.hpp; set by beginByLookup, for norms
+  // whose edge rule is the mean): the batch keeps no copy of the edge
+  // norms, only where the relaxed vertex's and each neighbour's parameters
+  // lie, and a vector is measured from the few of them its length reads,
+  // chosen by `lookup` (the metric's sharedLookup, metric_field.hpp): a
+  // lattice table's four entries of its 49. Only Dijkstra's candidates and
+  // the chain-mean screen are computed so (the two chain rules read every
+  // parameter of every edge).
+  const typename Norm::VertexParams* lookup = nullptr;
+  const float* base = nullptr;     // the metric's parameters as floats
+  const float* near = nullptr;     // the relaxed vertex v's
+  alignas(64) std::int64_t far[kCapacity];  // neighbour n's: base + far[n]
   int size = 0;    // neighbours in the batch
   int padded = 0;  // size rounded up to whole lane groups, after pad()
   VertexId vertex[kCapacity];
@@ -103,8 +116,27 @@ struct NeighborBatch {
     padded = (size + kLaneGroup - 1) / kLaneGroup * kLaneGroup;
     for (int n = size; n < padded; ++n) {
       ex[n] = ey[n] = ez[n] = 0.f;
-      for (int c = 0; c < kParamFloats; ++c) param[c][n] = 0.f;
+      if (TableLookup<Norm>::value && lookup)
+        far[n] = near - base;  // a valid table to read, for a result no one uses
+      else
+        for (int c = 0; c < kParamFloats; ++c) param[c][n] = 0.f;
     }
+  }
+  /// Measures by lookup from here on: `metric` the field's parameters,
+  /// v the relaxed vertex.
+  STVD_ALWAYS_INLINE void beginByLookup(const typename Norm::VertexParams* shared,
+                                        const typename Norm::VertexParams* metric, VertexId v) {
+    lookup = shared;
+    base = reinterpret_cast<const float*>(metric);
+    near = base + static_cast<std::int64_t>(v) * kParamFloats;
+  }
+  STVD_ALWAYS_INLINE void addByLookup(VertexId w, Vec3f e) {
+    vertex[size] = w;
+    ex[size] = e.x;
+    ey[size] = e.y;
+    ez[size] = e.z;
+    far[size] = static_cast<std::int64_t>(w) * kParamFloats;
+    ++size;
   }
   STVD_ALWAYS_INLINE EdgeParams edgeNorm(int n) const {
     return gatherEdgeNorm(n, std::make_integer_sequence<int, kParamFloats>{});
@@ -130,6 +162,16 @@ struct NeighborBatch {
   /// computed by the same code for both methods, so that STVD with k = 1
   /// matches Dijkstra bit for bit.
   STVD_ALWAYS_INLINE void setDijkstraCandidates(double dv) {
+    if constexpr (TableLookup<Norm>::value) {
+      if (lookup) {
+        // The edge rule is the mean (a lattice table's), as edgeParams
+        // writes it, 0.5 (a + b), for the same bits.
+        alignas(64) float length[kCapacity];
+        Norm::lookupLengths(*lookup, padded, ex, ey, ez, 0.5f, near, base, far, length);
+        for (int n = 0; n < padded; ++n) best[n] = dv + static_cast<double>(length[n]);
+        return;
+      }
+    }
     STVD_SIMD_LOOP
     for (int n = 0; n < padded; ++n)
       best[n] = dv + static_cast<double>(Norm::length(edgeNorm(n), ex[n], ey[n], ez[n]));
@@ -183,6 +225,19 @@ STVD_ALWAYS_INLINE void screenChainCandidates(const ChainMemory<Norm>& chain, co
       // norm (the mean of G_v and G_w): scale * G_e + shift.
       constexpr int kFloats = NeighborBatch<Norm>::kParamFloats;
       const float weight = 1.f / static_cast<float>(i + 1), scale = 2.f * weight;
+      if constexpr (TableLookup<Norm>::value) {
+        if (batch.lookup) {
+          // The same mean from G_w itself: (S + G_w) / (i + 1).
+          for (int n = 0; n < size; ++n) {
+            ux[n] = batch.ex[n] - bx;
+            uy[n] = batch.ey[n] - by;
+            uz[n] = batch.ez[n] - bz;
+          }
+          Norm::lookupLengths(*batch.lookup, size, ux, uy, uz, weight, chain.chainNormSum[lane], batch.base,
+                              batch.far, out);
+          continue;
+        }
+      }
       float shift[kFloats];
       for (int f = 0; f < kFloats; ++f) shift[f] = weight * (chain.chainNormSum[lane][f] - chain.vertexNorm[f]);
       STVD_SIMD_LOOP

@@ -64,7 +64,9 @@ class Propagation {
         state_(makeLargeArray<VertexState>(domain.vertexCount(), VertexState::unseen())),
         queue_(makeQueue(state_)),
         edgeMetric_(ChainUnfolding<Domain>::edgeMetric(domain, metric, options)),
-        path_(makeCandidatePath(domain, metric, options)) {}
+        path_(makeCandidatePath(domain, metric, options)),
+        lookup_(ChainUnfolding<Domain>::kEdgeNormIsMean && EdgeRuleIsMean<Norm>::value ? sharedLookup(metric)
+                                                                                      : nullptr) {}
 
   PropagationResult run(const std::vector<VertexId>& sources) {
     // With start distances a listed source may be reached from another one
@@ -315,17 +317,30 @@ class Propagation {
 
   // Gathers the neighbours of v that are not final, with their edge vector
   // and edge norm, in batches; `flush` computes and applies the candidates
-  // of a full batch (and of the last one).
-  template <class Flush>
+  // of a full batch (and of the last one). ByLookup: where the metric has a
+  // shared lookup (lookup_), the batch keeps the end points' parameters to
+  // measure by lookup instead of the edge norms (NeighborBatch::lookup);
+  // asked for where only Dijkstra's candidates and the chain-mean screen
+  // are computed.
+  template <bool ByLookup, class Flush>
   STVD_ALWAYS_INLINE void forEachNeighborBatch(VertexId v, NeighborBatch<Norm>& batch,
                                                Flush&& flush) {
     const auto& pv = metric_[v];
     batch.size = 0;
+    constexpr bool kMayLookUp = ByLookup && TableLookup<Norm>::value;
+    const bool byLookup = kMayLookUp && lookup_ != nullptr;
+    if constexpr (kMayLookUp) {
+      if (byLookup) batch.beginByLookup(lookup_, &metric_[0], v);
+    }
     domain_.forEachNeighbor(v, [&](VertexId w, Vec3f e) STVD_ALWAYS_INLINE_LAMBDA {
       if (queue_.isFinal(w)) return;
-      // Norm::edgeParams(pv, metric_[w]) for domains in R^3; a surface
-      // carries the norm into v's tangent frame (chain_unfolding.hpp).
-      batch.add(w, e, ChainUnfolding<Domain>::template edgeNorm<Norm>(domain_, edgeMetric_, pv, metric_[w], v, w, e));
+      if (kMayLookUp && byLookup) {
+        batch.addByLookup(w, e);
+      } else {
+        // Norm::edgeParams(pv, metric_[w]) for domains in R^3; a surface
+        // carries the norm into v's tangent frame (chain_unfolding.hpp).
+        batch.add(w, e, ChainUnfolding<Domain>::template edgeNorm<Norm>(domain_, edgeMetric_, pv, metric_[w], v, w, e));
+      }
       if (batch.size == NeighborBatch<Norm>::kCapacity) {
         batch.pad();
         flush(batch);
@@ -346,7 +361,7 @@ class Propagation {
   STVD_HOT_LOOP void relaxDijkstra(VertexId v) {
     const double dv = state_[v].finalDistance();
     NeighborBatch<Norm> batch;
-    forEachNeighborBatch(v, batch, [&](NeighborBatch<Norm>& b) STVD_ALWAYS_INLINE_LAMBDA {
+    forEachNeighborBatch<true>(v, batch, [&](NeighborBatch<Norm>& b) STVD_ALWAYS_INLINE_LAMBDA {
       b.setDijkstraCandidates(dv);
       measureLongSteps(v, b, dv);
       applyCandidates(v, b);
@@ -568,7 +583,8 @@ class Propagation {
     const bool mayRefuse = path_.mayRefuse();
 
     NeighborBatch<Norm> batch;
-    forEachNeighborBatch(v, batch, [&](NeighborBatch<Norm>& b) STVD_ALWAYS_INLINE_LAMBDA {
+    forEachNeighborBatch<Screen == ChainScreen::ChainMean>(v, batch, [&](NeighborBatch<Norm>& b)
+                                                                 STVD_ALWAYS_INLINE_LAMBDA {
       // i = 1 is the Dijkstra term, measured exactly as Dijkstra measures it.
       b.setDijkstraCandidates(dv);
       measureLongSteps(v, b, dv);
@@ -898,6 +914,10 @@ class Propagation {
   FrontQueue queue_;
   const typename ChainUnfolding<Domain>::EdgeMetric edgeMetric_;
   CandidatePath<Domain, Norm> path_;
+  // The metric's sharedLookup where edges are measured in R^3 with the mean
+  // of their end points' norms, for the batches (NeighborBatch::lookup);
+  // null otherwise.
+  const typename Norm::VertexParams* const lookup_;
   // Any-angle ancestors: where the domain's candidate paths are straight
   // segments measured from their two end points (grids, tetrahedral
   // meshes), and only with deferred measurement, whose records keep where
