@@ -166,9 +166,12 @@ struct NeighborBatch {
       if (lookup) {
         // The edge rule is the mean (a lattice table's), as edgeParams
         // writes it, 0.5 (a + b), for the same bits.
+        // The lanes past size are padding for vector loops, which this loop
+        // is not: left out.
         alignas(64) float length[kCapacity];
-        Norm::lookupLengths(*lookup, padded, ex, ey, ez, 0.5f, near, base, far, length);
-        for (int n = 0; n < padded; ++n) best[n] = dv + static_cast<double>(length[n]);
+        Norm::lookupLengths(*lookup, size, ex, ey, ez, 0.5f, near, base, far, length);
+        for (int n = 0; n < size; ++n) best[n] = dv + static_cast<double>(length[n]);
+        for (int n = size; n < padded; ++n) best[n] = kUnreachable;
         return;
       }
     }
@@ -228,13 +231,15 @@ STVD_ALWAYS_INLINE void screenChainCandidates(const ChainMemory<Norm>& chain, co
       if constexpr (TableLookup<Norm>::value) {
         if (batch.lookup) {
           // The same mean from G_w itself: (S + G_w) / (i + 1).
-          for (int n = 0; n < size; ++n) {
+          // Only the batch's neighbours: the padding is for vector loops.
+          for (int n = 0; n < batch.size; ++n) {
             ux[n] = batch.ex[n] - bx;
             uy[n] = batch.ey[n] - by;
             uz[n] = batch.ez[n] - bz;
           }
-          Norm::lookupLengths(*batch.lookup, size, ux, uy, uz, weight, chain.chainNormSum[lane], batch.base,
+          Norm::lookupLengths(*batch.lookup, batch.size, ux, uy, uz, weight, chain.chainNormSum[lane], batch.base,
                               batch.far, out);
+          for (int n = batch.size; n < size; ++n) out[n] = std::numeric_limits<float>::infinity();
           continue;
         }
       }
