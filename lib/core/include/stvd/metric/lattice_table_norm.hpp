@@ -91,99 +91,71 @@ struct LatticeTableNorm {
     float u, w, scale;
   };
 
+  // Written without branches (the face, the square's diagonal and the
+  // triangle are selected, not branched on): in a batch of neighbours the
+  // face changes unpredictably from one vector to the next.
   STVD_ALWAYS_INLINE static Lookup lookup(const VertexParams& g, float x, float y, float z) {
-    const float f[3] = {g.toIndex[0] * x + g.toIndex[1] * y + g.toIndex[2] * z,
-                        g.toIndex[3] * x + g.toIndex[4] * y + g.toIndex[5] * z,
-                        g.toIndex[6] * x + g.toIndex[7] * y + g.toIndex[8] * z};
-    const float ax = std::abs(f[0]), ay = std::abs(f[1]), az = std::abs(f[2]);
-    // The face: the axis of the largest component, its sign made positive
-    // (F(-v) = F(v)).
-    int a = 0;
-    float m = ax;
-    if (ay > m) a = 1, m = ay;
-    if (az > m) a = 2, m = az;
-    if (!(m > 0.f)) return {{kCostSlot, kCostSlot, kCostSlot, kCostSlot}, 0.f, 0.f, 0.f};
-    const int b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;
-    const float s = (f[a] < 0.f ? -1.f : 1.f) * (static_cast<float>(Order) / m);
+    const float* t = g.toIndex;
+    const float fx = t[0] * x + t[1] * y + t[2] * z;
+    const float fy = t[3] * x + t[4] * y + t[5] * z;
+    const float fz = t[6] * x + t[7] * y + t[8] * z;
+    const float ax = std::abs(fx), ay = std::abs(fy), az = std::abs(fz);
+    // The face: the axis a of the largest component (y over x only if
+    // larger, z over both), its sign made positive (F(-v) = F(v)); b < c
+    // the other two axes.
+    const bool onY = ay > ax;
+    const float mxy = onY ? ay : ax;
+    const bool onZ = az > mxy;
+    const float m = onZ ? az : mxy;
+    const float fa = onZ ? fz : (onY ? fy : fx);
+    const float fb = onY || onZ ? fx : fy;
+    const float fc = onZ ? fy : fz;
+    const int face = onZ ? 2 : (onY ? 1 : 0);
+    // A zero vector looks up the face's centre, with length factor 0.
+    const bool some = m > 0.f;
+    const float s = (fa < 0.f ? -1.f : 1.f) * (static_cast<float>(Order) / (some ? m : 1.f));
     // The point on the face, in lattice units from the face's corner -n.
-    const float pb = s * f[b] + Order, pc = s * f[c] + Order;
+    const float pb = s * fb + Order, pc = s * fc + Order;
     int ib = static_cast<int>(pb), ic = static_cast<int>(pc);
     ib = ib < 0 ? 0 : (ib > 2 * Order - 1 ? 2 * Order - 1 : ib);
     ic = ic < 0 ? 0 : (ic > 2 * Order - 1 ? 2 * Order - 1 : ic);
     float u = pb - static_cast<float>(ib), w = pc - static_cast<float>(ic);
     u = u < 0.f ? 0.f : (u > 1.f ? 1.f : u);
     w = w < 0.f ? 0.f : (w > 1.f ? 1.f : w);
-    const short* corner = kLattice.square[a][ib][ic];
-    return {{kCostSlot + corner[0], kCostSlot + corner[1], kCostSlot + corner[2], kCostSlot + corner[3]},
-            u,
-            w,
-            m / static_cast<float>(Order)};
+    const int* corner = &kLattice.square[4 * ((face * 2 * Order + ib) * 2 * Order + ic)];
+    return {{corner[0], corner[1], corner[2], corner[3]}, u, w, some ? m / static_cast<float>(Order) : 0.f};
   }
 
   /// The length of the looked-up vector under the table whose entries at
-  /// the lookup's slots are value[0..3].
+  /// the lookup's slots are value[0..3]: the linear interpolation over the
+  /// triangle of the square that holds the point, of the square's two
+  /// diagonals the one whose end values sum less.
   STVD_ALWAYS_INLINE static float lookupLength(const Lookup& q, const float (&value)[kLookupSlots]) {
     const float v00 = value[0], v10 = value[1], v01 = value[2], v11 = value[3];
     const float u = q.u, w = q.w;
-    float l;
-    if (v00 + v11 <= v10 + v01)
-      l = u >= w ? v00 + u * (v10 - v00) + w * (v11 - v10) : v00 + w * (v01 - v00) + u * (v11 - v01);
-    else
-      l = u + w <= 1.f ? v00 + u * (v10 - v00) + w * (v01 - v00)
-                       : v11 + (1.f - u) * (v01 - v11) + (1.f - w) * (v10 - v11);
+    // Either side of the diagonal from 00 to 11, either side of the one
+    // from 10 to 01.
+    const float below = v00 + u * (v10 - v00) + w * (v11 - v10), above = v00 + w * (v01 - v00) + u * (v11 - v01);
+    const float near00 = v00 + u * (v10 - v00) + w * (v01 - v00);
+    const float near11 = v11 + (1.f - u) * (v01 - v11) + (1.f - w) * (v10 - v11);
+    const float l = v00 + v11 <= v10 + v01 ? (u >= w ? below : above) : (u + w <= 1.f ? near00 : near11);
     return q.scale * l;
   }
 
   /// out[n] = the length of (x[n], y[n], z[n]) under the table
   /// weight * (a + b_n), b_n = base + offset[n] (each VertexParams as
-  /// floats), for n < count: lookupLength(lookup(shared, ...), those entries)
-  /// for many vectors at once, without branches (the face, the square's
-  /// diagonal and the triangle are selected, not branched on: neighbour
-  /// after neighbour the face changes unpredictably). Used for a batch of
+  /// floats), for n < count: a batch of lookups. Used for a batch of
   /// neighbours: Dijkstra's edges (weight 1/2, a the relaxed vertex: the
   /// mean edge rule) and STVD's chain means.
   STVD_ALWAYS_INLINE static void lookupLengths(const VertexParams& shared, int count, const float* x, const float* y,
                                                const float* z, float weight, const float* a, const float* base,
                                                const std::int64_t* offset, float* out) {
-    const float t0 = shared.toIndex[0], t1 = shared.toIndex[1], t2 = shared.toIndex[2];
-    const float t3 = shared.toIndex[3], t4 = shared.toIndex[4], t5 = shared.toIndex[5];
-    const float t6 = shared.toIndex[6], t7 = shared.toIndex[7], t8 = shared.toIndex[8];
-    const int* square = &kLattice.squareFlat[0];
     for (int n = 0; n < count; ++n) {
-      const float fx = t0 * x[n] + t1 * y[n] + t2 * z[n];
-      const float fy = t3 * x[n] + t4 * y[n] + t5 * z[n];
-      const float fz = t6 * x[n] + t7 * y[n] + t8 * z[n];
-      const float ax = std::abs(fx), ay = std::abs(fy), az = std::abs(fz);
-      // The face as lookup() chooses it: y over x only if larger, z over both.
-      const bool onY = ay > ax;
-      const float mxy = onY ? ay : ax;
-      const bool onZ = az > mxy;
-      const float m = onZ ? az : mxy;
-      const float fa = onZ ? fz : (onY ? fy : fx);
-      const float fb = onY || onZ ? fx : fy;
-      const float fc = onZ ? fy : fz;
-      const int face = onZ ? 2 : (onY ? 1 : 0);
-      const bool some = m > 0.f;
-      const float s = (fa < 0.f ? -1.f : 1.f) * (static_cast<float>(Order) / (some ? m : 1.f));
-      const float pb = s * fb + Order, pc = s * fc + Order;
-      int ib = static_cast<int>(pb), ic = static_cast<int>(pc);
-      ib = ib < 0 ? 0 : (ib > 2 * Order - 1 ? 2 * Order - 1 : ib);
-      ic = ic < 0 ? 0 : (ic > 2 * Order - 1 ? 2 * Order - 1 : ic);
-      float u = pb - static_cast<float>(ib), w = pc - static_cast<float>(ic);
-      u = u < 0.f ? 0.f : (u > 1.f ? 1.f : u);
-      w = w < 0.f ? 0.f : (w > 1.f ? 1.f : w);
-      const int corner = 4 * ((face * 2 * Order + ib) * 2 * Order + ic);
-      const int c0 = square[corner], c1 = square[corner + 1], c2 = square[corner + 2], c3 = square[corner + 3];
-      const std::int64_t o = offset[n];
-      const float v00 = weight * (a[c0] + base[o + c0]), v10 = weight * (a[c1] + base[o + c1]);
-      const float v01 = weight * (a[c2] + base[o + c2]), v11 = weight * (a[c3] + base[o + c3]);
-      // The four triangles lookupLength() chooses among: either side of
-      // the diagonal from 00 to 11, either side of the one from 10 to 01.
-      const float below = v00 + u * (v10 - v00) + w * (v11 - v10), above = v00 + w * (v01 - v00) + u * (v11 - v01);
-      const float near00 = v00 + u * (v10 - v00) + w * (v01 - v00);
-      const float near11 = v11 + (1.f - u) * (v01 - v11) + (1.f - w) * (v10 - v11);
-      const float l = v00 + v11 <= v10 + v01 ? (u >= w ? below : above) : (u + w <= 1.f ? near00 : near11);
-      out[n] = (some ? m / static_cast<float>(Order) : 0.f) * l;
+      const Lookup q = lookup(shared, x[n], y[n], z[n]);
+      const float* b = base + offset[n];
+      float value[kLookupSlots];
+      for (int k = 0; k < kLookupSlots; ++k) value[k] = weight * (a[q.slot[k]] + b[q.slot[k]]);
+      out[n] = lookupLength(q, value);
     }
   }
 
@@ -210,12 +182,11 @@ struct LatticeTableNorm {
  private:
   struct Lattice {
     std::array<int, 3> offset[kCount];
-    /// Per face axis a and unit square (ib, ic) of the face p_a = +n: the
-    /// table entries of its corners (ib, ic), (ib + 1, ic), (ib, ic + 1),
-    /// (ib + 1, ic + 1) along the other two axes b < c.
-    short square[3][2 * Order][2 * Order][4];
-    /// The same as float offsets in VertexParams (kCostSlot + entry), flat.
-    int squareFlat[3 * 2 * Order * 2 * Order * 4];
+    /// Per face axis a and unit square (ib, ic) of the face p_a = +n, at
+    /// 4 * ((a * 2n + ib) * 2n + ic): the table entries of its corners (ib,
+    /// ic), (ib + 1, ic), (ib, ic + 1), (ib + 1, ic + 1) along the other two
+    /// axes b < c, as float offsets in VertexParams (kCostSlot + entry).
+    int square[3 * 2 * Order * 2 * Order * 4];
   };
   static Lattice makeLattice() {
     Lattice t{};
@@ -241,8 +212,8 @@ struct LatticeTableNorm {
             d[a] = Order;
             d[b] = ib + (n & 1) - Order;
             d[c] = ic + (n >> 1) - Order;
-            t.square[a][ib][ic][n] = slot[d[0] + Order][d[1] + Order][d[2] + Order];
-            t.squareFlat[4 * ((a * 2 * Order + ib) * 2 * Order + ic) + n] = kCostSlot + t.square[a][ib][ic][n];
+            t.square[4 * ((a * 2 * Order + ib) * 2 * Order + ic) + n] =
+                kCostSlot + slot[d[0] + Order][d[1] + Order][d[2] + Order];
           }
     }
     return t;
