@@ -116,9 +116,9 @@ struct NeighborBatch {
     padded = (size + kLaneGroup - 1) / kLaneGroup * kLaneGroup;
     for (int n = size; n < padded; ++n) {
       ex[n] = ey[n] = ez[n] = 0.f;
-      if (TableLookup<Norm>::value && lookup)
-        far[n] = near - base;  // a valid table to read, for a result no one uses
-      else
+      // By lookup the padding is not measured (the loops of lookups are
+      // not vector loops) and holds no parameters.
+      if (!(TableLookup<Norm>::value && lookup))
         for (int c = 0; c < kParamFloats; ++c) param[c][n] = 0.f;
     }
   }
