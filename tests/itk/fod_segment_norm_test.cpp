@@ -205,8 +205,8 @@ TEST(LatticeTableNorm, PropagationsByLookupEqualThoseByWholeTables) {
   const MetricField<Norm> shared(table, &inDomain);
   table.back().toIndex[0] *= 1.5f;
   const MetricField<Norm> whole(table, &inDomain);
-  ASSERT_NE(sharedLookup(shared), nullptr);
-  ASSERT_EQ(sharedLookup(whole), nullptr);
+  ASSERT_NE(shared.sharedLookup(), nullptr);
+  ASSERT_EQ(whole.sharedLookup(), nullptr);
   const VoxelGridDomain domain(g, Stencil::full26(), inDomain);
   const std::vector<VertexId> seeds{domain.vertexAt(8, 7, 4)};
   for (Method method : {Method::Dijkstra, Method::ShortTermVectorDijkstra}) {

@@ -34,6 +34,11 @@ class MetricField {
       if (!why.empty())
         throw std::invalid_argument("metric at vertex " + std::to_string(v) + ": " + why);
     }
+    if constexpr (TableLookup<Norm>::value) {
+      lookupShared_ = !params_.empty();
+      for (std::size_t v = 1; v < params_.size() && lookupShared_; ++v)
+        lookupShared_ = Norm::sameLookup(params_[0], params_[v]);
+    }
   }
   /// The same norm at every vertex.
   static MetricField constant(std::size_t vertexCount, const VertexParams& p) {
@@ -44,27 +49,17 @@ class MetricField {
   const VertexParams& operator[](std::size_t v) const { return params_[v]; }
   const std::vector<VertexParams>& params() const { return params_; }
 
+  /// For a norm with a table lookup (TableLookup, norms.hpp) whose field
+  /// holds the lookup's parameters alike at every vertex (a lattice table's
+  /// index transform, the grid's): a vertex's parameters, from which any
+  /// vector is looked up for every vertex. Null otherwise, and for every
+  /// other norm. Found once, when the field is made.
+  const VertexParams* sharedLookup() const { return lookupShared_ ? &params_[0] : nullptr; }
+
  private:
   std::vector<VertexParams> params_;
+  bool lookupShared_ = false;
 };
-
-/// For a norm with a table lookup (TableLookup, norms.hpp) whose field
-/// holds the lookup's parameters alike at every vertex (a lattice table's
-/// index transform, the grid's): a vertex's parameters, from which any
-/// vector is looked up for every vertex. Null otherwise, and for every
-/// other norm.
-template <class Norm>
-const typename Norm::VertexParams* sharedLookup(const MetricField<Norm>& metric) {
-  if constexpr (TableLookup<Norm>::value) {
-    if (metric.size() == 0) return nullptr;
-    for (std::size_t v = 1; v < metric.size(); ++v)
-      if (!Norm::sameLookup(metric[0], metric[v])) return nullptr;
-    return &metric[0];
-  } else {
-    (void)metric;
-    return nullptr;
-  }
-}
 
 using RiemannianMetric = MetricField<RiemannianNorm>;
 using RandersMetric = MetricField<RandersNorm>;

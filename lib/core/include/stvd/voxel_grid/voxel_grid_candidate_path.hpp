@@ -47,7 +47,7 @@ class VoxelGridCandidatePath {
   VoxelGridCandidatePath(const VoxelGridDomain& domain, const MetricField<Norm>& metric)
       : domain_(domain), metric_(metric),
         longSteps_(domain.stencil().radius() > 1 && ExactInEveryDirection<Norm>::value),
-        lookup_(EdgeRuleIsMean<Norm>::value ? sharedLookup(metric) : nullptr) {}
+        lookup_(EdgeRuleIsMean<Norm>::value ? metric.sharedLookup() : nullptr) {}
 
   /// Whether the stencil has steps that span more than one voxel step (the
   /// 98- and 290-neighbourhoods), which every method then measures along
@@ -267,7 +267,7 @@ class VoxelGridCandidatePath {
   const VertexId* chain_ = nullptr;
   bool mayRefuse_ = false;
   const bool longSteps_;
-  // sharedLookup(metric) where a point's norm is its own parameters (the
+  // metric.sharedLookup() where a point's norm is its own parameters (the
   // mean edge rule): one lookup per segment serves all its samples.
   const Params* const lookup_;
 };

@@ -65,7 +65,7 @@ class Propagation {
         queue_(makeQueue(state_)),
         edgeMetric_(ChainUnfolding<Domain>::edgeMetric(domain, metric, options)),
         path_(makeCandidatePath(domain, metric, options)),
-        lookup_(ChainUnfolding<Domain>::kEdgeNormIsMean && EdgeRuleIsMean<Norm>::value ? sharedLookup(metric)
+        lookup_(ChainUnfolding<Domain>::kEdgeNormIsMean && EdgeRuleIsMean<Norm>::value ? metric.sharedLookup()
                                                                                       : nullptr) {}
 
   PropagationResult run(const std::vector<VertexId>& sources) {
